@@ -1,0 +1,2 @@
+# Empty dependencies file for eomc_generator.
+# This may be replaced when dependencies are built.

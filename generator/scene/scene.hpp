@@ -1,0 +1,117 @@
+// Stage 1 of the pipeline: a scene file (TOML) parsed into plain data.
+//
+// Nothing here knows GiNaC. Expressions stay strings, each with the source position of
+// its first character so that later stages can point at an unknown symbol inside it.
+// The parser checks everything that can be checked without algebra: syntax, known keys
+// (with a "did you mean" for typos), types, vector lengths, names, effect names.
+#pragma once
+
+#include <array>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "support/diagnostic.hpp"
+
+namespace eomc::scene {
+
+// An expression as written in the scene. `pos` is the position of the first character
+// of the expression text itself (inside the quotes), so pos.shifted(k) is character k.
+struct Expr {
+    std::string text;
+    SourcePos pos;
+};
+
+using Vec3 = std::array<Expr, 3>;
+
+struct Parameter {
+    std::string name;
+    double value = 0.0;
+    SourcePos pos;
+};
+
+struct Coordinate {
+    std::string name;
+    double initial = 0.0;
+    double rate = 0.0;
+    SourcePos pos;
+};
+
+// The carrier body's frame o x'y'z'. Absent: the bodies move in an inertial frame.
+struct Carrier {
+    std::string motion = "prescribed";  // "prescribed" | "free" (the latter refused by the model for now)
+    SourcePos motion_pos;
+    Vec3 angular_velocity;  // ω in carrier axes, functions of t and parameters
+    Vec3 pole_velocity;     // v_o in carrier axes
+    SourcePos pos;          // the [carrier] table
+};
+
+// A carried particle, position r'(q, t) in carrier axes.
+struct Body {
+    std::string name;
+    Expr mass;
+    Vec3 position;
+    SourcePos pos;  // the [[body]] table
+};
+
+// A Lagrangian given directly: L = T - V.
+struct Lagrangian {
+    Expr kinetic;    // T
+    Expr potential;  // V (may be "0")
+    SourcePos pos;
+};
+
+struct GeneralizedForce {
+    std::string coordinate;  // a declared coordinate name (checked by the model)
+    Expr value;
+    SourcePos pos;  // the key
+};
+
+struct Forces {
+    std::optional<Expr> potential;            // V(q, t)
+    std::vector<GeneralizedForce> generalized;  // Q_s, in file order
+};
+
+// The inertial effects of relative motion that the equations keep.
+inline constexpr std::array<std::string_view, 5> effect_names{"relative", "translation", "euler",
+                                                             "centrifugal", "coriolis"};
+
+struct Effects {
+    bool given = false;                  // false: keep all
+    std::vector<std::string> keep;       // each one of effect_names, no duplicates
+    std::vector<SourcePos> keep_pos;     // position of each entry
+};
+
+struct Simulate {
+    double t_end = 10.0;
+    std::string integrator = "dopri5";  // "rk4" | "dopri5"
+    double rtol = 1e-10;
+    double atol = 1e-12;
+    double step = 1e-3;                 // for fixed-step integrators
+    SourcePos integrator_pos;
+};
+
+struct Scene {
+    std::string path;     // the file it came from ("" for a string)
+    std::string name;     // [a-z][a-z0-9_]*
+    std::string summary;
+    SourcePos name_pos;
+    std::vector<Parameter> parameters;    // file order
+    std::vector<Coordinate> coordinates;  // file order
+    std::optional<Carrier> carrier;
+    std::vector<Body> bodies;
+    std::optional<Lagrangian> lagrangian;
+    Forces forces;
+    Effects effects;
+    Simulate simulate;
+};
+
+// Throws eomc::InputError (file:line:column) on anything malformed.
+Scene parse_scene_file(const std::string& path);
+Scene parse_scene_string(std::string_view toml_text, const std::string& path = "<string>");
+
+// "disk_tube_ball" -> "DiskTubeBall"
+std::string struct_name(const std::string& scene_name);
+
+}  // namespace eomc::scene
