@@ -1,8 +1,576 @@
 #include "scene/scene.hpp"
 
+#include <algorithm>
 #include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <map>
+#include <sstream>
+#include <utility>
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
 
 namespace eomc::scene {
+
+namespace {
+
+// ---------------------------------------------------------------------------------------
+// Small helpers that need no parser state.
+
+bool is_identifier(std::string_view s) {
+    if (s.empty() || !std::isalpha(static_cast<unsigned char>(s[0]))) return false;
+    return std::all_of(s.begin() + 1, s.end(), [](char c) {
+        return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+    });
+}
+
+bool is_scene_name(std::string_view s) {
+    if (s.empty() || !(s[0] >= 'a' && s[0] <= 'z')) return false;
+    return std::all_of(s.begin() + 1, s.end(), [](char c) {
+        return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
+    });
+}
+
+std::string lower_first(std::string s) {
+    if (!s.empty()) s[0] = static_cast<char>(std::tolower(static_cast<unsigned char>(s[0])));
+    return s;
+}
+
+std::string join(std::initializer_list<const char*> names) {
+    std::string out;
+    for (const char* n : names) {
+        if (!out.empty()) out += ", ";
+        out += n;
+    }
+    return out;
+}
+
+// "a string", "an integer", ...: the TOML type of a node, for "expected X, got Y".
+std::string type_name(const toml::node& n) {
+    switch (n.type()) {
+        case toml::node_type::table: return "a table";
+        case toml::node_type::array: return "an array";
+        case toml::node_type::string: return "a string";
+        case toml::node_type::integer: return "an integer";
+        case toml::node_type::floating_point: return "a float";
+        case toml::node_type::boolean: return "a boolean";
+        case toml::node_type::date: return "a date";
+        case toml::node_type::time: return "a time";
+        case toml::node_type::date_time: return "a date-time";
+        default: return "nothing";
+    }
+}
+
+// A literal number written as an expression ("2", "-0.5", "1e-3"), if the text is one.
+std::optional<double> literal_number(std::string_view text) {
+    while (!text.empty() && std::isspace(static_cast<unsigned char>(text.front()))) text.remove_prefix(1);
+    while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back()))) text.remove_suffix(1);
+    if (!text.empty() && text.front() == '+') text.remove_prefix(1);
+    if (text.empty()) return std::nullopt;
+    double v = 0.0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+    if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(v)) return std::nullopt;
+    return v;
+}
+
+bool before(const SourcePos& a, const SourcePos& b) {
+    return std::pair(a.line, a.column) < std::pair(b.line, b.column);
+}
+
+using Entry = std::pair<const toml::key*, const toml::node*>;
+
+const char* const reserved_functions[] = {"sin", "cos", "tan", "exp", "log", "sqrt", "asin", "acos", "atan"};
+
+// ---------------------------------------------------------------------------------------
+// The reader: one scene text, checked section by section.
+
+class Reader {
+public:
+    Reader(std::string_view text, std::string file) : file_(std::move(file)) {
+        // A UTF-8 byte order mark is not part of the first line's columns.
+        if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
+        split_lines(text);
+        try {
+            root_ = toml::parse(text, std::string_view(file_));
+        } catch (const toml::parse_error& e) {
+            fail(at(e.source()), syntax_message(std::string(e.description())));
+        }
+    }
+
+    Scene read() {
+        Scene s;
+        check_keys(root_, {"scene", "parameters", "coordinates", "carrier", "body", "lagrangian", "forces",
+                           "effects", "simulate"},
+                   "at the top level");
+        read_scene(s);
+        read_parameters(s);
+        read_coordinates(s);
+        check_name_clashes(s);
+        read_carrier(s);
+        read_bodies(s);
+        read_lagrangian(s);
+        read_forces(s);
+        read_effects(s);
+        read_simulate(s);
+        check_structure();
+        return s;
+    }
+
+private:
+    std::string file_;
+    std::vector<std::string> lines_;
+    toml::table root_;
+
+    // --- positions --------------------------------------------------------------------
+
+    void split_lines(std::string_view text) {
+        std::size_t start = 0;
+        while (start <= text.size()) {
+            std::size_t nl = text.find('\n', start);
+            if (nl == std::string_view::npos) nl = text.size();
+            std::string line(text.substr(start, nl - start));
+            if (!line.empty() && line.back() == '\r') line.pop_back();
+            lines_.push_back(std::move(line));
+            start = nl + 1;
+        }
+    }
+
+    SourcePos at(const toml::source_region& r) const {
+        return SourcePos{file_, static_cast<int>(r.begin.line), static_cast<int>(r.begin.column)};
+    }
+    SourcePos at(const toml::node& n) const { return at(n.source()); }
+    SourcePos at(const toml::key& k) const { return at(k.source()); }
+    SourcePos top() const { return SourcePos{file_, 1, 1}; }
+
+    // The source text from (line, column) to the end of that line; toml++ counts columns
+    // in code points, so step over UTF-8 continuation bytes.
+    std::string_view text_from(const SourcePos& p) const {
+        if (p.line < 1 || static_cast<std::size_t>(p.line) > lines_.size()) return {};
+        std::string_view line = lines_[static_cast<std::size_t>(p.line - 1)];
+        std::size_t i = 0;
+        for (int col = 1; col < p.column && i < line.size(); ++col) {
+            ++i;
+            while (i < line.size() && (static_cast<unsigned char>(line[i]) & 0xC0) == 0x80) ++i;
+        }
+        return line.substr(i);
+    }
+
+    // Where the text of a string value starts: after the opening quote(s); a multi-line
+    // string that opens with a newline starts on the next line.
+    SourcePos string_text_pos(const toml::node& n) const {
+        SourcePos p = at(n);
+        const std::string_view src = text_from(p);
+        if (src.substr(0, 3) == "\"\"\"" || src.substr(0, 3) == "'''") {
+            if (src.size() == 3) return SourcePos{file_, p.line + 1, 1};
+            return p.shifted(3);
+        }
+        if (!src.empty() && (src[0] == '"' || src[0] == '\'')) return p.shifted(1);
+        return p;
+    }
+
+    // The literal of a number value as written, without digit separators or a leading '+'.
+    std::string number_text(const toml::node& n) const {
+        const std::string_view src = text_from(at(n));
+        std::string out;
+        for (char c : src) {
+            if (std::isalnum(static_cast<unsigned char>(c)) || c == '+' || c == '-' || c == '.') {
+                out += c == 'E' ? 'e' : c;
+            } else if (c != '_') {
+                break;
+            }
+        }
+        if (!out.empty() && out[0] == '+') out.erase(0, 1);
+        return out;
+    }
+
+    // --- errors ----------------------------------------------------------------------
+
+    [[noreturn]] static void fail(const SourcePos& pos, const std::string& message) {
+        throw InputError(pos, message);
+    }
+
+    static std::string syntax_message(std::string description) {
+        static constexpr std::string_view prefix = "Error while parsing ";
+        if (description.rfind(prefix, 0) == 0) {
+            const std::string rest = description.substr(prefix.size());
+            const std::size_t colon = rest.find(": ");
+            if (colon != std::string::npos)
+                return fmt::format("invalid TOML in {}: {}", rest.substr(0, colon), rest.substr(colon + 2));
+            return "invalid TOML in " + rest;
+        }
+        return "invalid TOML: " + lower_first(std::move(description));
+    }
+
+    // --- tables and keys ---------------------------------------------------------------
+
+    // A table's entries in file order (toml++ keeps them sorted by name).
+    static std::vector<Entry> entries(const toml::table& t) {
+        std::vector<Entry> out;
+        for (const auto& [k, v] : t) out.emplace_back(&k, &v);
+        std::stable_sort(out.begin(), out.end(), [](const Entry& a, const Entry& b) {
+            const auto& pa = a.first->source().begin;
+            const auto& pb = b.first->source().begin;
+            return std::pair(pa.line, pa.column) < std::pair(pb.line, pb.column);
+        });
+        return out;
+    }
+
+    void check_keys(const toml::table& t, std::initializer_list<const char*> allowed, const std::string& where) const {
+        for (const auto& [key, node] : entries(t)) {
+            const std::string name(key->str());
+            if (std::any_of(allowed.begin(), allowed.end(), [&](const char* a) { return name == a; })) continue;
+            const std::string near = nearest_name(name, allowed);
+            if (!near.empty())
+                fail(at(*key), fmt::format("unknown key '{}' {}; did you mean '{}'?", name, where, near));
+            fail(at(*key), fmt::format("unknown key '{}' {}; expected one of: {}", name, where, join(allowed)));
+        }
+    }
+
+    const toml::table& as_table(const toml::node& n, const std::string& path) const {
+        if (const toml::table* t = n.as_table()) return *t;
+        fail(at(n), fmt::format("'{}': expected a table, got {}", path, type_name(n)));
+    }
+
+    const toml::node& require(const toml::table& t, const char* key, const std::string& where) const {
+        if (const toml::node* n = t.get(key)) return *n;
+        fail(at(t), fmt::format("missing required key '{}' in {}", key, where));
+    }
+
+    // --- values ----------------------------------------------------------------------
+
+    std::string read_string(const toml::node& n, const std::string& path) const {
+        if (const auto* s = n.as_string()) return s->get();
+        fail(at(n), fmt::format("'{}': expected a string, got {}", path, type_name(n)));
+    }
+
+    double read_number(const toml::node& n, const std::string& path) const {
+        double v = 0.0;
+        if (const auto* i = n.as_integer()) {
+            v = static_cast<double>(i->get());
+        } else if (const auto* f = n.as_floating_point()) {
+            v = f->get();
+        } else {
+            fail(at(n), fmt::format("'{}': expected a number, got {}", path, type_name(n)));
+        }
+        if (!std::isfinite(v)) fail(at(n), fmt::format("'{}': expected a finite number, got {}", path, number_text(n)));
+        return v;
+    }
+
+    double read_positive(const toml::node& n, const std::string& path) const {
+        const double v = read_number(n, path);
+        if (!(v > 0.0)) fail(at(n), fmt::format("'{}' must be positive, got {}", path, number_text(n)));
+        return v;
+    }
+
+    Expr read_expr(const toml::node& n, const std::string& path) const {
+        if (const auto* s = n.as_string()) {
+            const std::string& text = s->get();
+            if (std::all_of(text.begin(), text.end(), [](char c) { return std::isspace(static_cast<unsigned char>(c)); }))
+                fail(at(n), fmt::format("'{}': empty expression", path));
+            return Expr{text, string_text_pos(n)};
+        }
+        if (const auto* i = n.as_integer()) return Expr{std::to_string(i->get()), at(n)};
+        if (n.is_floating_point()) {
+            if (!std::isfinite(n.as_floating_point()->get()))
+                fail(at(n), fmt::format("'{}': expected a finite number, got {}", path, number_text(n)));
+            return Expr{number_text(n), at(n)};
+        }
+        fail(at(n), fmt::format("'{}': expected an expression (a string or a number), got {}", path, type_name(n)));
+    }
+
+    Vec3 read_vec3(const toml::node& n, const std::string& path) const {
+        const toml::array* a = n.as_array();
+        if (!a) fail(at(n), fmt::format("'{}': expected an array of 3 expressions, got {}", path, type_name(n)));
+        if (a->size() != 3) fail(at(n), fmt::format("'{}': expected 3 components, got {}", path, a->size()));
+        Vec3 v;
+        for (std::size_t i = 0; i < 3; ++i) v[i] = read_expr(*a->get(i), fmt::format("{}[{}]", path, i));
+        return v;
+    }
+
+    static Vec3 zero_vec3(const SourcePos& pos) { return Vec3{Expr{"0", pos}, Expr{"0", pos}, Expr{"0", pos}}; }
+
+    // Parameters and coordinates become symbols: they must not shadow the time, the
+    // built-in functions and constants, or the derived names q_dot / q_ddot.
+    void check_symbol_name(const std::string& name, const SourcePos& pos, const char* kind) const {
+        if (!is_identifier(name))
+            fail(pos, fmt::format("invalid {} name '{}': expected a letter followed by letters, digits or underscores",
+                                  kind, name));
+        if (name == "t") fail(pos, fmt::format("'t' is reserved for the time and cannot name a {}", kind));
+        if (name == "Pi") fail(pos, fmt::format("'Pi' is reserved for the constant pi and cannot name a {}", kind));
+        for (const char* f : reserved_functions)
+            if (name == f)
+                fail(pos, fmt::format("'{}' is reserved for a built-in function and cannot name a {}", name, kind));
+        const auto ends_with = [&](std::string_view suffix) {
+            return name.size() >= suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
+        };
+        if (ends_with("_ddot"))
+            fail(pos, fmt::format("{} name '{}' ends in '_ddot', which is reserved for generalized accelerations",
+                                  kind, name));
+        if (ends_with("_dot"))
+            fail(pos, fmt::format("{} name '{}' ends in '_dot', which is reserved for generalized velocities", kind,
+                                  name));
+    }
+
+    // --- sections --------------------------------------------------------------------
+
+    void read_scene(Scene& s) const {
+        const toml::node* node = root_.get("scene");
+        if (!node) fail(top(), "missing required table [scene]");
+        const toml::table& t = as_table(*node, "scene");
+        check_keys(t, {"name", "summary"}, "in [scene]");
+        const toml::node& name = require(t, "name", "[scene]");
+        s.name = read_string(name, "scene.name");
+        s.name_pos = at(name);
+        if (!is_scene_name(s.name))
+            fail(at(name), fmt::format("invalid scene name '{}': expected a lowercase letter followed by lowercase "
+                                       "letters, digits or underscores",
+                                       s.name));
+        if (const toml::node* summary = t.get("summary")) s.summary = read_string(*summary, "scene.summary");
+    }
+
+    void read_parameters(Scene& s) const {
+        const toml::node* node = root_.get("parameters");
+        if (!node) return;
+        for (const auto& [key, value] : entries(as_table(*node, "parameters"))) {
+            const std::string name(key->str());
+            check_symbol_name(name, at(*key), "parameter");
+            s.parameters.push_back(Parameter{name, read_number(*value, "parameters." + name), at(*key)});
+        }
+    }
+
+    void read_coordinates(Scene& s) const {
+        const toml::node* node = root_.get("coordinates");
+        if (!node) fail(top(), "missing required table [coordinates]: the scene needs at least one coordinate");
+        const toml::table& t = as_table(*node, "coordinates");
+        if (t.empty()) fail(at(t), "[coordinates] declares no coordinate; the scene needs at least one");
+        for (const auto& [key, value] : entries(t)) {
+            const std::string name(key->str());
+            const std::string path = "coordinates." + name;
+            check_symbol_name(name, at(*key), "coordinate");
+            const toml::table& c = as_table(*value, path);
+            check_keys(c, {"initial", "rate"}, "in '" + path + "'");
+            Coordinate coord{name, 0.0, 0.0, at(*key)};
+            if (const toml::node* v = c.get("initial")) coord.initial = read_number(*v, path + ".initial");
+            if (const toml::node* v = c.get("rate")) coord.rate = read_number(*v, path + ".rate");
+            s.coordinates.push_back(std::move(coord));
+        }
+    }
+
+    void check_name_clashes(const Scene& s) const {
+        for (const Coordinate& c : s.coordinates) {
+            for (const Parameter& p : s.parameters) {
+                if (p.name != c.name) continue;
+                if (before(p.pos, c.pos))
+                    fail(c.pos, fmt::format("coordinate '{}' has the same name as the parameter declared at line {}",
+                                            c.name, p.pos.line));
+                fail(p.pos, fmt::format("parameter '{}' has the same name as the coordinate declared at line {}", p.name,
+                                        c.pos.line));
+            }
+        }
+    }
+
+    // Bodies (with an optional carrier and effects) or a Lagrangian: one or the other.
+    void check_structure() const {
+        const toml::node* lagrangian = root_.get("lagrangian");
+        const toml::node* body = root_.get("body");
+        const toml::node* carrier = root_.get("carrier");
+        const toml::node* effects = root_.get("effects");
+        if (lagrangian) {
+            const std::pair<const toml::node*, const char*> others[] = {
+                {body, "[[body]]"}, {carrier, "[carrier]"}, {effects, "[effects]"}};
+            for (const auto& [other, title] : others) {
+                if (!other) continue;
+                const bool lagrangian_later = before(at(*other), at(*lagrangian));
+                const toml::node& later = lagrangian_later ? *lagrangian : *other;
+                const toml::node& earlier = lagrangian_later ? *other : *lagrangian;
+                fail(at(later),
+                     fmt::format("{} cannot be combined with {} (line {}); a scene gives either carried bodies "
+                                 "([[body]], with an optional [carrier] and [effects]) or a [lagrangian]",
+                                 lagrangian_later ? "[lagrangian]" : title, lagrangian_later ? title : "[lagrangian]",
+                                 at(earlier).line));
+            }
+        } else if (!body) {
+            fail(top(), "the scene has neither [[body]] nor [lagrangian]; give carried bodies or a lagrangian "
+                        "L = T - V");
+        }
+        if (effects && !carrier)
+            fail(at(*effects), "[effects] requires a [carrier]: inertial effects exist only in a moving frame");
+    }
+
+    void read_carrier(Scene& s) const {
+        const toml::node* node = root_.get("carrier");
+        if (!node) return;
+        const toml::table& t = as_table(*node, "carrier");
+        check_keys(t, {"motion", "angular_velocity", "pole_velocity"}, "in [carrier]");
+        Carrier c;
+        c.pos = at(t);
+        c.motion_pos = c.pos;
+        if (const toml::node* motion = t.get("motion")) {
+            c.motion = read_string(*motion, "carrier.motion");
+            c.motion_pos = at(*motion);
+            if (c.motion != "prescribed" && c.motion != "free") {
+                const std::string near = nearest_name(c.motion, {"prescribed", "free"});
+                fail(at(*motion), fmt::format("unknown carrier motion '{}'; {}", c.motion,
+                                              near.empty() ? std::string("expected 'prescribed' or 'free'")
+                                                           : fmt::format("did you mean '{}'?", near)));
+            }
+        }
+        const toml::node* w = t.get("angular_velocity");
+        c.angular_velocity = w ? read_vec3(*w, "carrier.angular_velocity") : zero_vec3(c.pos);
+        const toml::node* v = t.get("pole_velocity");
+        c.pole_velocity = v ? read_vec3(*v, "carrier.pole_velocity") : zero_vec3(c.pos);
+        s.carrier = std::move(c);
+    }
+
+    void read_bodies(Scene& s) const {
+        const toml::node* node = root_.get("body");
+        if (!node) return;
+        const toml::array* bodies = node->as_array();
+        if (!bodies)
+            fail(at(*node), fmt::format("'body': expected an array of tables ([[body]]), got {}", type_name(*node)));
+        if (bodies->empty())
+            fail(at(*node), "'body': expected at least one [[body]]; an empty array declares no body");
+        std::map<std::string, SourcePos> seen;
+        for (std::size_t i = 0; i < bodies->size(); ++i) {
+            const toml::node& element = *bodies->get(i);
+            const std::string path = fmt::format("body[{}]", i);
+            if (!element.is_table())
+                fail(at(element), fmt::format("'{}': expected a table, got {}", path, type_name(element)));
+            const toml::table& t = *element.as_table();
+            check_keys(t, {"name", "mass", "position"}, "in [[body]]");
+            Body b;
+            b.pos = at(t);
+            const toml::node& name = require(t, "name", "[[body]]");
+            b.name = read_string(name, path + ".name");
+            if (!is_identifier(b.name))
+                fail(at(name), fmt::format("invalid body name '{}': expected a letter followed by letters, digits or "
+                                           "underscores",
+                                           b.name));
+            if (const auto it = seen.find(b.name); it != seen.end())
+                fail(at(name), fmt::format("duplicate body name '{}' (first declared at line {})", b.name,
+                                           it->second.line));
+            seen.emplace(b.name, at(name));
+            b.mass = read_expr(require(t, "mass", "[[body]]"), path + ".mass");
+            if (const auto m = literal_number(b.mass.text); m && *m <= 0.0)
+                fail(b.mass.pos, fmt::format("'{}.mass': a mass must be positive, got {}", path, b.mass.text));
+            b.position = read_vec3(require(t, "position", "[[body]]"), path + ".position");
+            s.bodies.push_back(std::move(b));
+        }
+    }
+
+    void read_lagrangian(Scene& s) const {
+        const toml::node* node = root_.get("lagrangian");
+        if (!node) return;
+        const toml::table& t = as_table(*node, "lagrangian");
+        check_keys(t, {"T", "V"}, "in [lagrangian]");
+        Lagrangian l;
+        l.pos = at(t);
+        l.kinetic = read_expr(require(t, "T", "[lagrangian]"), "lagrangian.T");
+        const toml::node* v = t.get("V");
+        l.potential = v ? read_expr(*v, "lagrangian.V") : Expr{"0", l.pos};
+        s.lagrangian = std::move(l);
+    }
+
+    void read_forces(Scene& s) const {
+        const toml::node* node = root_.get("forces");
+        if (!node) return;
+        const toml::table& t = as_table(*node, "forces");
+        check_keys(t, {"potential", "generalized"}, "in [forces]");
+        if (const toml::node* v = t.get("potential")) s.forces.potential = read_expr(*v, "forces.potential");
+        if (const toml::node* g = t.get("generalized")) {
+            for (const auto& [key, value] : entries(as_table(*g, "forces.generalized"))) {
+                const std::string name(key->str());
+                s.forces.generalized.push_back(
+                    GeneralizedForce{name, read_expr(*value, "forces.generalized." + name), at(*key)});
+            }
+        }
+    }
+
+    void read_effects(Scene& s) const {
+        const toml::node* node = root_.get("effects");
+        if (!node) return;
+        const toml::table& t = as_table(*node, "effects");
+        check_keys(t, {"keep"}, "in [effects]");
+        const toml::node* keep = t.get("keep");
+        if (!keep) return;
+        const toml::array* a = keep->as_array();
+        if (!a) fail(at(*keep), fmt::format("'effects.keep': expected an array of effect names, got {}", type_name(*keep)));
+        s.effects.given = true;
+        for (std::size_t i = 0; i < a->size(); ++i) {
+            const toml::node& entry = *a->get(i);
+            const std::string name = read_string(entry, fmt::format("effects.keep[{}]", i));
+            if (std::find(effect_names.begin(), effect_names.end(), name) == effect_names.end()) {
+                const std::string near = nearest_name(
+                    name, {"relative", "translation", "euler", "centrifugal", "coriolis"});
+                fail(at(entry), fmt::format("unknown effect '{}' in effects.keep; {}", name,
+                                            near.empty() ? std::string("expected one of: relative, translation, "
+                                                                       "euler, centrifugal, coriolis")
+                                                         : fmt::format("did you mean '{}'?", near)));
+            }
+            for (std::size_t j = 0; j < s.effects.keep.size(); ++j)
+                if (s.effects.keep[j] == name)
+                    fail(at(entry), fmt::format("effect '{}' appears twice in effects.keep (first at line {}, column {})",
+                                                name, s.effects.keep_pos[j].line, s.effects.keep_pos[j].column));
+            s.effects.keep.push_back(name);
+            s.effects.keep_pos.push_back(at(entry));
+        }
+    }
+
+    void read_simulate(Scene& s) const {
+        const toml::node* node = root_.get("simulate");
+        Simulate& sim = s.simulate;
+        if (!node) return;
+        const toml::table& t = as_table(*node, "simulate");
+        check_keys(t, {"t_end", "integrator", "rtol", "atol", "step"}, "in [simulate]");
+        sim.integrator_pos = at(t);
+        if (const toml::node* v = t.get("t_end")) sim.t_end = read_positive(*v, "simulate.t_end");
+        if (const toml::node* v = t.get("integrator")) {
+            sim.integrator = read_string(*v, "simulate.integrator");
+            sim.integrator_pos = at(*v);
+            if (sim.integrator != "rk4" && sim.integrator != "dopri5") {
+                const std::string near = nearest_name(sim.integrator, {"rk4", "dopri5"});
+                fail(at(*v), fmt::format("unknown integrator '{}'; {}", sim.integrator,
+                                         near.empty() ? std::string("expected 'rk4' or 'dopri5'")
+                                                      : fmt::format("did you mean '{}'?", near)));
+            }
+        }
+        if (const toml::node* v = t.get("rtol")) sim.rtol = read_positive(*v, "simulate.rtol");
+        if (const toml::node* v = t.get("atol")) sim.atol = read_positive(*v, "simulate.atol");
+        if (const toml::node* v = t.get("step")) sim.step = read_positive(*v, "simulate.step");
+    }
+};
+
+}  // namespace
+
+Scene parse_scene_string(std::string_view toml_text, const std::string& path) {
+    return Reader(toml_text, path).read();
+}
+
+Scene parse_scene_file(const std::string& path) {
+    const SourcePos where{path, 0, 0};
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec))
+        throw InputError(where, fmt::format("cannot read scene file '{}': it is a directory", path));
+    errno = 0;
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        const int err = errno;
+        throw InputError(where, fmt::format("cannot open scene file '{}': {}", path,
+                                            err ? lower_first(std::strerror(err)) : std::string("unknown reason")));
+    }
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (in.bad()) throw InputError(where, fmt::format("cannot read scene file '{}': read error", path));
+    Scene s = parse_scene_string(text.str(), path);
+    s.path = path;
+    return s;
+}
 
 std::string struct_name(const std::string& scene_name) {
     std::string out;

@@ -1,0 +1,173 @@
+// eomc: the command line. It only wires the pipeline stages together:
+//   scene --parse--> Scene --build--> Model --derive--> Equations --lower--> KernelIR --emit--> header
+// Exit codes: 0 success, 2 bad input (file:line:column: error: …), 1 any other failure.
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "cli/output_file.hpp"
+#include "cli/simulate.hpp"
+#include "codegen/cpp_emitter.hpp"
+#include "codegen/derivation_printer.hpp"
+#include "codegen/kernel_ir.hpp"
+#include "mechanics/lagrange.hpp"
+#include "model/model.hpp"
+#include "scene/scene.hpp"
+#include "support/diagnostic.hpp"
+
+namespace fs = std::filesystem;
+using namespace eomc;
+
+namespace {
+
+struct Pipeline {
+    model::Model model;
+    mechanics::Equations equations;
+};
+
+Pipeline front_end(const std::string& scene_path) {
+    const scene::Scene scene = scene::parse_scene_file(scene_path);
+    Pipeline p{model::build_model(scene), {}};
+    p.equations = mechanics::derive(p.model);
+    return p;
+}
+
+std::string kernel_header(const Pipeline& p) {
+    return codegen::emit_header(codegen::lower(p.model, p.equations), {EOMC_VERSION});
+}
+
+codegen::DerivationFormat derivation_format(const std::string& name) {
+    if (name == "latex") return codegen::DerivationFormat::latex;
+    if (name == "json") return codegen::DerivationFormat::json;
+    return codegen::DerivationFormat::text;
+}
+
+// --set NAME=VALUE, checked for shape here; the names are checked against the kernel.
+std::vector<std::pair<std::string, double>> parse_overrides(const std::vector<std::string>& items) {
+    std::vector<std::pair<std::string, double>> out;
+    for (const auto& item : items) {
+        const auto eq = item.find('=');
+        SourcePos where{"--set " + item, 0, 0};
+        if (eq == std::string::npos || eq == 0)
+            throw InputError(where, "expected NAME=VALUE");
+        const std::string value = item.substr(eq + 1);
+        std::size_t used = 0;
+        double v = 0;
+        try {
+            v = std::stod(value, &used);
+        } catch (const std::exception&) {
+            used = 0;
+        }
+        if (used != value.size() || value.empty())
+            throw InputError(where, fmt::format("'{}' is not a number", value));
+        out.emplace_back(item.substr(0, eq), v);
+    }
+    return out;
+}
+
+struct SimulateOptions {
+    std::optional<double> t_end, rtol, atol, step;
+    std::string integrator, output, summary = "text";
+    std::vector<std::string> overrides;
+    std::string cache_dir;
+};
+
+void add_simulate_options(CLI::App* cmd, SimulateOptions& o) {
+    cmd->add_option("--t-end", o.t_end, "final time (default: [simulate] t_end)")->check(CLI::PositiveNumber);
+    cmd->add_option("--integrator", o.integrator, "rk4 | dopri5 (default: [simulate] integrator)")
+        ->check(CLI::IsMember({"rk4", "dopri5"}));
+    cmd->add_option("--rtol", o.rtol, "relative tolerance (dopri5)")->check(CLI::PositiveNumber);
+    cmd->add_option("--atol", o.atol, "absolute tolerance (dopri5)")->check(CLI::PositiveNumber);
+    cmd->add_option("--step", o.step, "step size (rk4)")->check(CLI::PositiveNumber);
+    cmd->add_option("--set", o.overrides, "NAME=VALUE: a parameter, or an initial value (q, q_dot)");
+    cmd->add_option("--output", o.output, "trajectory CSV (t, state, invariants)");
+    cmd->add_option("--summary", o.summary, "text | json")->check(CLI::IsMember({"text", "json"}));
+    cmd->add_option("--cache-dir", o.cache_dir, "where compiled kernels are kept (default ~/.cache/eomc)");
+}
+
+cli::SimulationRequest simulation_request(const Pipeline& p, const std::string& header, const SimulateOptions& o) {
+    const scene::Simulate& d = p.model.simulate;
+    cli::SimulationRequest r;
+    r.header_text = header;
+    r.struct_name = p.model.struct_name;
+    r.overrides = parse_overrides(o.overrides);
+    r.t_end = o.t_end.value_or(d.t_end);
+    r.integrator = o.integrator.empty() ? d.integrator : o.integrator;
+    r.rtol = o.rtol.value_or(d.rtol);
+    r.atol = o.atol.value_or(d.atol);
+    r.step = o.step.value_or(d.step);
+    r.csv_path = o.output;
+    r.summary_format = o.summary;
+    r.cache_dir = o.cache_dir;
+    return r;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"eomc — equations-of-motion compiler for analytical mechanics"};
+    app.set_version_flag("--version", std::string(EOMC_VERSION));
+    app.require_subcommand(1);
+
+    std::string scene_path, format = "text", output, out_dir = ".";
+
+    auto* derive = app.add_subcommand("derive", "print the derivation (text, LaTeX or JSON)");
+    derive->add_option("scene", scene_path, "scene file (TOML)")->required();
+    derive->add_option("--format", format, "text | latex | json")->check(CLI::IsMember({"text", "latex", "json"}));
+    derive->add_option("-o,--output", output, "write to FILE instead of standard output");
+
+    auto* generate = app.add_subcommand("generate", "emit the C++ kernel header <name>.hpp");
+    generate->add_option("scene", scene_path, "scene file (TOML)")->required();
+    generate->add_option("-o,--output-dir", out_dir, "directory for the header (default: .)");
+
+    SimulateOptions sim;
+    auto* simulate = app.add_subcommand("simulate", "generate, compile, integrate; write CSV and a summary");
+    simulate->add_option("scene", scene_path, "scene file (TOML)")->required();
+    add_simulate_options(simulate, sim);
+
+    auto* run = app.add_subcommand("run", "derive + generate + simulate: the whole job on one scene");
+    run->add_option("scene", scene_path, "scene file (TOML)")->required();
+    run->add_option("-d,--dir", out_dir, "directory for the header and the CSV (default: .)");
+    add_simulate_options(run, sim);
+
+    CLI11_PARSE(app, argc, argv);
+
+    try {
+        const Pipeline p = front_end(scene_path);
+        if (derive->parsed()) {
+            std::ostringstream text;
+            codegen::print_derivation(p.model, p.equations, derivation_format(format), text);
+            if (output.empty()) std::cout << text.str();
+            else cli::write_file_atomically(output, text.str());
+        } else if (generate->parsed()) {
+            const fs::path path = fs::path(out_dir) / (p.model.name + ".hpp");
+            cli::write_file_atomically(path, kernel_header(p));
+            std::cerr << "wrote " << path.string() << "\n";
+        } else if (simulate->parsed()) {
+            const auto result = cli::simulate(simulation_request(p, kernel_header(p), sim));
+            cli::print_summary(result, sim.summary, std::cout);
+        } else if (run->parsed()) {
+            codegen::print_derivation(p.model, p.equations, codegen::DerivationFormat::text, std::cout);
+            const std::string header = kernel_header(p);
+            const fs::path header_path = fs::path(out_dir) / (p.model.name + ".hpp");
+            cli::write_file_atomically(header_path, header);
+            if (sim.output.empty()) sim.output = (fs::path(out_dir) / (p.model.name + ".csv")).string();
+            std::cout << "\nKernel: " << header_path.string() << "\n\nSimulation\n";
+            const auto result = cli::simulate(simulation_request(p, header, sim));
+            cli::print_summary(result, sim.summary, std::cout);
+            std::cout << "Trajectory: " << sim.output << "\n";
+        }
+    } catch (const InputError& e) {
+        std::cerr << e.what() << "\n";
+        return 2;
+    } catch (const std::exception& e) {
+        std::cerr << "eomc: error: " << e.what() << "\n";
+        return 1;
+    }
+    return 0;
+}

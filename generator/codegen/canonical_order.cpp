@@ -1,0 +1,78 @@
+#include "codegen/canonical_order.hpp"
+
+#include <algorithm>
+#include <sstream>
+#include <string>
+
+namespace eomc::codegen {
+
+namespace {
+
+std::uint64_t fnv1a(const std::string& s, std::uint64_t h = 0xcbf29ce484222325ull) {
+    for (unsigned char c : s) h = (h ^ c) * 0x100000001b3ull;
+    return h;
+}
+
+std::uint64_t mix(std::uint64_t h, std::uint64_t v) {
+    h ^= v + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
+    return h * 0xff51afd7ed558ccdull;
+}
+
+int rank(const GiNaC::ex& e) {
+    if (GiNaC::is_a<GiNaC::numeric>(e)) return 0;
+    if (GiNaC::is_a<GiNaC::symbol>(e) || GiNaC::is_a<GiNaC::constant>(e)) return 1;
+    return 2;
+}
+
+std::string printed(const GiNaC::ex& e) {
+    std::ostringstream os;
+    os << e;
+    return os.str();
+}
+
+}  // namespace
+
+std::uint64_t CanonicalOrder::key(const GiNaC::ex& e) {
+    if (auto it = keys_.find(e); it != keys_.end()) return it->second;
+    std::uint64_t h;
+    if (rank(e) < 2) {
+        h = fnv1a(printed(e), rank(e));
+    } else {
+        std::string tag = GiNaC::is_a<GiNaC::add>(e)     ? "+"
+                          : GiNaC::is_a<GiNaC::mul>(e)   ? "*"
+                          : GiNaC::is_a<GiNaC::power>(e) ? "^"
+                          : GiNaC::is_a<GiNaC::function>(e) ? GiNaC::ex_to<GiNaC::function>(e).get_name()
+                                                            : GiNaC::ex_to<GiNaC::basic>(e).class_name();
+        h = fnv1a(tag);
+        std::vector<std::uint64_t> parts;
+        for (std::size_t i = 0; i < e.nops(); ++i) parts.push_back(key(e.op(i)));
+        // Sums and products are commutative: their key must not depend on operand order.
+        if (GiNaC::is_a<GiNaC::add>(e) || GiNaC::is_a<GiNaC::mul>(e)) std::sort(parts.begin(), parts.end());
+        for (std::uint64_t p : parts) h = mix(h, p);
+    }
+    keys_.emplace(e, h);
+    return h;
+}
+
+bool CanonicalOrder::less(const GiNaC::ex& a, const GiNaC::ex& b) {
+    const int ra = rank(a), rb = rank(b);
+    if (ra != rb) return ra < rb;
+    if (ra == 1) return printed(a) < printed(b);
+    if (ra == 0) {
+        const GiNaC::numeric& x = GiNaC::ex_to<GiNaC::numeric>(a);
+        const GiNaC::numeric& y = GiNaC::ex_to<GiNaC::numeric>(b);
+        if (x.is_real() && y.is_real()) return x < y;
+        return printed(a) < printed(b);
+    }
+    return key(a) < key(b);
+}
+
+std::vector<GiNaC::ex> CanonicalOrder::operands(const GiNaC::ex& e) {
+    std::vector<GiNaC::ex> ops;
+    for (std::size_t i = 0; i < e.nops(); ++i) ops.push_back(e.op(i));
+    if (GiNaC::is_a<GiNaC::add>(e) || GiNaC::is_a<GiNaC::mul>(e))
+        std::stable_sort(ops.begin(), ops.end(), [this](const GiNaC::ex& a, const GiNaC::ex& b) { return less(a, b); });
+    return ops;
+}
+
+}  // namespace eomc::codegen

@@ -1,0 +1,29 @@
+// A deterministic order for the operands of sums and products.
+//
+// GiNaC orders operands by hash values derived from each symbol's creation serial, so the
+// same scene could print differently in two processes that created symbols in another
+// order. Generated code must be byte-identical, so everything the code generator walks
+// or prints is ordered here instead: numbers first, then symbols by name, then compound
+// expressions by a structural hash that depends only on names and numbers.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <vector>
+
+#include <ginac/ginac.h>
+
+namespace eomc::codegen {
+
+class CanonicalOrder {
+public:
+    // The operands of e, ordered canonically (numbers first, then symbols by name).
+    std::vector<GiNaC::ex> operands(const GiNaC::ex& e);
+    std::uint64_t key(const GiNaC::ex& e);
+    bool less(const GiNaC::ex& a, const GiNaC::ex& b);
+
+private:
+    std::map<GiNaC::ex, std::uint64_t, GiNaC::ex_is_less> keys_;
+};
+
+}  // namespace eomc::codegen

@@ -1,0 +1,417 @@
+#include "codegen/cpp_emitter.hpp"
+
+#include <cmath>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "codegen/templates.hpp"
+
+namespace eomc::codegen {
+
+using GiNaC::ex;
+using GiNaC::numeric;
+
+// ---------------------------------------------------------------------------------------
+// Expressions
+
+namespace {
+
+bool is_negative_term(const ex& e) {
+    if (GiNaC::is_a<numeric>(e)) return GiNaC::ex_to<numeric>(e).is_negative();
+    if (GiNaC::is_a<GiNaC::mul>(e)) {
+        for (std::size_t i = 0; i < e.nops(); ++i)
+            if (GiNaC::is_a<numeric>(e.op(i))) return GiNaC::ex_to<numeric>(e.op(i)).is_negative();
+    }
+    return false;
+}
+
+// Integers up to 2^53 print exactly as integer literals of any floating type.
+bool small_integer(const numeric& x) { return x.is_integer() && GiNaC::abs(x) <= numeric(1L << 53); }
+
+}  // namespace
+
+std::string CppExpressionPrinter::print(const ex& e) { return print(e, sum); }
+
+std::string CppExpressionPrinter::call(const std::string& function, const std::string& argument) {
+    functions_.insert(function);
+    return function + "(" + argument + ")";
+}
+
+std::string CppExpressionPrinter::print_numeric(const numeric& x) {
+    if (!x.is_real()) throw std::runtime_error("cannot emit a complex number");
+    if (small_integer(x)) return fmt::format("S({})", x.to_long());
+    if (x.is_rational() && small_integer(x.numer()) && small_integer(x.denom()))
+        return fmt::format("S({})/S({})", x.numer().to_long(), x.denom().to_long());
+    // Anything else (huge or tiny rationals, floats): the nearest double, printed exactly.
+    return fmt::format("S({:.17e})", GiNaC::ex_to<numeric>(GiNaC::ex(x).evalf()).to_double());
+}
+
+std::string CppExpressionPrinter::print(const ex& e, Precedence context) {
+    std::string text;
+    Precedence own = atom;
+    if (auto it = names_.find(e); it != names_.end()) {
+        return it->second;
+    } else if (GiNaC::is_a<numeric>(e)) {
+        const numeric& x = GiNaC::ex_to<numeric>(e);
+        text = print_numeric(x);
+        own = x.is_integer() ? (x.is_negative() ? unary : atom) : product;
+        if (x.is_negative() && own == atom) own = unary;
+    } else if (GiNaC::is_a<GiNaC::constant>(e)) {
+        if (!e.is_equal(GiNaC::Pi)) throw std::runtime_error("cannot emit a constant other than Pi");
+        text = "S(3.141592653589793238462643383279502884L)";
+    } else if (GiNaC::is_a<GiNaC::symbol>(e)) {
+        throw std::runtime_error("no name for symbol '" + GiNaC::ex_to<GiNaC::symbol>(e).get_name() + "'");
+    } else if (GiNaC::is_a<GiNaC::add>(e)) {
+        text = print_add(e);
+        own = sum;
+    } else if (GiNaC::is_a<GiNaC::mul>(e)) {
+        text = print_mul(e);
+        own = is_negative_term(e) ? unary : product;
+    } else if (GiNaC::is_a<GiNaC::power>(e)) {
+        if (!GiNaC::is_a<numeric>(e.op(1))) {
+            text = "pow(" + print(e.op(0), sum) + ", " + print(e.op(1), sum) + ")";
+            functions_.insert("pow");
+        } else {
+            text = print_power(e.op(0), GiNaC::ex_to<numeric>(e.op(1)));
+            own = text.find_first_of("*/") == std::string::npos ? atom : product;
+        }
+    } else if (GiNaC::is_a<GiNaC::function>(e)) {
+        static const std::set<std::string> known{"sin",  "cos",  "tan",  "exp",  "log",  "asin",
+                                                 "acos", "atan", "sinh", "cosh", "tanh"};
+        const std::string name = GiNaC::ex_to<GiNaC::function>(e).get_name();
+        if (!known.count(name) || e.nops() != 1) throw std::runtime_error("cannot emit the function '" + name + "'");
+        text = call(name, print(e.op(0), sum));
+    } else {
+        throw std::runtime_error(std::string("cannot emit an expression of kind ") +
+                                 GiNaC::ex_to<GiNaC::basic>(e).class_name());
+    }
+    return own < context ? "(" + text + ")" : text;
+}
+
+std::string CppExpressionPrinter::print_add(const ex& e) {
+    std::string out;
+    for (const ex& term : order_.operands(e)) {
+        if (out.empty()) {
+            out = print(term, sum);
+        } else if (is_negative_term(term)) {
+            out += " - " + print(-term, product);
+        } else {
+            out += " + " + print(term, product);
+        }
+    }
+    return out;
+}
+
+std::string CppExpressionPrinter::print_mul(const ex& e) {
+    numeric coefficient = 1;
+    std::vector<std::string> numerator, denominator;
+    for (const ex& factor : order_.operands(e)) {
+        if (GiNaC::is_a<numeric>(factor)) {
+            coefficient *= GiNaC::ex_to<numeric>(factor);
+        } else if (GiNaC::is_a<GiNaC::power>(factor) && GiNaC::is_a<numeric>(factor.op(1)) &&
+                   GiNaC::ex_to<numeric>(factor.op(1)).is_negative() && !names_.count(factor)) {
+            const numeric k = -GiNaC::ex_to<numeric>(factor.op(1));
+            denominator.push_back(k.is_equal(1) ? print(factor.op(0), atom) : print(GiNaC::pow(factor.op(0), k), atom));
+        } else {
+            numerator.push_back(print(factor, product));
+        }
+    }
+    std::string out = coefficient.is_negative() ? "-" : "";
+    const numeric magnitude = GiNaC::abs(coefficient);
+    std::string lead;
+    if (!magnitude.is_equal(1) || numerator.empty()) lead = print_numeric(magnitude);
+    if (!lead.empty()) numerator.insert(numerator.begin(), lead);
+    for (std::size_t i = 0; i < numerator.size(); ++i) out += (i ? "*" : "") + numerator[i];
+    if (!denominator.empty()) {
+        std::string den;
+        for (std::size_t i = 0; i < denominator.size(); ++i) den += (i ? "*" : "") + denominator[i];
+        out += "/" + (denominator.size() > 1 ? "(" + den + ")" : den);
+    }
+    return out;
+}
+
+std::string CppExpressionPrinter::print_power(const ex& base, const numeric& k) {
+    if (k.is_integer()) {
+        const long n = k.to_long();
+        const long m = n < 0 ? -n : n;
+        if (m <= 8) {
+            const std::string b = print(base, atom);
+            std::string product_text = b;
+            for (long i = 1; i < m; ++i) product_text += "*" + b;
+            return n < 0 ? "S(1)/" + (m > 1 ? "(" + product_text + ")" : product_text) : product_text;
+        }
+        functions_.insert("pow");
+        return "pow(" + print(base, sum) + ", " + fmt::format("S({})", n) + ")";
+    }
+    if (k.is_equal(numeric(1, 2))) return call("sqrt", print(base, sum));
+    if (k.is_equal(numeric(-1, 2))) return "S(1)/" + call("sqrt", print(base, sum));
+    if (k.is_equal(numeric(3, 2))) return print(base, atom) + "*" + call("sqrt", print(base, sum));
+    if (k.is_equal(numeric(-3, 2))) return "S(1)/(" + print(base, atom) + "*" + call("sqrt", print(base, sum)) + ")";
+    functions_.insert("pow");
+    return "pow(" + print(base, sum) + ", " + print_numeric(k) + ")";
+}
+
+// ---------------------------------------------------------------------------------------
+// The header
+
+namespace {
+
+const std::set<std::string>& reserved_words() {
+    static const std::set<std::string> words{
+        // what the emitted functions call their arguments and helpers
+        "t", "x", "p", "out", "out_M", "out_f", "out_G", "dxdt", "acc", "S", "std", "Eigen", "Parameters",
+        // math functions reached through `using std::…`
+        "sin", "cos", "tan", "exp", "log", "sqrt", "asin", "acos", "atan", "sinh", "cosh", "tanh", "pow", "abs",
+        // C++ keywords a scene name could plausibly be
+        "alignas", "alignof", "and", "and_eq", "asm", "auto", "bitand", "bitor", "bool", "break", "case", "catch",
+        "char", "class", "compl", "concept", "const", "consteval", "constexpr", "constinit", "const_cast",
+        "continue", "co_await", "co_return", "co_yield", "decltype", "default", "delete", "do", "double",
+        "dynamic_cast", "else", "enum", "explicit", "export", "extern", "false", "float", "for", "friend", "goto",
+        "if", "inline", "int", "long", "mutable", "namespace", "new", "noexcept", "not", "not_eq", "nullptr",
+        "operator", "or", "or_eq", "private", "protected", "public", "register", "reinterpret_cast", "requires",
+        "return", "short", "signed", "sizeof", "static", "static_assert", "static_cast", "struct", "switch",
+        "template", "this", "thread_local", "throw", "true", "try", "typedef", "typeid", "typename", "union",
+        "unsigned", "using", "virtual", "void", "volatile", "wchar_t", "while", "xor", "xor_eq"};
+    return words;
+}
+
+// C++ names for the scene's names: the same text unless it would clash.
+class LocalNames {
+public:
+    explicit LocalNames(const KernelIR& ir) {
+        for (const auto& s : ir.state) taken_.insert(s.name);
+        for (const auto& s : ir.accelerations) taken_.insert(s.name);
+        for (const auto& s : ir.parameters) taken_.insert(s.name);
+        for (const auto& s : ir.state) add(s);
+        for (const auto& s : ir.accelerations) add(s);
+        for (const auto& s : ir.parameters) add(s);
+    }
+    const std::string& operator[](const ex& symbol) const { return names_.at(symbol); }
+
+private:
+    void add(const NamedSymbol& s) {
+        std::string name = s.name;
+        if (reserved_words().count(name)) {
+            name += "_";
+            while (taken_.count(name) || reserved_words().count(name)) name += "_";
+            taken_.insert(name);
+        }
+        names_.emplace(s.symbol, name);
+    }
+    std::set<std::string> taken_;
+    std::map<ex, std::string, GiNaC::ex_is_less> names_;
+};
+
+void collect_symbols(const ex& e, std::set<ex, GiNaC::ex_is_less>& out) {
+    if (GiNaC::is_a<GiNaC::symbol>(e)) {
+        out.insert(e);
+        return;
+    }
+    for (std::size_t i = 0; i < e.nops(); ++i) collect_symbols(e.op(i), out);
+}
+
+std::string indent(const std::string& text, int spaces) {
+    std::string out, pad(std::size_t(spaces), ' ');
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) out += (line.empty() ? "" : pad + line) + "\n";
+    if (!out.empty()) out.pop_back();
+    return out;
+}
+
+// How one function's inputs reach its expressions.
+struct Inputs {
+    bool acceleration_array = false;  // acc[k] holds q̈ (the Jacobian terms)
+};
+
+// The body of one function: bindings of the inputs it uses, `using std::…` for the
+// functions it calls, the temporaries, then `<target>[k] = …;` for each output.
+std::string function_body(const KernelIR& ir, const LocalNames& names, const Block& block,
+                          const std::vector<std::string>& targets, Inputs inputs = {}) {
+    std::set<ex, GiNaC::ex_is_less> used;
+    for (const auto& t : block.temporaries) collect_symbols(t.value, used);
+    for (const auto& o : block.outputs) collect_symbols(o, used);
+
+    std::map<ex, std::string, GiNaC::ex_is_less> printed_names;
+    printed_names.emplace(ir.t, "t");
+    std::string bindings;
+    bool uses_x = false, uses_p = false, uses_acc = false;
+    for (std::size_t i = 0; i < ir.state.size(); ++i) {
+        if (!used.count(ir.state[i].symbol)) continue;
+        bindings += fmt::format("const S {} = x[{}];\n", names[ir.state[i].symbol], i);
+        printed_names.emplace(ir.state[i].symbol, names[ir.state[i].symbol]);
+        uses_x = true;
+    }
+    for (std::size_t i = 0; i < ir.accelerations.size(); ++i) {
+        if (!used.count(ir.accelerations[i].symbol)) continue;
+        if (!inputs.acceleration_array) throw std::runtime_error("an acceleration appears where none is an input");
+        bindings += fmt::format("const S {} = acc[{}];\n", names[ir.accelerations[i].symbol], i);
+        printed_names.emplace(ir.accelerations[i].symbol, names[ir.accelerations[i].symbol]);
+        uses_acc = true;
+    }
+    for (const auto& prm : ir.parameters) {
+        if (!used.count(prm.symbol)) continue;
+        bindings += fmt::format("const S {0} = S(p.{0});\n", names[prm.symbol]);
+        printed_names.emplace(prm.symbol, names[prm.symbol]);
+        uses_p = true;
+    }
+    for (const auto& t : block.temporaries)
+        printed_names.emplace(t.symbol, GiNaC::ex_to<GiNaC::symbol>(t.symbol).get_name());
+
+    CppExpressionPrinter printer(printed_names);
+    std::string code;
+    for (const auto& t : block.temporaries)
+        code += fmt::format("const S {} = {};\n", GiNaC::ex_to<GiNaC::symbol>(t.symbol).get_name(), printer.print(t.value));
+    for (std::size_t k = 0; k < block.outputs.size(); ++k) code += fmt::format("{} = {};\n", targets[k], printer.print(block.outputs[k]));
+
+    std::string head;
+    if (!used.count(ir.t)) head += "(void)t;\n";
+    if (!uses_x) head += "(void)x;\n";
+    if (inputs.acceleration_array && !uses_acc) head += "(void)acc;\n";
+    if (!uses_p) head += "(void)p;\n";
+    for (const auto& f : printer.functions_used()) head += fmt::format("using std::{};\n", f);
+    return head + bindings + code;
+}
+
+std::vector<std::string> indexed(const std::string& array, std::size_t count, std::size_t offset = 0) {
+    std::vector<std::string> out;
+    for (std::size_t k = 0; k < count; ++k) out.push_back(fmt::format("{}[{}]", array, k + offset));
+    return out;
+}
+
+std::string quoted_list(const std::vector<std::string>& items) {
+    std::string out;
+    for (std::size_t i = 0; i < items.size(); ++i) out += (i ? ", \"" : "\"") + items[i] + "\"";
+    return out;
+}
+
+std::string number_list(const std::vector<double>& values) {
+    std::string out;
+    for (std::size_t i = 0; i < values.size(); ++i) out += (i ? ", " : "") + fmt::format("{}", values[i]);
+    return out;
+}
+
+std::string replace_all(std::string text, const std::string& key, const std::string& value) {
+    const std::string marker = "{{" + key + "}}";
+    for (std::size_t at = text.find(marker); at != std::string::npos; at = text.find(marker, at + value.size()))
+        text.replace(at, marker.size(), value);
+    return text;
+}
+
+}  // namespace
+
+std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
+    const LocalNames names(ir);
+    const std::size_t n = ir.n_coordinates, N = 2 * n;
+    std::string text = kernel_template();
+
+    std::vector<std::string> state_names, parameter_names;
+    for (const auto& s : ir.state) state_names.push_back(s.name);
+    for (const auto& s : ir.parameters) parameter_names.push_back(s.name);
+
+    std::string members;
+    for (std::size_t i = 0; i < ir.parameters.size(); ++i)
+        members += fmt::format("        double {} = {};\n", names[ir.parameters[i].symbol], ir.parameter_defaults[i]);
+    if (!members.empty()) members.pop_back();
+
+    std::string rhs, jacobian, private_part, includes, table;
+    auto row = [&](const char* name, const Block& b) {
+        table += fmt::format("//   {:<26} {:>8} -> {:>7} ({} temporaries)\n", name, b.ops_before, b.ops_after,
+                             b.temporaries.size());
+    };
+    row("mass_matrix", ir.mass_matrix);
+    row("forcing", ir.forcing);
+    if (ir.explicit_solution) {
+        std::string copy;
+        for (std::size_t i = 0; i < n; ++i) copy += fmt::format("dxdt[{}] = x[{}];\n", i, n + i);
+        rhs = copy + function_body(ir, names, ir.accelerations_explicit, indexed("dxdt", n, n));
+        jacobian = function_body(ir, names, ir.jacobian_explicit, indexed("out", N * N));
+        row("rhs (q̈ in closed form)", ir.accelerations_explicit);
+        row("jacobian", ir.jacobian_explicit);
+    } else {
+        includes = "#include <Eigen/Dense>\n";
+        rhs = fmt::format(
+            "Eigen::Matrix<S, n_coordinates, n_coordinates, Eigen::RowMajor> M;\n"
+            "Eigen::Matrix<S, n_coordinates, 1> f;\n"
+            "mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);\n"
+            "for (int i = 0; i < n_coordinates; ++i) dxdt[i] = x[n_coordinates + i];\n"
+            "Eigen::Map<Eigen::Matrix<S, n_coordinates, 1>>(dxdt + n_coordinates) = M.ldlt().solve(f);");
+        jacobian = fmt::format(
+            "Eigen::Matrix<S, n_coordinates, n_coordinates, Eigen::RowMajor> M;\n"
+            "Eigen::Matrix<S, n_coordinates, 1> f;\n"
+            "mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);\n"
+            "const Eigen::Matrix<S, n_coordinates, 1> acc = M.ldlt().solve(f);\n"
+            "Eigen::Matrix<S, n_coordinates, n_state, Eigen::RowMajor> G;\n"
+            "mass_matrix_and_jacobian_terms_(t, x, acc.data(), M.data(), G.data(), p);\n"
+            "// d(M⁻¹f)/dx = M⁻¹ (∂f/∂x − (∂M/∂x) q̈)\n"
+            "const Eigen::Matrix<S, n_coordinates, n_state, Eigen::RowMajor> lower = M.ldlt().solve(G);\n"
+            "for (int i = 0; i < n_coordinates; ++i)\n"
+            "    for (int j = 0; j < n_state; ++j) {{\n"
+            "        out[i * n_state + j] = S(j == n_coordinates + i ? 1 : 0);\n"
+            "        out[(n_coordinates + i) * n_state + j] = lower(i, j);\n"
+            "    }}");
+        row("mass_matrix + forcing", ir.mass_and_forcing);
+        row("mass_matrix + jacobian terms", ir.mass_and_jacobian_terms);
+        std::vector<std::string> mf = indexed("out_M", n * n);
+        for (const auto& s : indexed("out_f", n)) mf.push_back(s);
+        std::vector<std::string> mg = indexed("out_M", n * n);
+        for (const auto& s : indexed("out_G", n * N)) mg.push_back(s);
+        private_part = fmt::format(
+            "\n private:\n"
+            "    // M and f together: they share most of their subexpressions.\n"
+            "    template <class S>\n"
+            "    static void mass_matrix_and_forcing_(S t, const S* x, S* out_M, S* out_f, const Parameters& p) {{\n{}\n    }}\n\n"
+            "    // M and G = ∂f/∂x − (∂M/∂x) q̈, with q̈ = acc, both row-major.\n"
+            "    template <class S>\n"
+            "    static void mass_matrix_and_jacobian_terms_(S t, const S* x, const S* acc, S* out_M, S* out_G, const Parameters& p) {{\n{}\n    }}\n",
+            indent(function_body(ir, names, ir.mass_and_forcing, mf), 8),
+            indent(function_body(ir, names, ir.mass_and_jacobian_terms, mg, {true}), 8));
+    }
+    row("invariants", ir.invariants);
+    table.pop_back();
+
+    std::string accessors;
+    for (std::size_t k = 0; k < ir.invariant_names.size(); ++k) {
+        accessors += fmt::format(
+            "\n    template <class S>\n    static S {}(S t, const S* x, const Parameters& p) {{\n"
+            "        std::array<S, n_invariants> all;\n        invariants(t, x, all.data(), p);\n"
+            "        return all[{}];\n    }}\n",
+            ir.invariant_names[k], k);
+    }
+
+    const std::vector<std::pair<std::string, std::string>> fields{
+        {"version", options.generator_version},
+        {"source", ir.source},
+        {"summary", ir.summary.empty() ? ir.scene_name : ir.summary},
+        {"n_coordinates_text", fmt::format("{} coordinate{}", n, n == 1 ? "" : "s")},
+        {"solve_note", ir.explicit_solution ? "q̈ is solved in closed form (n ≤ 2)."
+                                            : "M q̈ = f is solved at run time (Eigen LDLT)."},
+        {"operation_table", table},
+        {"includes", includes},
+        {"runtime_version", "1"},
+        {"struct_name", ir.struct_name},
+        {"scene_name", ir.scene_name},
+        {"n", std::to_string(n)},
+        {"n_state", std::to_string(N)},
+        {"n_parameters", std::to_string(ir.parameters.size())},
+        {"n_invariants", std::to_string(ir.invariant_names.size())},
+        {"state_names", quoted_list(state_names)},
+        {"parameter_names", quoted_list(parameter_names)},
+        {"invariant_names", quoted_list(ir.invariant_names)},
+        {"initial_state", number_list(ir.initial_state)},
+        {"parameter_members", members},
+        {"mass_matrix_body", indent(function_body(ir, names, ir.mass_matrix, indexed("out", n * n)), 8)},
+        {"forcing_body", indent(function_body(ir, names, ir.forcing, indexed("out", n)), 8)},
+        {"rhs_body", indent(rhs, 8)},
+        {"jacobian_body", indent(jacobian, 8)},
+        {"invariants_body", indent(function_body(ir, names, ir.invariants, indexed("out", ir.invariant_names.size())), 8)},
+        {"invariant_accessors", accessors},
+        {"private_part", private_part},
+    };
+    for (const auto& [key, value] : fields) text = replace_all(text, key, value);
+    return text;
+}
+
+}  // namespace eomc::codegen

@@ -1,0 +1,250 @@
+#include "codegen/derivation_printer.hpp"
+
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "codegen/kernel_ir.hpp"
+
+namespace eomc::codegen {
+
+using GiNaC::ex;
+using model::Effect;
+
+ex display_form(const ex& e) {
+    // Expansion can explode (products of long sums); only accept it when it stays small.
+    const std::size_t size = count_operations(e);
+    if (size > 4000) return e;
+    const ex expanded = e.expand();
+    return count_operations(expanded) <= 2 * size + 8 ? expanded : e;
+}
+
+namespace {
+
+std::string text(const ex& e) {
+    std::ostringstream os;
+    os << GiNaC::dflt << e;
+    return os.str();
+}
+
+std::string latex(const ex& e) {
+    std::ostringstream os;
+    os << GiNaC::latex << e;
+    return os.str();
+}
+
+// The inertial term of an effect, in the seed's notation.
+const char* effect_formula(Effect e) {
+    switch (e) {
+        case Effect::relative: return "ε_s(T_r) = Σ m (d*ṙ'/dt)·e_s";
+        case Effect::translation: return "Σ m (v̇_o + ω × v_o)·e_s";
+        case Effect::euler: return "Σ m (ω̇ × r')·e_s";
+        case Effect::centrifugal: return "Σ m (ω × (ω × r'))·e_s";
+        case Effect::coriolis: return "Σ m 2(ω × ṙ')·e_s";
+    }
+    return "";
+}
+
+const char* effect_formula_latex(Effect e) {
+    switch (e) {
+        case Effect::relative: return R"(\varepsilon_s(T_r) = \sum m\, \tilde{a}_r\cdot e_s)";
+        case Effect::translation: return R"(\sum m\,(\dot v_o + \omega\times v_o)\cdot e_s)";
+        case Effect::euler: return R"(\sum m\,(\dot\omega\times r')\cdot e_s)";
+        case Effect::centrifugal: return R"(\sum m\,(\omega\times(\omega\times r'))\cdot e_s)";
+        case Effect::coriolis: return R"(\sum m\, 2(\omega\times \dot r')\cdot e_s)";
+    }
+    return "";
+}
+
+// The inertial side with q̈ collected, for reading.
+ex collected_lhs(const model::Model& model, const ex& lhs) {
+    GiNaC::lst accelerations;
+    for (const auto& c : model.coordinates) accelerations.append(c.q_ddot);
+    return display_form(lhs).collect(accelerations, true);
+}
+
+std::string vector_text(const model::Vec3& v) {
+    return "(" + text(v[0]) + ", " + text(v[1]) + ", " + text(v[2]) + ")";
+}
+
+void print_text(const model::Model& model, const mechanics::Equations& eqs, std::ostream& out) {
+    out << "Scene " << model.name << (model.summary.empty() ? "" : " — " + model.summary) << "\n";
+    out << "Coordinates q_s:";
+    for (const auto& c : model.coordinates) out << " " << c.name;
+    out << "\nParameters:";
+    for (const auto& p : model.parameters) out << fmt::format(" {} = {}", p.name, p.value);
+    out << "\n";
+    if (model.carrier) {
+        out << "Carrier frame o x'y'z' (all vectors in carrier axes):\n"
+            << "  ω   = " << vector_text(model.carrier->angular_velocity) << "\n"
+            << "  v_o = " << vector_text(model.carrier->pole_velocity) << "\n";
+    } else if (eqs.from_particles) {
+        out << "Frame: inertial (no carrier)\n";
+    }
+    for (const auto& p : model.particles)
+        out << "  body " << p.name << ": m = " << text(p.mass) << ", r' = " << vector_text(p.position) << "\n";
+
+    out << "\nKinetic energy\n";
+    if (eqs.from_particles) {
+        out << "  T = T_e + T_m + T_r\n"
+            << "  T_e = ½ Σ m |v_o + ω × r'|²  = " << text(display_form(eqs.T_e)) << "\n"
+            << "  T_m = Σ m (v_o + ω × r')·ṙ'  = " << text(display_form(eqs.T_m)) << "\n"
+            << "  T_r = ½ Σ m |ṙ'|²            = " << text(display_form(eqs.T_r)) << "\n";
+    } else {
+        out << "  T = " << text(display_form(eqs.T)) << "\n";
+    }
+    out << "Potential\n  V = " << text(display_form(eqs.V)) << "\n";
+
+    out << "\nGeneralized momenta ∂T/∂q̇_s\n";
+    for (const auto& eq : eqs.equations)
+        out << "  ∂T/∂" << eq.coordinate << "_dot = " << text(display_form(eq.dT_dqdot)) << "\n";
+
+    out << "\nLagrange's equations ε_s(T) = Q_s − ε_s(V), ε_s = d/dt ∂/∂q̇_s − ∂/∂q_s\n";
+    if (eqs.from_particles && eqs.has_carrier) {
+        out << "with ε_s(T_e) + ε_s(T_m) split into the carrier's inertial effects (kept:";
+        for (Effect e : model::all_effects)
+            if (model.keeps(e)) out << " " << model::name(e);
+        out << ")\n";
+    }
+    for (const auto& eq : eqs.equations) {
+        out << "\n  s = " << eq.coordinate << "\n";
+        for (const auto& term : eq.effects)
+            out << fmt::format("    {:<12} {:<28} = ", model::name(term.effect), effect_formula(term.effect))
+                << text(display_form(term.value)) << "\n";
+        out << "    " << text(collected_lhs(model, eq.lhs)) << " = " << text(display_form(eq.rhs)) << "\n";
+    }
+
+    const std::size_t n = model.coordinates.size();
+    out << "\nEquations of motion M q̈ = f\n";
+    for (std::size_t i = 0; i < n; ++i) {
+        out << "  M[" << model.coordinates[i].name << "] = [";
+        for (std::size_t j = 0; j < n; ++j)
+            out << (j ? ", " : "") << text(display_form(eqs.mass_matrix(unsigned(i), unsigned(j))));
+        out << "]\n";
+    }
+    for (std::size_t i = 0; i < n; ++i)
+        out << "  f[" << model.coordinates[i].name << "] = " << text(display_form(eqs.forcing[i])) << "\n";
+
+    out << "\nInvariants\n";
+    if (eqs.invariants.empty()) out << "  none proven (L depends on t explicitly, or forces do work)\n";
+    for (const auto& inv : eqs.invariants)
+        out << "  " << inv.name << ": " << inv.description << "\n    = " << text(display_form(inv.value)) << "\n";
+}
+
+std::string latex_escape(const std::string& s) {
+    std::string out;
+    for (char c : s) {
+        switch (c) {
+            case '_': case '#': case '%': case '&': case '$': case '{': case '}': out += '\\'; out += c; break;
+            case '\\': out += R"(\textbackslash{})"; break;
+            case '^': out += R"(\^{})"; break;
+            case '~': out += R"(\~{})"; break;
+            default: out += c;
+        }
+    }
+    return out;
+}
+
+void print_latex(const model::Model& model, const mechanics::Equations& eqs, std::ostream& out) {
+    out << "\\documentclass[10pt]{article}\n\\usepackage[utf8]{inputenc}\n\\usepackage{amsmath}\n"
+        << "\\allowdisplaybreaks\n\\begin{document}\n"
+        << "\\section*{" << latex_escape(model.name) << "}\n";
+    if (!model.summary.empty()) out << latex_escape(model.summary) << "\n\n";
+    if (model.carrier) {
+        out << "Carrier frame $o x'y'z'$, vectors in carrier axes:\n\\begin{align*}\n"
+            << "\\omega &= \\left(" << latex(model.carrier->angular_velocity[0]) << ",\\ "
+            << latex(model.carrier->angular_velocity[1]) << ",\\ " << latex(model.carrier->angular_velocity[2])
+            << "\\right)\\\\\nv_o &= \\left(" << latex(model.carrier->pole_velocity[0]) << ",\\ "
+            << latex(model.carrier->pole_velocity[1]) << ",\\ " << latex(model.carrier->pole_velocity[2])
+            << "\\right)\n\\end{align*}\n";
+    }
+    out << "\\subsection*{Kinetic energy}\n\\begin{align*}\n";
+    if (eqs.from_particles) {
+        out << "T &= T_e + T_m + T_r\\\\\n"
+            << "T_e &= \\tfrac12\\sum m\\,|v_o + \\omega\\times r'|^2 = " << latex(display_form(eqs.T_e)) << "\\\\\n"
+            << "T_m &= \\sum m\\,(v_o + \\omega\\times r')\\cdot\\dot r' = " << latex(display_form(eqs.T_m)) << "\\\\\n"
+            << "T_r &= \\tfrac12\\sum m\\,|\\dot r'|^2 = " << latex(display_form(eqs.T_r)) << "\\\\\n";
+    } else {
+        out << "T &= " << latex(display_form(eqs.T)) << "\\\\\n";
+    }
+    out << "V &= " << latex(display_form(eqs.V)) << "\n\\end{align*}\n";
+
+    out << "\\subsection*{Lagrange's equations}\n"
+        << "$\\varepsilon_s(T) = Q_s - \\varepsilon_s(V)$, with "
+        << "$\\varepsilon_s = \\frac{d}{dt}\\frac{\\partial}{\\partial\\dot q_s} - \\frac{\\partial}{\\partial q_s}$.\n";
+    for (const auto& eq : eqs.equations) {
+        out << "\\paragraph{$s = " << latex_escape(eq.coordinate) << "$}\n\\begin{align*}\n";
+        out << "\\frac{\\partial T}{\\partial \\dot q_s} &= " << latex(display_form(eq.dT_dqdot)) << "\\\\\n";
+        for (const auto& term : eq.effects)
+            out << "\\text{" << model::name(term.effect) << "}: \\ " << effect_formula_latex(term.effect) << " &= "
+                << latex(display_form(term.value)) << "\\\\\n";
+        out << latex(collected_lhs(model, eq.lhs)) << " &= " << latex(display_form(eq.rhs)) << "\n\\end{align*}\n";
+    }
+    out << "\\subsection*{Invariants}\n";
+    if (eqs.invariants.empty()) out << "None proven.\n";
+    for (const auto& inv : eqs.invariants)
+        out << latex_escape(inv.name) << ":\n\\begin{align*}\nh &= " << latex(display_form(inv.value))
+            << "\n\\end{align*}\n";
+    out << "\\end{document}\n";
+}
+
+std::string json_string(const std::string& s) {
+    std::string out = "\"";
+    for (unsigned char c : s) {
+        if (c == '"' || c == '\\') out += '\\', out += char(c);
+        else if (c == '\n') out += "\\n";
+        else if (c < 0x20) out += fmt::format("\\u{:04x}", unsigned(c));
+        else out += char(c);
+    }
+    return out + "\"";
+}
+
+std::string json_ex(const ex& e) { return json_string(text(e)); }
+
+void print_json(const model::Model& model, const mechanics::Equations& eqs, std::ostream& out) {
+    const std::size_t n = model.coordinates.size();
+    out << "{\n  \"scene\": " << json_string(model.name) << ",\n  \"coordinates\": [";
+    for (std::size_t i = 0; i < n; ++i) out << (i ? ", " : "") << json_string(model.coordinates[i].name);
+    out << "],\n  \"parameters\": {";
+    for (std::size_t i = 0; i < model.parameters.size(); ++i)
+        out << (i ? ", " : "") << json_string(model.parameters[i].name) << ": "
+            << fmt::format("{}", model.parameters[i].value);
+    out << "},\n  \"kinetic_energy\": {\"T\": " << json_ex(eqs.T);
+    if (eqs.from_particles)
+        out << ", \"T_e\": " << json_ex(eqs.T_e) << ", \"T_m\": " << json_ex(eqs.T_m) << ", \"T_r\": " << json_ex(eqs.T_r);
+    out << "},\n  \"potential\": " << json_ex(eqs.V) << ",\n  \"equations\": [\n";
+    for (std::size_t s = 0; s < n; ++s) {
+        const auto& eq = eqs.equations[s];
+        out << "    {\"name\": " << json_string(eq.coordinate) << ", \"lhs\": " << json_ex(eq.lhs)
+            << ", \"rhs\": " << json_ex(eq.rhs) << ", \"effects\": {";
+        for (std::size_t k = 0; k < eq.effects.size(); ++k)
+            out << (k ? ", " : "") << json_string(model::name(eq.effects[k].effect)) << ": "
+                << json_ex(eq.effects[k].value);
+        out << "}}" << (s + 1 < n ? "," : "") << "\n";
+    }
+    out << "  ],\n  \"mass_matrix\": [";
+    for (std::size_t i = 0; i < n; ++i) {
+        out << (i ? ", " : "") << "[";
+        for (std::size_t j = 0; j < n; ++j) out << (j ? ", " : "") << json_ex(eqs.mass_matrix(unsigned(i), unsigned(j)));
+        out << "]";
+    }
+    out << "],\n  \"forcing\": [";
+    for (std::size_t i = 0; i < n; ++i) out << (i ? ", " : "") << json_ex(eqs.forcing[i]);
+    out << "],\n  \"invariants\": {";
+    for (std::size_t k = 0; k < eqs.invariants.size(); ++k)
+        out << (k ? ", " : "") << json_string(eqs.invariants[k].name) << ": " << json_ex(eqs.invariants[k].value);
+    out << "}\n}\n";
+}
+
+}  // namespace
+
+void print_derivation(const model::Model& model, const mechanics::Equations& eqs, DerivationFormat format,
+                      std::ostream& out) {
+    switch (format) {
+        case DerivationFormat::text: return print_text(model, eqs, out);
+        case DerivationFormat::latex: return print_latex(model, eqs, out);
+        case DerivationFormat::json: return print_json(model, eqs, out);
+    }
+}
+
+}  // namespace eomc::codegen

@@ -1,0 +1,9 @@
+// The kernel skeleton (templates/kernel.hpp.in), compiled into the generator so that the
+// output never depends on where eomc is run from.
+#pragma once
+
+#include <string>
+
+namespace eomc::codegen {
+const std::string& kernel_template();
+}
