@@ -30,13 +30,17 @@ std::string printed(const GiNaC::ex& e) {
     return os.str();
 }
 
+std::string name(const GiNaC::ex& e) {
+    return GiNaC::is_a<GiNaC::symbol>(e) ? GiNaC::ex_to<GiNaC::symbol>(e).get_name() : std::string("Pi");
+}
+
 }  // namespace
 
 std::uint64_t CanonicalOrder::key(const GiNaC::ex& e) {
     if (auto it = keys_.find(e); it != keys_.end()) return it->second;
     std::uint64_t h;
     if (rank(e) < 2) {
-        h = fnv1a(printed(e), rank(e));
+        h = fnv1a(rank(e) == 1 ? name(e) : printed(e), std::uint64_t(rank(e)));
     } else {
         std::string tag = GiNaC::is_a<GiNaC::add>(e)     ? "+"
                           : GiNaC::is_a<GiNaC::mul>(e)   ? "*"
@@ -57,7 +61,7 @@ std::uint64_t CanonicalOrder::key(const GiNaC::ex& e) {
 bool CanonicalOrder::less(const GiNaC::ex& a, const GiNaC::ex& b) {
     const int ra = rank(a), rb = rank(b);
     if (ra != rb) return ra < rb;
-    if (ra == 1) return printed(a) < printed(b);
+    if (ra == 1) return name(a) < name(b);
     if (ra == 0) {
         const GiNaC::numeric& x = GiNaC::ex_to<GiNaC::numeric>(a);
         const GiNaC::numeric& y = GiNaC::ex_to<GiNaC::numeric>(b);

@@ -102,10 +102,13 @@ namespace {
 
 // Memoized on the node's address: GiNaC shares subtrees, so a derived expression can be a
 // DAG whose tree size is far larger than its node count.
-std::size_t tree_operations(const ex& e, std::unordered_map<const GiNaC::basic*, std::size_t>& memo) {
+// The memo holds each node (an operand can be a temporary whose address would be reused).
+using OperationMemo = std::unordered_map<const GiNaC::basic*, std::pair<ex, std::size_t>>;
+
+std::size_t tree_operations(const ex& e, OperationMemo& memo) {
     if (is_leaf(e)) return 0;
     const GiNaC::basic* node = &GiNaC::ex_to<GiNaC::basic>(e);
-    if (auto it = memo.find(node); it != memo.end()) return it->second;
+    if (auto it = memo.find(node); it != memo.end()) return it->second.second;
     std::size_t ops = 0;
     for (std::size_t i = 0; i < e.nops(); ++i) ops += tree_operations(e.op(i), memo);
     if (GiNaC::is_a<GiNaC::add>(e)) {
@@ -123,14 +126,14 @@ std::size_t tree_operations(const ex& e, std::unordered_map<const GiNaC::basic*,
     } else {
         ops += 1;  // sqrt, pow, a function call
     }
-    memo.emplace(node, ops);
+    memo.emplace(node, std::make_pair(e, ops));
     return ops;
 }
 
 }  // namespace
 
 std::size_t count_operations(const ex& e) {
-    std::unordered_map<const GiNaC::basic*, std::size_t> memo;
+    OperationMemo memo;
     return tree_operations(e, memo);
 }
 

@@ -99,7 +99,7 @@ void print_text(const model::Model& model, const mechanics::Equations& eqs, std:
     for (const auto& eq : eqs.equations)
         out << "  ∂T/∂" << eq.coordinate << "_dot = " << text(display_form(eq.dT_dqdot)) << "\n";
 
-    out << "\nLagrange's equations ε_s(T) = Q_s − ε_s(V), ε_s = d/dt ∂/∂q̇_s − ∂/∂q_s\n";
+    out << "\nLagrange's equations ε_s(T) = Q_s + ε_s(V), ε_s = d/dt ∂/∂q̇_s − ∂/∂q_s\n";
     if (eqs.from_particles && eqs.has_carrier) {
         out << "with ε_s(T_e) + ε_s(T_m) split into the carrier's inertial effects (kept:";
         for (Effect e : model::all_effects)
@@ -170,7 +170,7 @@ void print_latex(const model::Model& model, const mechanics::Equations& eqs, std
     out << "V &= " << latex(display_form(eqs.V)) << "\n\\end{align*}\n";
 
     out << "\\subsection*{Lagrange's equations}\n"
-        << "$\\varepsilon_s(T) = Q_s - \\varepsilon_s(V)$, with "
+        << "$\\varepsilon_s(T) = Q_s + \\varepsilon_s(V)$, with "
         << "$\\varepsilon_s = \\frac{d}{dt}\\frac{\\partial}{\\partial\\dot q_s} - \\frac{\\partial}{\\partial q_s}$.\n";
     for (const auto& eq : eqs.equations) {
         out << "\\paragraph{$s = " << latex_escape(eq.coordinate) << "$}\n\\begin{align*}\n";

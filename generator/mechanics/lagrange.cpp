@@ -33,16 +33,13 @@ struct ParticleKinematics {
     Vec3 r;                 // r'
     Vec3 r_dot;             // ṙ' (relative velocity)
     std::vector<Vec3> e;    // e_s = ∂r'/∂q_s
+    Vec3 a_rest;            // relative acceleration without the q̈ terms: a_r = Σ e_k q̈_k + a_rest
 };
 
 struct CarrierMotion {
     Vec3 omega = zero_vector(), omega_dot = zero_vector();
     Vec3 v_o = zero_vector(), pole_acceleration = zero_vector();  // v̇_o + ω × v_o
 };
-
-Vec3 time_derivative(const model::Model& model, const Vec3& v) {
-    return {total_derivative(model, v[0]), total_derivative(model, v[1]), total_derivative(model, v[2])};
-}
 
 CarrierMotion carrier_motion(const model::Model& model) {
     CarrierMotion m;
@@ -62,6 +59,8 @@ std::vector<ParticleKinematics> particle_kinematics(const model::Model& model) {
             k.e.push_back(diff(p.position, c.q));
             k.r_dot = k.r_dot + c.q_dot * k.e.back();
         }
+        k.a_rest = diff(k.r_dot, model.t);
+        for (const auto& c : model.coordinates) k.a_rest = k.a_rest + c.q_dot * diff(k.r_dot, c.q);
         out.push_back(std::move(k));
     }
     return out;
@@ -79,7 +78,11 @@ ex effect_term(Effect effect, const model::Model& model, const CarrierMotion& ca
                const std::vector<ParticleKinematics>& particles, std::size_t s) {
     switch (effect) {
         case Effect::relative:
-            return project(particles, s, [&](const ParticleKinematics& k) { return time_derivative(model, k.r_dot); });
+            return project(particles, s, [&](const ParticleKinematics& k) {
+                Vec3 a = k.a_rest;
+                for (std::size_t j = 0; j < model.coordinates.size(); ++j) a = a + model.coordinates[j].q_ddot * k.e[j];
+                return a;
+            });
         case Effect::translation:
             return project(particles, s, [&](const ParticleKinematics&) { return carrier.pole_acceleration; });
         case Effect::euler:
@@ -101,15 +104,22 @@ ex effect_term(Effect effect, const model::Model& model, const CarrierMotion& ca
 // Whether h is actually conserved is proven afterwards, never assumed.
 ex jacobi_candidate(const model::Model& model, const Equations& eqs, const CarrierMotion& carrier,
                     const std::vector<ParticleKinematics>& particles) {
-    auto legendre = [&](const ex& F) {
-        ex h = -F;
-        for (const auto& c : model.coordinates) h += c.q_dot * F.diff(c.q_dot);
+    // Σ q̇_s ∂F/∂q̇_s − F, with ∂T/∂q̇_s already known (eq.dT_dqdot) for the kinetic part.
+    auto legendre_V = [&] {
+        ex h = eqs.V;
+        for (const auto& c : model.coordinates) h -= c.q_dot * eqs.V.diff(c.q_dot);
         return h;
     };
     const bool all_kept = std::all_of(model.keep.begin(), model.keep.end(), [](bool k) { return k; });
-    if (!eqs.from_particles || !eqs.has_carrier || all_kept) return legendre(eqs.T - eqs.V);
-
-    ex h = legendre(eqs.T_r) + eqs.V;
+    if (!eqs.from_particles || !eqs.has_carrier || all_kept) {
+        ex h = legendre_V() - eqs.T;
+        for (std::size_t s = 0; s < model.coordinates.size(); ++s)
+            h += model.coordinates[s].q_dot * eqs.equations[s].dT_dqdot;
+        return h;
+    }
+    ex h = legendre_V() - eqs.T_r;
+    for (std::size_t s = 0; s < model.coordinates.size(); ++s)
+        h += model.coordinates[s].q_dot * project(particles, s, [](const ParticleKinematics& k) { return k.r_dot; });
     for (const auto& k : particles) {
         if (model.keeps(Effect::centrifugal)) h -= k.mass * dot(cross(carrier.omega, k.r), cross(carrier.omega, k.r)) / 2;
         if (model.keeps(Effect::translation)) h += k.mass * dot(carrier.pole_acceleration, k.r);
@@ -124,9 +134,8 @@ bool proven_conserved(const model::Model& model, const Equations& eqs, const ex&
     ex power = 0;
     for (std::size_t s = 0; s < eqs.equations.size(); ++s)
         power += model.coordinates[s].q_dot * (eqs.equations[s].lhs - eqs.equations[s].rhs);
-    const ex dh = total_derivative(model, h);
     for (const auto& point : probe_points(model, 6)) {
-        const double a = evaluate(dh, point), b = evaluate(power, point);
+        const double a = evaluate_rate(h, point), b = evaluate(power, point);
         if (!std::isfinite(a) || !std::isfinite(b)) return false;
         if (std::abs(a - b) > 1e-9 * (1.0 + std::abs(a) + std::abs(b))) return false;
     }
@@ -167,16 +176,23 @@ void require_regular_mass_matrix(const model::Model& model, const GiNaC::matrix&
 
 }  // namespace
 
-EnergySplit split_kinetic_energy(const model::Model& model) {
-    const CarrierMotion carrier = carrier_motion(model);
+namespace {
+
+EnergySplit split_kinetic_energy(const CarrierMotion& carrier, const std::vector<ParticleKinematics>& particles) {
     EnergySplit split{0, 0, 0};
-    for (const auto& k : particle_kinematics(model)) {
+    for (const auto& k : particles) {
         const Vec3 transport = carrier.v_o + cross(carrier.omega, k.r);  // velocity of the carrier point under the particle
         split.T_e += k.mass * dot(transport, transport) / 2;
         split.T_m += k.mass * dot(transport, k.r_dot);
         split.T_r += k.mass * dot(k.r_dot, k.r_dot) / 2;
     }
     return split;
+}
+
+}  // namespace
+
+EnergySplit split_kinetic_energy(const model::Model& model) {
+    return split_kinetic_energy(carrier_motion(model), particle_kinematics(model));
 }
 
 Equations derive(const model::Model& model) {
@@ -189,7 +205,7 @@ Equations derive(const model::Model& model) {
     const CarrierMotion carrier = carrier_motion(model);
     const auto particles = particle_kinematics(model);
     if (eqs.from_particles) {
-        const EnergySplit split = split_kinetic_energy(model);
+        const EnergySplit split = split_kinetic_energy(carrier, particles);
         eqs.T_e = split.T_e;
         eqs.T_m = split.T_m;
         eqs.T_r = split.T_r;
@@ -202,8 +218,14 @@ Equations derive(const model::Model& model) {
     for (std::size_t s = 0; s < n; ++s) {
         Equation eq;
         eq.coordinate = model.coordinates[s].name;
-        eq.dT_dqdot = eqs.T.diff(model.coordinates[s].q_dot);
-        eq.rhs = model.generalized_forces[s] - euler_operator(model, eqs.V, s);
+        // ∂T/∂q̇_s = Σ m v·e_s with v the absolute velocity (by projection, not by
+        // differentiating the expanded T); for a given Lagrangian, by differentiation.
+        eq.dT_dqdot = eqs.from_particles ? project(particles, s,
+                                                   [&](const ParticleKinematics& k) {
+                                                       return carrier.v_o + cross(carrier.omega, k.r) + k.r_dot;
+                                                   })
+                                         : eqs.T.diff(model.coordinates[s].q_dot);
+        eq.rhs = model.generalized_forces[s] + euler_operator(model, eqs.V, s);  // ε_s(V) = −∂V/∂q_s for V(q)
         if (eqs.from_particles) {
             eq.lhs = 0;
             for (Effect effect : model::all_effects) {
@@ -219,14 +241,40 @@ Equations derive(const model::Model& model) {
         eqs.equations.push_back(std::move(eq));
     }
 
-    // M q̈ = f from E_s = lhs_s − rhs_s, which is linear in q̈.
+    // M q̈ = f from E_s = lhs_s − rhs_s, which is linear in q̈. For particles the q̈ terms
+    // are known by construction (only the relative effect has them: M_sk = Σ m e_k·e_s), so
+    // M and f are assembled directly instead of differentiating and substituting large sums.
     GiNaC::exmap no_acceleration;
     for (const auto& c : model.coordinates) no_acceleration[c.q_ddot] = 0;
     eqs.mass_matrix = GiNaC::matrix(unsigned(n), unsigned(n));
+    const bool direct = eqs.from_particles && model.keeps(Effect::relative);
     for (std::size_t s = 0; s < n; ++s) {
-        const ex E = eqs.equations[s].lhs - eqs.equations[s].rhs;
-        for (std::size_t k = 0; k < n; ++k) eqs.mass_matrix(unsigned(s), unsigned(k)) = E.diff(model.coordinates[k].q_ddot);
-        eqs.forcing.push_back(-E.subs(no_acceleration));
+        const Equation& eq = eqs.equations[s];
+        ex inertial_rest = 0;  // the inertial side without its q̈ terms
+        if (direct) {
+            for (const auto& term : eq.effects)
+                inertial_rest += term.effect == Effect::relative
+                                     ? project(particles, s, [](const ParticleKinematics& k) { return k.a_rest; })
+                                     : term.value;
+        }
+        const ex E = direct ? eq.rhs : eq.lhs - eq.rhs;  // what still needs q̈ extracted by differentiation
+        const bool rhs_has_acceleration = [&] {
+            for (const auto& c : model.coordinates)
+                if (E.has(c.q_ddot)) return true;
+            return false;
+        }();
+        for (std::size_t k = 0; k < n; ++k) {
+            ex m_sk = 0;
+            if (direct) {
+                for (const auto& p : particles) m_sk += p.mass * dot(p.e[k], p.e[s]);
+                if (rhs_has_acceleration) m_sk -= E.diff(model.coordinates[k].q_ddot);
+            } else {
+                m_sk = E.diff(model.coordinates[k].q_ddot);
+            }
+            eqs.mass_matrix(unsigned(s), unsigned(k)) = m_sk;
+        }
+        eqs.forcing.push_back(direct ? (rhs_has_acceleration ? E.subs(no_acceleration) : E) - inertial_rest
+                                     : -E.subs(no_acceleration));
     }
     require_regular_mass_matrix(model, eqs.mass_matrix);
 

@@ -31,7 +31,7 @@ struct EffectTerm {
 struct Equation {
     std::string coordinate;
     GiNaC::ex lhs;       // inertial side: Σ kept effects, or ε_s(T) for a given Lagrangian
-    GiNaC::ex rhs;       // applied side: Q_s − ε_s(V)
+    GiNaC::ex rhs;       // applied side: Q_s + ε_s(V) (= Q_s − ∂V/∂q_s when V depends on q only)
     std::vector<EffectTerm> effects;  // the kept effects, in the canonical order (particles only)
     GiNaC::ex dT_dqdot;  // ∂T/∂q̇_s
 };

@@ -1,7 +1,10 @@
 #include "mechanics/numeric_probe.hpp"
 
+#include <cmath>
+#include <limits>
 #include <random>
 #include <stdexcept>
+#include <unordered_map>
 
 namespace eomc::mechanics {
 
@@ -17,10 +20,15 @@ std::vector<ProbePoint> make_points(const model::Model& model, std::size_t count
     for (auto& point : points) {
         auto& v = point.values;
         v[model.t] = uniform(-1, 1);
+        point.rates[model.t] = 1;
         for (const auto& c : model.coordinates) {
             v[c.q] = uniform(-1, 1);
             v[c.q_dot] = uniform(-1, 1);
             v[c.q_ddot] = uniform(-1, 1);
+        }
+        for (const auto& c : model.coordinates) {
+            point.rates[c.q] = v[c.q_dot];
+            point.rates[c.q_dot] = v[c.q_ddot];
         }
         for (const auto& p : model.parameters) {
             if (!perturb_parameters) v[p.symbol] = p.value;
@@ -30,6 +38,87 @@ std::vector<ProbePoint> make_points(const model::Model& model, std::size_t count
     }
     return points;
 }
+
+// A dual number a + b·ε with ε² = 0: value and time derivative together.
+struct Dual {
+    double v = 0, d = 0;
+};
+Dual operator+(Dual a, Dual b) { return {a.v + b.v, a.d + b.d}; }
+Dual operator*(Dual a, Dual b) { return {a.v * b.v, a.d * b.v + a.v * b.d}; }
+
+Dual apply_function(const std::string& f, Dual x) {
+    const double v = x.v;
+    if (f == "sin") return {std::sin(v), std::cos(v) * x.d};
+    if (f == "cos") return {std::cos(v), -std::sin(v) * x.d};
+    if (f == "tan") return {std::tan(v), x.d / (std::cos(v) * std::cos(v))};
+    if (f == "exp") return {std::exp(v), std::exp(v) * x.d};
+    if (f == "log") return {std::log(v), x.d / v};
+    if (f == "asin") return {std::asin(v), x.d / std::sqrt(1 - v * v)};
+    if (f == "acos") return {std::acos(v), -x.d / std::sqrt(1 - v * v)};
+    if (f == "atan") return {std::atan(v), x.d / (1 + v * v)};
+    if (f == "sinh") return {std::sinh(v), std::cosh(v) * x.d};
+    if (f == "cosh") return {std::cosh(v), std::sinh(v) * x.d};
+    if (f == "tanh") return {std::tanh(v), x.d / (std::cosh(v) * std::cosh(v))};
+    return {std::numeric_limits<double>::quiet_NaN(), 0};
+}
+
+class Evaluator {
+public:
+    explicit Evaluator(const ProbePoint& at) : at_(at) {}
+
+    Dual operator()(const GiNaC::ex& e) {
+        const GiNaC::basic* node = &GiNaC::ex_to<GiNaC::basic>(e);
+        if (auto it = memo_.find(node); it != memo_.end()) return it->second.second;
+        const Dual value = compute(e);
+        memo_.emplace(node, std::make_pair(e, value));
+        return value;
+    }
+
+private:
+    Dual compute(const GiNaC::ex& e) {
+        constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+        if (GiNaC::is_a<GiNaC::numeric>(e)) {
+            const auto& x = GiNaC::ex_to<GiNaC::numeric>(e);
+            return {x.is_real() ? x.to_double() : nan, 0};
+        }
+        if (GiNaC::is_a<GiNaC::constant>(e)) {
+            const GiNaC::ex v = e.evalf();
+            return {GiNaC::is_a<GiNaC::numeric>(v) ? GiNaC::ex_to<GiNaC::numeric>(v).to_double() : nan, 0};
+        }
+        if (GiNaC::is_a<GiNaC::symbol>(e)) {
+            auto v = at_.values.find(e);
+            if (v == at_.values.end()) return {nan, 0};
+            auto r = at_.rates.find(e);
+            return {v->second, r == at_.rates.end() ? 0.0 : r->second};
+        }
+        if (GiNaC::is_a<GiNaC::add>(e)) {
+            Dual sum;
+            for (std::size_t i = 0; i < e.nops(); ++i) sum = sum + (*this)(e.op(i));
+            return sum;
+        }
+        if (GiNaC::is_a<GiNaC::mul>(e)) {
+            Dual product{1, 0};
+            for (std::size_t i = 0; i < e.nops(); ++i) product = product * (*this)(e.op(i));
+            return product;
+        }
+        if (GiNaC::is_a<GiNaC::power>(e)) {
+            const Dual b = (*this)(e.op(0)), k = (*this)(e.op(1));
+            const double value = std::pow(b.v, k.v);
+            // d(b^k) = k b^(k−1) db + b^k log(b) dk (the second term only when k varies)
+            double d = k.v * std::pow(b.v, k.v - 1) * b.d;
+            if (k.d != 0) d += value * std::log(b.v) * k.d;
+            return {value, d};
+        }
+        if (GiNaC::is_a<GiNaC::function>(e) && e.nops() == 1)
+            return apply_function(GiNaC::ex_to<GiNaC::function>(e).get_name(), (*this)(e.op(0)));
+        return {nan, 0};
+    }
+
+    const ProbePoint& at_;
+    // Keyed by address, holding the node: an operand of a sum or product can be a temporary
+    // object, and its address must not be reused while it is a key.
+    std::unordered_map<const GiNaC::basic*, std::pair<GiNaC::ex, Dual>> memo_;
+};
 
 }  // namespace
 
@@ -41,11 +130,8 @@ std::vector<ProbePoint> probe_points_at_defaults(const model::Model& model, std:
     return make_points(model, count, seed, false);
 }
 
-double evaluate(const GiNaC::ex& e, const ProbePoint& at) {
-    const GiNaC::ex value = e.subs(at.values).evalf();
-    if (!GiNaC::is_a<GiNaC::numeric>(value) || !GiNaC::ex_to<GiNaC::numeric>(value).is_real())
-        throw std::runtime_error("expression does not evaluate to a real number at a probe point");
-    return GiNaC::ex_to<GiNaC::numeric>(value).to_double();
-}
+double evaluate(const GiNaC::ex& e, const ProbePoint& at) { return Evaluator(at)(e).v; }
+
+double evaluate_rate(const GiNaC::ex& e, const ProbePoint& at) { return Evaluator(at)(e).d; }
 
 }  // namespace eomc::mechanics

@@ -1,0 +1,80 @@
+// Turns an emitted kernel header into code running in this process: a small C adapter is
+// compiled with the system C++ compiler into a shared object, cached by content, and loaded
+// with dlopen. The generated header stays the only description of the model; nothing here
+// parses it.
+#pragma once
+
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace eomc::cli {
+
+// $XDG_CACHE_HOME/eomc, else ~/.cache/eomc, else <tmp>/eomc-cache.
+std::string default_cache_dir();
+
+// One compiled kernel, loaded. Move-only; unloads the library when destroyed, so nothing
+// obtained from it (parameter blocks included) may outlive it.
+class KernelLibrary {
+public:
+    // Compiles (or finds in `cache_dir`, "" = default_cache_dir()) the shared object for the
+    // kernel struct eomc::models::<struct_name> defined by `header_text`, and loads it.
+    // Throws std::runtime_error with the compiler's output when compilation fails.
+    static KernelLibrary load(const std::string& header_text, const std::string& struct_name,
+                              const std::string& cache_dir = "");
+
+    KernelLibrary(KernelLibrary&&) noexcept;
+    KernelLibrary& operator=(KernelLibrary&&) noexcept;
+    ~KernelLibrary();
+
+    const std::string& scene_name() const { return scene_name_; }
+    const std::vector<std::string>& state_names() const { return state_names_; }
+    const std::vector<std::string>& parameter_names() const { return parameter_names_; }
+    const std::vector<std::string>& invariant_names() const { return invariant_names_; }
+    const std::vector<double>& initial_state() const { return initial_state_; }
+    const std::vector<double>& parameter_defaults() const { return parameter_defaults_; }
+
+    // The kernel's Parameters struct, built from values in parameter_names() order.
+    struct ParameterDeleter {
+        void (*destroy)(void*) = nullptr;
+        void operator()(void* p) const { destroy(p); }
+    };
+    using Parameters = std::unique_ptr<void, ParameterDeleter>;
+    Parameters make_parameters(const std::vector<double>& values) const;
+
+    // ẋ = rhs(t, x) and the invariants, over arrays of n_state / n_invariants doubles.
+    void rhs(double t, const double* x, double* dxdt, const Parameters& p) const { rhs_(t, x, dxdt, p.get()); }
+    void invariants(double t, const double* x, double* out, const Parameters& p) const {
+        invariants_(t, x, out, p.get());
+    }
+
+    // How the library was obtained.
+    const std::string& library_path() const { return path_; }
+    bool cache_hit() const { return cache_hit_; }
+    double seconds() const { return seconds_; }  // compiling (or finding) and loading
+
+private:
+    KernelLibrary() = default;
+    void close();
+
+    void* handle_ = nullptr;
+    std::string path_;
+    bool cache_hit_ = false;
+    double seconds_ = 0.0;
+
+    std::string scene_name_;
+    std::vector<std::string> state_names_, parameter_names_, invariant_names_;
+    std::vector<double> initial_state_, parameter_defaults_;
+    void* (*create_parameters_)(const double*) = nullptr;
+    void (*destroy_parameters_)(void*) = nullptr;
+    void (*rhs_)(double, const double*, double*, const void*) = nullptr;
+    void (*invariants_)(double, const double*, double*, const void*) = nullptr;
+};
+
+// Exposed for tests: the adapter source for a struct, and the cache key (FNV-1a 64, hex) of
+// a header compiled with it by the configured compiler and flags.
+std::string adapter_source(const std::string& struct_name);
+std::string cache_key(const std::string& header_text, const std::string& struct_name);
+
+}  // namespace eomc::cli

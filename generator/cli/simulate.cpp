@@ -1,0 +1,349 @@
+#include "cli/simulate.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <iterator>
+#include <limits>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "cli/kernel_loader.hpp"
+#include "eomc/runtime/runtime.hpp"
+#include "support/diagnostic.hpp"
+
+namespace eomc::cli {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using runtime::State;
+
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+std::string join(const std::vector<std::string>& names) {
+    std::string out;
+    for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
+    return out.empty() ? "none" : out;
+}
+
+// Everything that can be checked before compiling, so that a typo costs no compile.
+void validate(const SimulationRequest& r) {
+    if (r.integrator != "rk4" && r.integrator != "dopri5") {
+        const std::string near = nearest_name(r.integrator, {"rk4", "dopri5"});
+        throw InputError(SourcePos{"--integrator"}, fmt::format("unknown integrator '{}'{} (expected rk4 or dopri5)",
+                                                                r.integrator,
+                                                                near.empty() ? "" : "; did you mean '" + near + "'?"));
+    }
+    if (!(std::isfinite(r.t_end) && r.t_end > 0.0))
+        throw InputError(SourcePos{"--t-end"}, fmt::format("the end time must be positive and finite, not {}", r.t_end));
+    if (r.integrator == "rk4" && !(std::isfinite(r.step) && r.step > 0.0))
+        throw InputError(SourcePos{"--step"}, fmt::format("the rk4 step must be positive and finite, not {}", r.step));
+    if (r.integrator == "dopri5") {
+        if (!(r.rtol >= 0.0 && r.atol >= 0.0 && (r.rtol > 0.0 || r.atol > 0.0) && std::isfinite(r.rtol) &&
+              std::isfinite(r.atol)))
+            throw InputError(SourcePos{"--rtol"}, fmt::format("tolerances must be finite, non-negative and not both zero "
+                                                              "(rtol {}, atol {})", r.rtol, r.atol));
+    }
+    if (r.summary_format != "text" && r.summary_format != "json")
+        throw InputError(SourcePos{"--format"},
+                         fmt::format("unknown summary format '{}' (expected text or json)", r.summary_format));
+}
+
+// --set NAME=VALUE: a parameter, or the initial value of a state component ("q", "q_dot").
+void apply_overrides(const SimulationRequest& r, const KernelLibrary& lib, std::vector<double>& parameters,
+                     State<double>& x) {
+    const SourcePos where{"--set"};
+    for (const auto& [name, value] : r.overrides) {
+        const auto find = [&](const std::vector<std::string>& names) {
+            for (std::size_t i = 0; i < names.size(); ++i)
+                if (names[i] == name) return static_cast<std::ptrdiff_t>(i);
+            return std::ptrdiff_t{-1};
+        };
+        const std::ptrdiff_t p = find(lib.parameter_names()), s = find(lib.state_names());
+        if (p < 0 && s < 0) {
+            std::vector<std::string> known = lib.parameter_names();
+            known.insert(known.end(), lib.state_names().begin(), lib.state_names().end());
+            const std::string near = nearest_name(name, known);
+            throw InputError(where, fmt::format("'{}' is neither a parameter nor a state variable of {}{} "
+                                                "(parameters: {}; initial values: {})",
+                                                name, lib.scene_name(), near.empty() ? "" : "; did you mean '" + near + "'?",
+                                                join(lib.parameter_names()), join(lib.state_names())));
+        }
+        if (p >= 0 && s >= 0)
+            throw InputError(where, fmt::format("'{}' names both a parameter and a state variable", name));
+        if (!std::isfinite(value)) throw InputError(where, fmt::format("{}={}: the value must be finite", name, value));
+        (p >= 0 ? parameters[static_cast<std::size_t>(p)] : x[static_cast<std::size_t>(s)]) = value;
+    }
+}
+
+// The CSV goes to a temporary file next to the target and is renamed over it only after a
+// successful integration: a failed run leaves neither a half-written file nor a clobbered old one.
+class CsvOutput {
+public:
+    CsvOutput(const std::string& path, const std::vector<std::string>& columns) : path_(path) {
+        if (path.empty()) return;
+        static std::atomic<unsigned> serial{0};
+        for (int attempt = 0; !file_; ++attempt) {
+            temp_ = fmt::format("{}.tmp.{}.{}", path, ::getpid(), serial++);
+            // O_EXCL: never adopt a file someone else is writing; mode 0666 leaves the umask in charge.
+            const int fd = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+            if (fd < 0 && errno == EEXIST && attempt < 100) continue;
+            if (fd < 0) throw std::runtime_error(fmt::format("cannot write the CSV {}: {}", temp_, std::strerror(errno)));
+            file_ = ::fdopen(fd, "w");
+            if (!file_) {
+                ::close(fd);
+                throw std::runtime_error(fmt::format("cannot write the CSV {}: {}", temp_, std::strerror(errno)));
+            }
+        }
+        std::setvbuf(file_, nullptr, _IOFBF, 1 << 20);
+        std::string header;
+        for (const auto& c : columns) header += (header.empty() ? "" : ",") + c;
+        header += '\n';
+        std::fwrite(header.data(), 1, header.size(), file_);
+    }
+    CsvOutput(const CsvOutput&) = delete;
+    CsvOutput& operator=(const CsvOutput&) = delete;
+
+    ~CsvOutput() {
+        if (!file_) return;
+        std::fclose(file_);
+        std::remove(temp_.c_str());
+    }
+
+    void row(double t, const State<double>& x, const std::vector<double>& invariants) {
+        if (!file_) return;
+        buffer_.clear();
+        fmt::format_to(std::back_inserter(buffer_), "{:.17g}", t);
+        for (double v : x) fmt::format_to(std::back_inserter(buffer_), ",{:.17g}", v);
+        for (double v : invariants) fmt::format_to(std::back_inserter(buffer_), ",{:.17g}", v);
+        buffer_.push_back('\n');
+        std::fwrite(buffer_.data(), 1, buffer_.size(), file_);
+        ++rows_;
+    }
+
+    // Flushes, closes and renames into place; throws (and removes the temporary) on any I/O error.
+    void commit() {
+        if (!file_) return;
+        const bool write_error = std::ferror(file_) != 0;
+        const bool close_error = std::fclose(file_) != 0;
+        file_ = nullptr;
+        if (write_error || close_error || std::rename(temp_.c_str(), path_.c_str()) != 0) {
+            const int err = errno;
+            std::remove(temp_.c_str());
+            throw std::runtime_error(fmt::format("cannot write the CSV {}: {}", path_, std::strerror(err)));
+        }
+    }
+
+    std::size_t rows() const { return rows_; }
+
+private:
+    std::string path_, temp_;
+    std::FILE* file_ = nullptr;
+    fmt::memory_buffer buffer_;
+    std::size_t rows_ = 0;
+};
+
+// A one-line bar on stderr, for people watching a terminal: silent for runs under ~1 s,
+// redrawn at most 10 times a second, erased when done (also when the run fails).
+class ProgressBar {
+public:
+    ProgressBar(bool wanted, double t_end) : enabled_(wanted && ::isatty(STDERR_FILENO)), t_end_(t_end) {}
+    ProgressBar(const ProgressBar&) = delete;
+    ProgressBar& operator=(const ProgressBar&) = delete;
+    ~ProgressBar() {
+        if (drawn_) std::fputs("\r\033[K", stderr);
+    }
+
+    void update(double t) {
+        // Reading the clock every step would cost more than a small kernel's step.
+        if (!enabled_ || (++calls_ & 63u) != 0) return;
+        const auto now = Clock::now();
+        if (now - start_ < std::chrono::seconds(1) || now - last_ < std::chrono::milliseconds(100)) return;
+        last_ = now;
+        const double fraction = std::clamp(t / t_end_, 0.0, 1.0);
+        constexpr int width = 30;
+        const int filled = static_cast<int>(fraction * width);
+        std::fprintf(stderr, "\r[%s%s] %3d%%  t = %.6g / %.6g", std::string(filled, '#').c_str(),
+                     std::string(width - filled, ' ').c_str(), static_cast<int>(fraction * 100), t, t_end_);
+        std::fflush(stderr);
+        drawn_ = true;
+    }
+
+private:
+    bool enabled_;
+    double t_end_;
+    Clock::time_point start_ = Clock::now(), last_{};
+    unsigned calls_ = 0;
+    bool drawn_ = false;
+};
+
+// max |I(t) − I(0)| over the observed points; a NaN drift sticks, so it is reported, not hidden.
+double track_max(double current_max, double drift) {
+    if (std::isnan(current_max)) return current_max;
+    return std::isnan(drift) || drift > current_max ? drift : current_max;
+}
+
+std::string number(double v) { return fmt::format("{:.17g}", v); }
+
+std::string json_number(double v) { return std::isfinite(v) ? number(v) : "null"; }
+
+// Names are identifiers, but a JSON writer should not rely on that.
+std::string json_string(const std::string& s) {
+    std::string out = "\"";
+    for (unsigned char c : s) {
+        if (c == '"' || c == '\\') out += '\\', out += static_cast<char>(c);
+        else if (c < 0x20) out += fmt::format("\\u{:04x}", c);
+        else out += static_cast<char>(c);
+    }
+    return out + "\"";
+}
+
+}  // namespace
+
+double InvariantReport::relative_drift() const {
+    return initial != 0.0 ? max_abs_drift / std::abs(initial) : std::numeric_limits<double>::quiet_NaN();
+}
+
+double SimulationResult::value(const std::string& name) const {
+    for (const auto& [n, v] : state)
+        if (n == name) return v;
+    throw std::out_of_range("no state variable '" + name + "'");
+}
+
+SimulationResult simulate(const SimulationRequest& request) {
+    validate(request);
+    const KernelLibrary lib = KernelLibrary::load(request.header_text, request.struct_name, request.cache_dir);
+
+    std::vector<double> parameter_values = lib.parameter_defaults();
+    State<double> x(lib.initial_state().begin(), lib.initial_state().end());
+    apply_overrides(request, lib, parameter_values, x);
+    const KernelLibrary::Parameters parameters = lib.make_parameters(parameter_values);
+
+    SimulationResult result;
+    result.scene_name = lib.scene_name();
+    result.integrator = request.integrator == "rk4" ? fmt::format("rk4 (step {})", request.step)
+                                                    : fmt::format("dopri5 (rtol {}, atol {})", request.rtol, request.atol);
+    result.compile_s = lib.seconds();
+    result.cache_hit = lib.cache_hit();
+    result.library_path = lib.library_path();
+    for (std::size_t i = 0; i < parameter_values.size(); ++i)
+        result.parameters.emplace_back(lib.parameter_names()[i], parameter_values[i]);
+
+    const std::size_t n_inv = lib.invariant_names().size();
+    std::vector<std::string> columns{"t"};
+    columns.insert(columns.end(), lib.state_names().begin(), lib.state_names().end());
+    columns.insert(columns.end(), lib.invariant_names().begin(), lib.invariant_names().end());
+    CsvOutput csv(request.csv_path, columns);
+
+    auto system = [&](double t, const State<double>& xs, State<double>& dxdt) {
+        lib.rhs(t, xs.data(), dxdt.data(), parameters);
+    };
+
+    // The observer sees t0 and every accepted step.
+    std::vector<double> inv(n_inv), inv0(n_inv), max_drift(n_inv, 0.0);
+    bool first = true;
+    double t_last = 0.0;
+    State<double> x_last = x;
+    ProgressBar progress(request.progress, request.t_end);
+    auto observer = [&](double t, const State<double>& xs) {
+        lib.invariants(t, xs.data(), inv.data(), parameters);
+        if (first) inv0 = inv, first = false;
+        for (std::size_t i = 0; i < n_inv; ++i) max_drift[i] = track_max(max_drift[i], std::abs(inv[i] - inv0[i]));
+        csv.row(t, xs, inv);
+        t_last = t;
+        x_last = xs;
+        progress.update(t);
+    };
+
+    const auto start = Clock::now();
+    runtime::Stats stats;
+    try {
+        if (request.integrator == "rk4") {
+            runtime::Rk4<double> stepper;
+            stats = runtime::integrate_fixed(stepper, system, x, 0.0, request.t_end, request.step, observer);
+        } else {
+            runtime::Dopri5<double> stepper;
+            stats = runtime::integrate_adaptive(stepper, system, x, 0.0, request.t_end, 0.0,
+                                                runtime::Tolerances{request.rtol, request.atol}, observer);
+        }
+    } catch (const runtime::IntegrationError& e) {
+        // Say which variable failed and where the solution was last seen; `csv` removes its temporary.
+        std::string message = fmt::format("simulating {} with {}: {}", lib.scene_name(), request.integrator, e.what());
+        if (e.component() < lib.state_names().size())
+            message += fmt::format("; component {} is {}", e.component(), lib.state_names()[e.component()]);
+        message += fmt::format("; last accepted state at t = {}:", number(t_last));
+        for (std::size_t i = 0; i < x_last.size(); ++i)
+            message += fmt::format(" {} = {}", lib.state_names()[i], number(x_last[i]));
+        throw runtime::IntegrationError(e.kind(), e.t(), message, e.component());
+    }
+    result.wall_s = seconds_since(start);
+    csv.commit();
+
+    result.t = t_last;
+    for (std::size_t i = 0; i < x.size(); ++i) result.state.emplace_back(lib.state_names()[i], x[i]);
+    for (std::size_t i = 0; i < n_inv; ++i)
+        result.invariants.push_back({lib.invariant_names()[i], inv0[i], inv[i], max_drift[i]});
+    result.steps = stats.accepted;
+    result.rejected = stats.rejected;
+    result.rhs_evals = stats.rhs_evals;
+    if (!request.csv_path.empty()) {
+        result.csv_path = request.csv_path;
+        result.csv_rows = csv.rows();
+    }
+    return result;
+}
+
+void print_summary(const SimulationResult& r, const std::string& format, std::ostream& out) {
+    if (format == "json") {
+        std::string s = fmt::format("{{\"t\": {}, \"state\": {{", json_number(r.t));
+        for (std::size_t i = 0; i < r.state.size(); ++i)
+            s += fmt::format("{}{}: {}", i ? ", " : "", json_string(r.state[i].first), json_number(r.state[i].second));
+        s += "}, \"invariants\": {";
+        for (std::size_t i = 0; i < r.invariants.size(); ++i) {
+            const auto& v = r.invariants[i];
+            s += fmt::format("{}{}: {{\"initial\": {}, \"max_abs_drift\": {}}}", i ? ", " : "", json_string(v.name),
+                             json_number(v.initial), json_number(v.max_abs_drift));
+        }
+        s += fmt::format("}}, \"steps\": {}, \"rejected\": {}, \"rhs_evals\": {}, \"wall_s\": {}, \"compile_s\": {}, "
+                         "\"cache_hit\": {}}}\n",
+                         r.steps, r.rejected, r.rhs_evals, json_number(r.wall_s), json_number(r.compile_s),
+                         r.cache_hit ? "true" : "false");
+        out << s;
+        return;
+    }
+    if (format != "text")
+        throw InputError(SourcePos{"--format"}, fmt::format("unknown summary format '{}' (expected text or json)", format));
+
+    std::size_t width = 6;  // aligns the values of the longest name
+    for (const auto& [n, v] : r.state) width = std::max(width, n.size());
+    for (const auto& v : r.invariants) width = std::max(width, v.name.size());
+
+    std::string s = fmt::format("{}: {} to t = {}\n", r.scene_name, r.integrator, number(r.t));
+    s += "final state\n";
+    for (const auto& [n, v] : r.state) s += fmt::format("  {:<{}}  {:>24}\n", n, width, number(v));
+    if (!r.invariants.empty()) {
+        s += fmt::format("invariants\n  {:<{}}  {:>24}  {:>12}  {:>12}\n", "", width, "initial", "max |drift|", "relative");
+        for (const auto& v : r.invariants) {
+            const double rel = v.relative_drift();
+            s += fmt::format("  {:<{}}  {:>24}  {:>12.3g}  {:>12}\n", v.name, width, number(v.initial), v.max_abs_drift,
+                             std::isnan(rel) && !std::isnan(v.max_abs_drift) ? "-" : fmt::format("{:.3g}", rel));
+        }
+    }
+    s += fmt::format("steps       {} accepted, {} rejected, {} rhs evaluations\n", r.steps, r.rejected, r.rhs_evals);
+    s += fmt::format("time        integration {:.3g} s; kernel {:.3g} s ({})\n", r.wall_s, r.compile_s,
+                     r.cache_hit ? "cached: " + r.library_path : "compiled into " + r.library_path);
+    if (!r.csv_path.empty()) s += fmt::format("csv         {} ({} rows)\n", r.csv_path, r.csv_rows);
+    out << s;
+}
+
+}  // namespace eomc::cli
