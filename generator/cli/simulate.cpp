@@ -270,7 +270,13 @@ SimulationResult simulate(const SimulationRequest& request) {
     try {
         if (request.integrator == "rk4") {
             runtime::Rk4<double> stepper;
-            stats = runtime::integrate_fixed(stepper, system, x, 0.0, request.t_end, request.step, observer);
+            // The step count is the user's choice here, not a sign of no progress: the budget
+            // must not stop a long fixed-step run short of t_end.
+            runtime::Limits limits;
+            const double steps = std::ceil(request.t_end / request.step) + 2.0;
+            limits.max_steps = std::max(limits.max_steps, steps >= 1e18 ? std::size_t{1'000'000'000'000'000'000}
+                                                                        : static_cast<std::size_t>(steps));
+            stats = runtime::integrate_fixed(stepper, system, x, 0.0, request.t_end, request.step, observer, limits);
         } else {
             runtime::Dopri5<double> stepper;
             stats = runtime::integrate_adaptive(stepper, system, x, 0.0, request.t_end, 0.0,

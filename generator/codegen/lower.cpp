@@ -3,6 +3,7 @@
 #include <set>
 
 #include "codegen/kernel_ir.hpp"
+#include "mechanics/differentiation.hpp"
 
 namespace eomc::codegen {
 
@@ -79,19 +80,18 @@ KernelIR lower(const model::Model& model, const mechanics::Equations& eqs) {
         std::vector<ex> J;
         for (std::size_t i = 0; i < 2 * n; ++i)
             for (std::size_t j = 0; j < 2 * n; ++j)
-                J.push_back(i < n ? ex(i + n == j ? 1 : 0) : acc[i - n].diff(GiNaC::ex_to<GiNaC::symbol>(ir.state[j].symbol)));
+                J.push_back(i < n ? ex(i + n == j ? 1 : 0) : mechanics::derivative(acc[i - n], GiNaC::ex_to<GiNaC::symbol>(ir.state[j].symbol)));
         ir.jacobian_explicit = eliminate_common_subexpressions(J, prefix);
     } else {
-        // d(M⁻¹f)/dx_j = M⁻¹ (∂f/∂x_j − (∂M/∂x_j) q̈): the kernel solves with M once more.
+        // d(M⁻¹f)/dx_j = M⁻¹ ∂(f − M q̈)/∂x_j with q̈ held at the solved value (acc): one
+        // derivative of the residual per entry instead of one per entry of M.
         std::vector<ex> terms = M;
         for (std::size_t i = 0; i < n; ++i) {
-            for (std::size_t j = 0; j < 2 * n; ++j) {
-                const GiNaC::symbol& x = GiNaC::ex_to<GiNaC::symbol>(ir.state[j].symbol);
-                ex g = eqs.forcing[i].diff(x);
-                for (std::size_t k = 0; k < n; ++k)
-                    g -= eqs.mass_matrix(unsigned(i), unsigned(k)).diff(x) * model.coordinates[k].q_ddot;
-                terms.push_back(g);
-            }
+            ex residual = eqs.forcing[i];
+            for (std::size_t k = 0; k < n; ++k)
+                residual -= eqs.mass_matrix(unsigned(i), unsigned(k)) * model.coordinates[k].q_ddot;
+            for (std::size_t j = 0; j < 2 * n; ++j)
+                terms.push_back(mechanics::derivative(residual, GiNaC::ex_to<GiNaC::symbol>(ir.state[j].symbol)));
         }
         ir.mass_and_jacobian_terms = eliminate_common_subexpressions(terms, prefix);
     }

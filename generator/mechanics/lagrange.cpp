@@ -5,6 +5,7 @@
 #include <Eigen/Eigenvalues>
 #include <fmt/format.h>
 
+#include "mechanics/differentiation.hpp"
 #include "mechanics/numeric_probe.hpp"
 #include "mechanics/vector3.hpp"
 #include "support/diagnostic.hpp"
@@ -15,14 +16,14 @@ using GiNaC::ex;
 using model::Effect;
 
 ex total_derivative(const model::Model& model, const ex& F) {
-    ex d = F.diff(model.t);
-    for (const auto& c : model.coordinates) d += F.diff(c.q) * c.q_dot + F.diff(c.q_dot) * c.q_ddot;
+    ex d = derivative(F, model.t);
+    for (const auto& c : model.coordinates) d += derivative(F, c.q) * c.q_dot + derivative(F, c.q_dot) * c.q_ddot;
     return d;
 }
 
 ex euler_operator(const model::Model& model, const ex& F, std::size_t s) {
     const auto& c = model.coordinates.at(s);
-    return total_derivative(model, F.diff(c.q_dot)) - F.diff(c.q);
+    return total_derivative(model, derivative(F, c.q_dot)) - derivative(F, c.q);
 }
 
 namespace {
@@ -107,7 +108,7 @@ ex jacobi_candidate(const model::Model& model, const Equations& eqs, const Carri
     // Σ q̇_s ∂F/∂q̇_s − F, with ∂T/∂q̇_s already known (eq.dT_dqdot) for the kinetic part.
     auto legendre_V = [&] {
         ex h = eqs.V;
-        for (const auto& c : model.coordinates) h -= c.q_dot * eqs.V.diff(c.q_dot);
+        for (const auto& c : model.coordinates) h -= c.q_dot * derivative(eqs.V, c.q_dot);
         return h;
     };
     const bool all_kept = std::all_of(model.keep.begin(), model.keep.end(), [](bool k) { return k; });
@@ -224,7 +225,7 @@ Equations derive(const model::Model& model) {
                                                    [&](const ParticleKinematics& k) {
                                                        return carrier.v_o + cross(carrier.omega, k.r) + k.r_dot;
                                                    })
-                                         : eqs.T.diff(model.coordinates[s].q_dot);
+                                         : derivative(eqs.T, model.coordinates[s].q_dot);
         eq.rhs = model.generalized_forces[s] + euler_operator(model, eqs.V, s);  // ε_s(V) = −∂V/∂q_s for V(q)
         if (eqs.from_particles) {
             eq.lhs = 0;
@@ -267,9 +268,9 @@ Equations derive(const model::Model& model) {
             ex m_sk = 0;
             if (direct) {
                 for (const auto& p : particles) m_sk += p.mass * dot(p.e[k], p.e[s]);
-                if (rhs_has_acceleration) m_sk -= E.diff(model.coordinates[k].q_ddot);
+                if (rhs_has_acceleration) m_sk -= derivative(E, model.coordinates[k].q_ddot);
             } else {
-                m_sk = E.diff(model.coordinates[k].q_ddot);
+                m_sk = derivative(E, model.coordinates[k].q_ddot);
             }
             eqs.mass_matrix(unsigned(s), unsigned(k)) = m_sk;
         }

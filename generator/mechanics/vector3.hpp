@@ -1,6 +1,7 @@
 // Three-component GiNaC vectors in carrier axes: just enough algebra for the kinematics.
 #pragma once
 
+#include "mechanics/differentiation.hpp"
 #include "model/model.hpp"
 
 namespace eomc::mechanics {
@@ -13,7 +14,9 @@ inline GiNaC::ex dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] *
 inline Vec3 cross(const Vec3& a, const Vec3& b) {
     return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
-inline Vec3 diff(const Vec3& a, const GiNaC::symbol& s) { return {a[0].diff(s), a[1].diff(s), a[2].diff(s)}; }
+inline Vec3 diff(const Vec3& a, const GiNaC::symbol& s) {
+    return {derivative(a[0], s), derivative(a[1], s), derivative(a[2], s)};
+}
 inline Vec3 zero_vector() { return {0, 0, 0}; }
 
 }  // namespace eomc::mechanics

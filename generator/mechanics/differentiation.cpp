@@ -1,0 +1,86 @@
+#include "mechanics/differentiation.hpp"
+
+#include <string>
+#include <unordered_map>
+
+namespace eomc::mechanics {
+
+using GiNaC::ex;
+
+namespace {
+
+// d f(u)/du for the scene language's functions into `out`; false for any other function.
+bool outer_derivative(const std::string& f, const ex& u, ex& out) {
+    if (f == "sin") out = GiNaC::cos(u);
+    else if (f == "cos") out = -GiNaC::sin(u);
+    else if (f == "tan") out = 1 + GiNaC::pow(GiNaC::tan(u), 2);
+    else if (f == "exp") out = GiNaC::exp(u);
+    else if (f == "log") out = GiNaC::pow(u, -1);
+    else if (f == "asin") out = GiNaC::pow(1 - GiNaC::pow(u, 2), GiNaC::numeric(-1, 2));
+    else if (f == "acos") out = -GiNaC::pow(1 - GiNaC::pow(u, 2), GiNaC::numeric(-1, 2));
+    else if (f == "atan") out = GiNaC::pow(1 + GiNaC::pow(u, 2), -1);
+    else if (f == "sinh") out = GiNaC::cosh(u);
+    else if (f == "cosh") out = GiNaC::sinh(u);
+    else if (f == "tanh") out = 1 - GiNaC::pow(GiNaC::tanh(u), 2);
+    else return false;
+    return true;
+}
+
+class Differentiator {
+public:
+    explicit Differentiator(const GiNaC::symbol& s) : s_(s) {}
+
+    ex operator()(const ex& e) {
+        if (GiNaC::is_a<GiNaC::symbol>(e)) return e.is_equal(s_) ? ex(1) : ex(0);
+        if (GiNaC::is_a<GiNaC::numeric>(e) || GiNaC::is_a<GiNaC::constant>(e)) return 0;
+        const GiNaC::basic* node = &GiNaC::ex_to<GiNaC::basic>(e);
+        if (auto it = memo_.find(node); it != memo_.end()) return it->second.second;
+        ex d = compute(e);
+        memo_.emplace(node, std::make_pair(e, d));  // holding e keeps the key's address valid
+        return d;
+    }
+
+private:
+    ex compute(const ex& e) {
+        if (GiNaC::is_a<GiNaC::add>(e)) {
+            GiNaC::exvector terms;
+            for (std::size_t i = 0; i < e.nops(); ++i) {
+                ex d = (*this)(e.op(i));
+                if (!d.is_zero()) terms.push_back(d);
+            }
+            return GiNaC::add(terms);
+        }
+        if (GiNaC::is_a<GiNaC::mul>(e)) {
+            GiNaC::exvector terms;
+            for (std::size_t i = 0; i < e.nops(); ++i) {
+                ex d = (*this)(e.op(i));
+                if (d.is_zero()) continue;
+                GiNaC::exvector factors;
+                for (std::size_t j = 0; j < e.nops(); ++j) factors.push_back(j == i ? d : e.op(j));
+                terms.push_back(GiNaC::mul(factors));
+            }
+            return GiNaC::add(terms);
+        }
+        if (GiNaC::is_a<GiNaC::power>(e) && GiNaC::is_a<GiNaC::numeric>(e.op(1))) {
+            const ex db = (*this)(e.op(0));
+            if (db.is_zero()) return 0;
+            return e.op(1) * GiNaC::pow(e.op(0), e.op(1) - 1) * db;
+        }
+        if (GiNaC::is_a<GiNaC::function>(e) && e.nops() == 1) {
+            const ex du = (*this)(e.op(0));
+            if (du.is_zero()) return 0;
+            ex outer;
+            if (outer_derivative(GiNaC::ex_to<GiNaC::function>(e).get_name(), e.op(0), outer)) return outer * du;
+        }
+        return e.diff(s_);
+    }
+
+    const GiNaC::symbol& s_;
+    std::unordered_map<const GiNaC::basic*, std::pair<ex, ex>> memo_;
+};
+
+}  // namespace
+
+ex derivative(const ex& e, const GiNaC::symbol& s) { return Differentiator(s)(e); }
+
+}  // namespace eomc::mechanics
