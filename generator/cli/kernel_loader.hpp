@@ -20,7 +20,9 @@ class KernelLibrary {
 public:
     // Compiles (or finds in `cache_dir`, "" = default_cache_dir()) the shared object for the
     // kernel struct eomc::models::<struct_name> defined by `header_text`, and loads it.
-    // Throws std::runtime_error with the compiler's output when compilation fails.
+    // The compiler is the one that built eomc unless $EOMC_CXX names another (part of the
+    // cache key either way). Throws std::runtime_error with the compiler's output when
+    // compilation fails.
     static KernelLibrary load(const std::string& header_text, const std::string& struct_name,
                               const std::string& cache_dir = "");
 

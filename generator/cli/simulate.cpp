@@ -92,6 +92,8 @@ class CsvOutput {
 public:
     CsvOutput(const std::string& path, const std::vector<std::string>& columns) : path_(path) {
         if (path.empty()) return;
+        if (std::filesystem::is_directory(path))  // found now rather than after a long run
+            throw std::runtime_error(fmt::format("cannot write the CSV {}: it is a directory", path));
         static std::atomic<unsigned> serial{0};
         for (int attempt = 0; !file_; ++attempt) {
             temp_ = fmt::format("{}.tmp.{}.{}", path, ::getpid(), serial++);

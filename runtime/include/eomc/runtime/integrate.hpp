@@ -1,0 +1,175 @@
+#pragma once
+
+// Integration drivers: fixed-step, adaptive (observer after every accepted step) and adaptive
+// with output at prescribed times through dense output. Each call owns one NoProgressChecker.
+// The stepper and the system are taken by reference and keep their state after the call.
+
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <stdexcept>
+#include <type_traits>
+#include <vector>
+
+#include "eomc/runtime/checker.hpp"
+#include "eomc/runtime/dopri5.hpp"
+#include "eomc/runtime/rk4.hpp"
+#include "eomc/runtime/state.hpp"
+#include "eomc/runtime/step_control.hpp"
+
+namespace eomc::runtime {
+
+// Anything with do_step(sys, x, t, h) and rhs_evals(): Rk4, Dopri5 (fifth-order fixed step).
+template <class Stepper, class Sys, class S>
+concept FixedStepper = System<Sys, S> && requires(Stepper& st, Sys& sys, State<S>& x, S t) {
+  st.do_step(sys, x, t, t);
+  { st.rhs_evals() } -> std::convertible_to<std::size_t>;
+};
+
+// Fixed steps of size h from t0 to t1; the last step is shortened to land exactly on t1 (a
+// remainder below round-off of t0 + k*h is merged into the previous step). Step k ends at
+// t0 + k*h, computed afresh rather than accumulated. observer(t, x) at t0 and after every step.
+// h must be non-zero with the sign of t1 - t0. Throws IntegrationError on a non-finite state or
+// when more than limits.max_steps steps would be needed.
+template <class Stepper, class S, class Sys, class Obs>
+  requires FixedStepper<Stepper, Sys, S> && Observer<Obs, S>
+Stats integrate_fixed(Stepper& stepper, Sys& sys, State<S>& x, std::type_identity_t<S> t0,
+                      std::type_identity_t<S> t1, std::type_identity_t<S> h, Obs&& observer,
+                      const Limits& limits = {}) {
+  using std::abs;
+  if (h == S(0) || (t1 - t0) * h < S(0))
+    throw std::invalid_argument("integrate_fixed: h must be non-zero with the sign of t1 - t0");
+  NoProgressChecker<S> checker(limits);
+  Stats stats;
+  const std::size_t evals0 = stepper.rhs_evals();
+  checker.check_state(t0, x);
+  observer(t0, static_cast<const State<S>&>(x));
+  if (t0 == t1) return stats;
+  const S dir = t1 > t0 ? S(1) : S(-1);
+  const S land = S(8) * std::numeric_limits<S>::epsilon() * (abs(t0) > abs(t1) ? abs(t0) : abs(t1));
+  S t = t0;
+  for (std::size_t k = 1;; ++k) {
+    checker.count_attempt(t);
+    S t_next = t0 + S(k) * h;
+    const bool last = (t_next - t1) * dir >= -land;
+    if (last) t_next = t1;
+    stepper.do_step(sys, x, t, t_next - t);
+    t = t_next;
+    ++stats.accepted;
+    checker.check_state(t, x);
+    observer(t, static_cast<const State<S>&>(x));
+    if (last) break;
+  }
+  stats.rhs_evals = stepper.rhs_evals() - evals0;
+  return stats;
+}
+
+namespace detail {
+
+// The adaptive loop shared by integrate_adaptive and integrate_times: steps from t0 to t1 and
+// calls on_accept(t_old, t_new, x) after every accepted step; the last one lands exactly on t1.
+template <class S, class Sys, class OnAccept>
+Stats adaptive_loop(Dopri5<S>& stepper, Sys& sys, State<S>& x, S t0, S t1, S h0, const Tolerances& tol,
+                    const Limits& limits, NoProgressChecker<S>& checker, OnAccept&& on_accept) {
+  using std::abs;
+  Stats stats;
+  const std::size_t evals0 = stepper.rhs_evals();
+  const S dir = t1 > t0 ? S(1) : S(-1);
+  S hmax = abs(t1 - t0);
+  if (limits.max_step > 0.0 && S(limits.max_step) < hmax) hmax = S(limits.max_step);
+
+  checker.check_derivative(t0, stepper.prepare(sys, x, t0));
+  std::size_t extra_evals = 0;
+  S h = h0 > S(0) ? (h0 < hmax ? h0 : hmax)
+                  : initial_step(sys, t0, x, stepper.derivative(), dir, Dopri5<S>::error_order, tol, hmax,
+                                 extra_evals);
+  checker.set_reference_step(h);
+  h *= dir;
+
+  S t = t0;
+  for (;;) {
+    if (checker.underflows(t, h)) {
+      // Shrinking because the system produced NaN/Inf just ahead: report that, not the symptom.
+      const std::size_t c = stepper.last_non_finite_component();
+      if (c != IntegrationError::no_component)
+        throw IntegrationError::non_finite(t, "derivative", c);
+      checker.check_step_size(t, h);
+    }
+    checker.count_attempt(t);
+    if (abs(h) > hmax) h = dir * hmax;
+    const bool last = (t + h - t1) * dir >= S(0);
+    if (last) h = t1 - t;
+    const S t_old = t;
+    if (stepper.try_step(sys, x, t, h, tol)) {
+      ++stats.accepted;
+      if (last) t = t1;  // t_old + (t1 - t_old) can miss t1 by an ulp
+      checker.check_state(t, x);
+      checker.check_derivative(t, stepper.derivative());
+      on_accept(t_old, t, static_cast<const State<S>&>(x));
+      if (last) break;
+    } else {
+      ++stats.rejected;
+    }
+  }
+  stats.rhs_evals = stepper.rhs_evals() - evals0 + extra_evals;
+  return stats;
+}
+
+}  // namespace detail
+
+// Adaptive integration with Dopri5 from t0 to t1 (either direction). h0 > 0 is the magnitude of the
+// first step; h0 <= 0 chooses it with initial_step(). observer(t, x) at t0 and after every
+// accepted step, landing exactly on t1. Throws IntegrationError on step underflow, an exhausted
+// step budget or a non-finite state/derivative.
+template <class S, class Sys, class Obs>
+  requires System<Sys, S> && Observer<Obs, S>
+Stats integrate_adaptive(Dopri5<S>& stepper, Sys& sys, State<S>& x, std::type_identity_t<S> t0,
+                         std::type_identity_t<S> t1, std::type_identity_t<S> h0, const Tolerances& tol,
+                         Obs&& observer, const Limits& limits = {}) {
+  validate(tol);
+  NoProgressChecker<S> checker(limits);
+  checker.check_state(t0, x);
+  observer(t0, static_cast<const State<S>&>(x));
+  if (t0 == t1) return {};
+  return detail::adaptive_loop(stepper, sys, x, S(t0), S(t1), S(h0), tol, limits, checker,
+                               [&](S, S t, const State<S>& xs) { observer(t, xs); });
+}
+
+// Adaptive integration from times.front() to times.back() (monotone, either direction; repeated
+// values allowed); x is the state at times.front() on entry and at times.back() on return.
+// observer(t, x) is called exactly once per entry of times, at exactly that time: interior times are
+// evaluated with the dense output of the step containing them (steps are not shortened for them),
+// times that coincide with a step end get that step's state.
+template <class S, class Sys, class Obs>
+  requires System<Sys, S> && Observer<Obs, S>
+Stats integrate_times(Dopri5<S>& stepper, Sys& sys, State<S>& x, const std::vector<S>& times,
+                      std::type_identity_t<S> h0, const Tolerances& tol, Obs&& observer,
+                      const Limits& limits = {}) {
+  validate(tol);
+  if (times.empty()) return {};
+  const S t0 = times.front(), t1 = times.back();
+  const S dir = t1 >= t0 ? S(1) : S(-1);
+  for (std::size_t i = 1; i < times.size(); ++i)
+    if (!((times[i] - times[i - 1]) * dir >= S(0)))
+      throw std::invalid_argument("integrate_times: output times must be monotone");
+  NoProgressChecker<S> checker(limits);
+  checker.check_state(t0, x);
+  std::size_t next = 0;
+  while (next < times.size() && times[next] == t0) observer(times[next++], static_cast<const State<S>&>(x));
+  if (next == times.size()) return {};
+  State<S> buf(x.size());
+  return detail::adaptive_loop(stepper, sys, x, t0, t1, S(h0), tol, limits, checker,
+                               [&](S, S t_new, const State<S>& xs) {
+                                 while (next < times.size() && (times[next] - t_new) * dir <= S(0)) {
+                                   if (times[next] == t_new) {
+                                     observer(times[next], xs);
+                                   } else {
+                                     stepper.calc_state(times[next], buf);
+                                     observer(times[next], static_cast<const State<S>&>(buf));
+                                   }
+                                   ++next;
+                                 }
+                               });
+}
+
+}  // namespace eomc::runtime

@@ -1,0 +1,12 @@
+#pragma once
+
+// Umbrella header of the eomc runtime.
+
+#include "eomc/runtime/checker.hpp"
+#include "eomc/runtime/dopri5.hpp"
+#include "eomc/runtime/errors.hpp"
+#include "eomc/runtime/integrate.hpp"
+#include "eomc/runtime/rk4.hpp"
+#include "eomc/runtime/state.hpp"
+#include "eomc/runtime/step_control.hpp"
+#include "eomc/runtime/version.hpp"
