@@ -107,6 +107,39 @@ cli::SimulationRequest simulation_request(const Pipeline& p, const std::string& 
     return r;
 }
 
+// `eomc generate --timings`: the same output, with each stage timed.
+int generate_with_timings(const std::string& scene_path, const std::string& out_dir) {
+    using clock = std::chrono::steady_clock;
+    const auto start = clock::now();
+    auto last = start;
+    auto lap = [&last] {
+        const auto now = clock::now();
+        const double s = std::chrono::duration<double>(now - last).count();
+        last = now;
+        return s;
+    };
+    const scene::Scene scene = scene::parse_scene_file(scene_path);
+    const model::Model model = model::build_model(scene);
+    const double parse = lap();
+    const mechanics::Equations equations = mechanics::derive(model);
+    const double derive = lap();
+    codegen::LoweringTimes lowering;
+    const codegen::KernelIR ir = codegen::lower(model, equations, &lowering);
+    lap();
+    const std::string header = codegen::emit_header(ir, {EOMC_VERSION});
+    const fs::path path = fs::path(out_dir) / (model.name + ".hpp");
+    cli::write_file_atomically(path, header);
+    const double emit = lap();
+    const double total = std::chrono::duration<double>(clock::now() - start).count();
+    for (const auto& [stage, seconds] : {std::pair{"parse", parse}, {"derive", derive},
+                                         {"cse_mass_forcing", lowering.mass_and_forcing},
+                                         {"jacobian", lowering.jacobian}, {"invariants", lowering.invariants},
+                                         {"emit", emit}, {"total", total}})
+        std::cerr << fmt::format("timing {} {:.6f}\n", stage, seconds);
+    std::cerr << "wrote " << path.string() << "\n";
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -121,9 +154,11 @@ int main(int argc, char** argv) {
     derive->add_option("--format", format, "text | latex | json")->check(CLI::IsMember({"text", "latex", "json"}));
     derive->add_option("-o,--output", output, "write to FILE instead of standard output");
 
+    bool timings = false;
     auto* generate = app.add_subcommand("generate", "emit the C++ kernel header <name>.hpp");
     generate->add_option("scene", scene_path, "scene file (TOML)")->required();
     generate->add_option("-o,--output-dir", out_dir, "directory for the header (default: .)");
+    generate->add_flag("--timings", timings, "print the time of each stage on stderr (`timing <stage> <seconds>`)");
 
     SimulateOptions sim;
     auto* simulate = app.add_subcommand("simulate", "generate, compile, integrate; write CSV and a summary");
@@ -138,6 +173,7 @@ int main(int argc, char** argv) {
     CLI11_PARSE(app, argc, argv);
 
     try {
+        if (generate->parsed() && timings) return generate_with_timings(scene_path, out_dir);
         const Pipeline p = front_end(scene_path);
         if (derive->parsed()) {
             std::ostringstream text;

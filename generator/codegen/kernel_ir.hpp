@@ -65,7 +65,14 @@ Block eliminate_common_subexpressions(const std::vector<GiNaC::ex>& outputs, con
 // any other power, sqrt and every function call one each.
 std::size_t count_operations(const GiNaC::ex& e);
 
+// Seconds spent per lowering step, for `eomc generate --timings` and the benchmarks.
+struct LoweringTimes {
+    double mass_and_forcing = 0;  // CSE of M, f and M+f
+    double jacobian = 0;          // the Jacobian's derivatives and their CSE
+    double invariants = 0;
+};
+
 // Model + equations → kernel IR. Deterministic: the same scene gives the same IR.
-KernelIR lower(const model::Model& model, const mechanics::Equations& equations);
+KernelIR lower(const model::Model& model, const mechanics::Equations& equations, LoweringTimes* times = nullptr);
 
 }  // namespace eomc::codegen

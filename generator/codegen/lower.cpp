@@ -1,4 +1,6 @@
 // Lowering: equations of motion → the blocks of straight-line code the kernel needs.
+#include <algorithm>
+#include <chrono>
 #include <regex>
 #include <set>
 
@@ -39,7 +41,16 @@ std::vector<ex> solve_explicitly(const GiNaC::matrix& M, const std::vector<ex>& 
 
 }  // namespace
 
-KernelIR lower(const model::Model& model, const mechanics::Equations& eqs) {
+KernelIR lower(const model::Model& model, const mechanics::Equations& eqs, LoweringTimes* times) {
+    using clock = std::chrono::steady_clock;
+    auto lap = [last = clock::now()]() mutable {
+        const auto now = clock::now();
+        const double s = std::chrono::duration<double>(now - last).count();
+        last = now;
+        return s;
+    };
+    LoweringTimes local;
+    LoweringTimes& t = times ? *times : local;
     KernelIR ir;
     ir.scene_name = model.name;
     ir.struct_name = model.struct_name;
@@ -72,6 +83,7 @@ KernelIR lower(const model::Model& model, const mechanics::Equations& eqs) {
     ir.mass_matrix = eliminate_common_subexpressions(M, prefix);
     ir.forcing = eliminate_common_subexpressions(eqs.forcing, prefix);
     ir.mass_and_forcing = eliminate_common_subexpressions(M_and_f, prefix);
+    t.mass_and_forcing = lap();
 
     ir.explicit_solution = n <= 2;
     if (ir.explicit_solution) {
@@ -96,12 +108,15 @@ KernelIR lower(const model::Model& model, const mechanics::Equations& eqs) {
         ir.mass_and_jacobian_terms = eliminate_common_subexpressions(terms, prefix);
     }
 
+    t.jacobian = lap();
+
     std::vector<ex> invariants;
     for (const auto& inv : eqs.invariants) {
         ir.invariant_names.push_back(inv.name);
         invariants.push_back(inv.value);
     }
     ir.invariants = eliminate_common_subexpressions(invariants, prefix);
+    t.invariants = lap();
     return ir;
 }
 
