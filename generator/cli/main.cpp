@@ -7,6 +7,9 @@
 #include <iostream>
 #include <sstream>
 
+#include <sys/personality.h>
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
@@ -24,6 +27,18 @@ namespace fs = std::filesystem;
 using namespace eomc;
 
 namespace {
+
+// GiNaC seeds its hash values with the addresses of type_info names, and the order it
+// keeps terms in — which decides the form of some derived expressions — follows those
+// hashes. With address-space randomisation two runs on the same scene could then print
+// different (equal) kernels, so eomc re-executes itself once with randomisation off:
+// same scene, same bytes. If the system refuses, it carries on.
+void ensure_reproducible_layout(char** argv) {
+    const int persona = ::personality(0xffffffff);
+    if (persona == -1 || (persona & ADDR_NO_RANDOMIZE)) return;
+    if (::personality(static_cast<unsigned long>(persona | ADDR_NO_RANDOMIZE)) == -1) return;
+    ::execv("/proc/self/exe", argv);
+}
 
 struct Pipeline {
     model::Model model;
@@ -143,6 +158,7 @@ int generate_with_timings(const std::string& scene_path, const std::string& out_
 }  // namespace
 
 int main(int argc, char** argv) {
+    ensure_reproducible_layout(argv);
     CLI::App app{"eomc — equations-of-motion compiler for analytical mechanics"};
     app.set_version_flag("--version", std::string(EOMC_VERSION));
     app.require_subcommand(1);

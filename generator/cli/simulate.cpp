@@ -55,7 +55,7 @@ void validate(const SimulationRequest& r) {
                                                               "(rtol {}, atol {})", r.rtol, r.atol));
     }
     if (r.summary_format != "text" && r.summary_format != "json")
-        throw InputError(SourcePos{"--format"},
+        throw InputError(SourcePos{"--summary"},
                          fmt::format("unknown summary format '{}' (expected text or json)", r.summary_format));
 }
 
@@ -330,7 +330,7 @@ void print_summary(const SimulationResult& r, const std::string& format, std::os
         return;
     }
     if (format != "text")
-        throw InputError(SourcePos{"--format"}, fmt::format("unknown summary format '{}' (expected text or json)", format));
+        throw InputError(SourcePos{"--summary"}, fmt::format("unknown summary format '{}' (expected text or json)", format));
 
     std::size_t width = 6;  // aligns the values of the longest name
     for (const auto& [n, v] : r.state) width = std::max(width, n.size());

@@ -18,10 +18,16 @@ std::uint64_t mix(std::uint64_t h, std::uint64_t v) {
     return h * 0xff51afd7ed558ccdull;
 }
 
+bool is_power_of_symbol(const GiNaC::ex& e) {
+    return GiNaC::is_a<GiNaC::power>(e) && GiNaC::is_a<GiNaC::symbol>(e.op(0)) && GiNaC::is_a<GiNaC::numeric>(e.op(1));
+}
+
+// Numbers, then symbols, then powers of symbols (x^2, 1/y), then everything else.
 int rank(const GiNaC::ex& e) {
     if (GiNaC::is_a<GiNaC::numeric>(e)) return 0;
     if (GiNaC::is_a<GiNaC::symbol>(e) || GiNaC::is_a<GiNaC::constant>(e)) return 1;
-    return 2;
+    if (is_power_of_symbol(e)) return 2;
+    return 3;
 }
 
 std::string printed(const GiNaC::ex& e) {
@@ -39,7 +45,7 @@ std::string name(const GiNaC::ex& e) {
 std::uint64_t CanonicalOrder::key(const GiNaC::ex& e) {
     if (auto it = keys_.find(e); it != keys_.end()) return it->second;
     std::uint64_t h;
-    if (rank(e) < 2) {
+    if (rank(e) < 2) {  // leaves
         h = fnv1a(rank(e) == 1 ? name(e) : printed(e), std::uint64_t(rank(e)));
     } else {
         std::string tag = GiNaC::is_a<GiNaC::add>(e)     ? "+"
@@ -62,6 +68,10 @@ bool CanonicalOrder::less(const GiNaC::ex& a, const GiNaC::ex& b) {
     const int ra = rank(a), rb = rank(b);
     if (ra != rb) return ra < rb;
     if (ra == 1) return name(a) < name(b);
+    if (ra == 2) {
+        if (name(a.op(0)) != name(b.op(0))) return name(a.op(0)) < name(b.op(0));
+        return GiNaC::ex_to<GiNaC::numeric>(a.op(1)) < GiNaC::ex_to<GiNaC::numeric>(b.op(1));
+    }
     if (ra == 0) {
         const GiNaC::numeric& x = GiNaC::ex_to<GiNaC::numeric>(a);
         const GiNaC::numeric& y = GiNaC::ex_to<GiNaC::numeric>(b);

@@ -1,6 +1,7 @@
 // Lowering: equations of motion → the blocks of straight-line code the kernel needs.
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <regex>
 #include <set>
 
@@ -55,7 +56,8 @@ KernelIR lower(const model::Model& model, const mechanics::Equations& eqs, Lower
     ir.scene_name = model.name;
     ir.struct_name = model.struct_name;
     ir.summary = model.summary;
-    ir.source = model.source;
+    // The file name only: the header must not depend on the directory eomc ran in.
+    ir.source = std::filesystem::path(model.source).filename().string();
     ir.t = model.t;
     const std::size_t n = model.coordinates.size();
     ir.n_coordinates = n;
