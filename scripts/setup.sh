@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Installs what eomc needs from Debian's packages (only what is missing), then configures
+# and builds it in ./build. Safe to run again: a no-op when everything is in place.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+packages=(
+  build-essential cmake pkg-config          # toolchain (the simulate command also compiles kernels with it)
+  libginac-dev libcln-dev                   # symbolic algebra, exact arithmetic
+  libeigen3-dev                             # the run-time LDLT solve of M q̈ = f
+  libtomlplusplus-dev libcli11-dev libfmt-dev
+  libboost-test-dev                         # the test suite
+  texlive-latex-base                        # the test that compiles `eomc derive --format latex`
+  python3                                   # the test that parses `eomc derive --format json`
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "setup: installing ${missing[*]}"
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build build -j"$(nproc)"

@@ -1,0 +1,192 @@
+#define BOOST_TEST_MODULE cli
+#include <boost/test/unit_test.hpp>
+
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+    int status = -1;
+    std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+// A scratch directory per test case, emptied first.
+fs::path scratch(const std::string& name) {
+    const fs::path dir = fs::path(EOMC_BINARY_DIR) / "cli-scratch" / name;
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+Result run(const std::string& arguments, const fs::path& dir) {
+    const std::string command = std::string(EOMC_EXECUTABLE) + " " + arguments + " > " + (dir / "stdout").string() +
+                                " 2> " + (dir / "stderr").string();
+    const int raw = std::system(command.c_str());
+    Result r;
+    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    r.out = slurp(dir / "stdout");
+    r.err = slurp(dir / "stderr");
+    fs::remove(dir / "stdout");
+    fs::remove(dir / "stderr");
+    return r;
+}
+
+fs::path write_scene(const fs::path& dir, const std::string& text) {
+    const fs::path p = dir / "scene.toml";
+    std::ofstream(p) << text;
+    return p;
+}
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+    const auto at = text.find(from);
+    BOOST_REQUIRE(at != std::string::npos);
+    return text.replace(at, from.size(), to);
+}
+
+std::size_t files_in(const fs::path& dir) {
+    return std::size_t(std::distance(fs::directory_iterator(dir), fs::directory_iterator()));
+}
+
+const char* tube = R"([scene]
+name = "tube"
+[parameters]
+m = 0.5
+Omega = 3.0
+[coordinates]
+q = { initial = 0.1 }
+[carrier]
+angular_velocity = ["0", "Omega", "0"]
+[[body]]
+name = "ball"
+mass = "m"
+position = ["q", "0", "0"]
+)";
+
+// Every bad input: exit 2, a diagnostic at the exact place, no output file.
+void expect_input_error(const std::string& scene, const std::string& where, const std::string& message) {
+    const fs::path dir = scratch("bad");
+    const fs::path file = write_scene(dir, scene);
+    const fs::path out = dir / "out";
+    const Result r = run("generate " + file.string() + " -o " + out.string(), dir);
+    BOOST_TEST(r.status == 2);
+    BOOST_TEST(r.err.rfind(file.string() + ":" + where + ": error: ", 0) == 0, "stderr: " << r.err);
+    BOOST_TEST(r.err.find(message) != std::string::npos, "stderr: " << r.err);
+    BOOST_TEST(!fs::exists(out));
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(bad_scenes_are_refused_with_their_place) {
+    expect_input_error("[scene\nname = \"x\"\n", "1:7", "invalid TOML");
+    expect_input_error(std::string(tube) + "[effects]\nkeep = [\"coriollis\"]\n", "15:9", "did you mean 'coriolis'");
+    // position = ["q", "…", "0"] is line 13; its second component starts in column 19.
+    expect_input_error(replaced(tube, R"(["q", "0", "0"])", R"(["q", "qq", "0"])"), "13:19", "unknown symbol 'qq'");
+    expect_input_error(replaced(tube, R"(["q", "0", "0"])", R"(["q", "p_dot", "0"])"), "13:19",
+                       "'p' is not a declared coordinate");
+    expect_input_error(replaced(tube, R"(["q", "0", "0"])", R"(["q", "q_dot", "0"])"), "13:19",
+                       "may not appear in the position");
+    expect_input_error(replaced(tube, R"("Omega", "0"])", R"("Omega*(", "0"])"), "9:27", "cannot parse");
+    expect_input_error(replaced(tube, "m = 0.5", "m = -0.5"), "12:9", "must be positive");
+    expect_input_error(replaced(tube, "[carrier]\n", "[carrier]\nmotion = \"free\"\n"), "9:10", "not yet supported");
+    expect_input_error(replaced(tube, "[[body]]", "[[bodyy]]"), "10:3", "bodyy");
+}
+
+BOOST_AUTO_TEST_CASE(a_singular_mass_matrix_names_the_coordinates) {
+    expect_input_error(R"([scene]
+name = "degenerate"
+[coordinates]
+x = {}
+y = {}
+[lagrangian]
+T = "(x_dot + y_dot)^2/2"
+)", "7:6", "'x', 'y'");
+}
+
+BOOST_AUTO_TEST_CASE(bad_overrides_and_missing_files) {
+    const fs::path dir = scratch("overrides");
+    const fs::path file = write_scene(dir, tube);
+    Result r = run("simulate " + file.string() + " --set Omgea=2 --cache-dir " + (dir / "cache").string(), dir);
+    BOOST_TEST(r.status == 2);
+    BOOST_TEST(r.err.find("Omgea") != std::string::npos, r.err);
+    r = run("simulate " + file.string() + " --set Omega=abc", dir);
+    BOOST_TEST(r.status == 2);
+    r = run("derive " + (dir / "missing.toml").string(), dir);
+    BOOST_TEST(r.status == 2);
+    BOOST_TEST(r.err.find("cannot open") != std::string::npos, r.err);
+}
+
+BOOST_AUTO_TEST_CASE(a_failed_integration_exits_nonzero_and_writes_nothing) {
+    // q̈ = q³·4 from q = 1 blows up at t ≈ 0.927 (∫ dq / sqrt(2 q⁴ − 2)).
+    const fs::path dir = scratch("blowup");
+    const fs::path file = write_scene(dir, R"([scene]
+name = "blowup"
+[coordinates]
+q = { initial = 1.0, rate = 0.0 }
+[lagrangian]
+T = "q_dot^2/2"
+V = "-q^4"
+)");
+    const Result r = run("simulate " + file.string() + " --t-end 2 --output " + (dir / "x.csv").string() +
+                             " --cache-dir " + (dir / "cache").string(), dir);
+    BOOST_TEST(r.status == 1);
+    BOOST_TEST(r.err.find("eomc: error:") == 0u, r.err);
+    BOOST_TEST(!fs::exists(dir / "x.csv"));
+}
+
+BOOST_AUTO_TEST_CASE(derive_json_is_parseable_and_holds_the_seed_equation) {
+    const fs::path dir = scratch("json");
+    const Result r = run("derive " + (fs::path(EOMC_SOURCE_DIR) / "scenes/disk_tube_ball.toml").string() +
+                             " --format json -o " + (dir / "d.json").string(), dir);
+    BOOST_REQUIRE(r.status == 0);
+    const std::string json = slurp(dir / "d.json");
+    BOOST_TEST(json.find("\"coordinates\": [\"q\"]") != std::string::npos);
+    BOOST_TEST(json.find("\"mass_matrix\": [[\"m\"]]") != std::string::npos);
+    BOOST_TEST(json.find("\"centrifugal\": \"") != std::string::npos);
+    BOOST_TEST(json.find("\"invariants\": {\"energy\": \"") != std::string::npos);
+    // A real JSON parser must accept it.
+    const int rc = std::system(("python3 -m json.tool " + (dir / "d.json").string() + " > /dev/null").c_str());
+    BOOST_TEST(rc == 0);
+}
+
+BOOST_AUTO_TEST_CASE(derive_latex_compiles_with_pdflatex) {
+    const fs::path dir = scratch("latex");
+    for (const char* scene : {"disk_tube_ball", "foucault_pendulum", "double_pendulum"}) {
+        const fs::path tex = dir / (std::string(scene) + ".tex");
+        const Result r = run("derive " + (fs::path(EOMC_SOURCE_DIR) / "scenes" / (std::string(scene) + ".toml")).string() +
+                                 " --format latex -o " + tex.string(), dir);
+        BOOST_REQUIRE(r.status == 0);
+        const std::string command = "cd " + dir.string() + " && pdflatex -interaction=nonstopmode -halt-on-error " +
+                                    tex.filename().string() + " > " + scene + ".pdflatex.log 2>&1";
+        BOOST_TEST(std::system(command.c_str()) == 0, "pdflatex failed on " << scene << ", see " << dir);
+        BOOST_TEST(fs::exists(dir / (std::string(scene) + ".pdf")));
+    }
+}
+
+BOOST_AUTO_TEST_CASE(run_does_the_whole_job_on_the_default_scene) {
+    const fs::path dir = scratch("run");
+    const Result r = run("run " + (fs::path(EOMC_SOURCE_DIR) / "scenes/disk_tube_ball.toml").string() + " -d " +
+                             dir.string() + " --cache-dir " + (dir / "cache").string(),
+                         dir);
+    BOOST_REQUIRE(r.status == 0);
+    BOOST_TEST(r.out.find("T_e") != std::string::npos);
+    BOOST_TEST(r.out.find("centrifugal") != std::string::npos);
+    BOOST_TEST(fs::exists(dir / "disk_tube_ball.hpp"));
+    const std::string csv = slurp(dir / "disk_tube_ball.csv");
+    BOOST_TEST(csv.rfind("t,q,q_dot,energy\n", 0) == 0u);
+    BOOST_TEST(files_in(dir) == 3u);  // header, CSV, cache
+}
