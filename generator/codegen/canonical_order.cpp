@@ -1,6 +1,7 @@
 #include "codegen/canonical_order.hpp"
 
 #include <algorithm>
+#include <unordered_map>
 #include <sstream>
 #include <string>
 
@@ -88,5 +89,73 @@ std::vector<GiNaC::ex> CanonicalOrder::operands(const GiNaC::ex& e) {
         std::stable_sort(ops.begin(), ops.end(), [this](const GiNaC::ex& a, const GiNaC::ex& b) { return less(a, b); });
     return ops;
 }
+
+}  // namespace eomc::codegen
+
+namespace eomc::codegen {
+
+namespace {
+
+class Canonicalizer {
+public:
+    GiNaC::ex operator()(const GiNaC::ex& e) {
+        if (GiNaC::is_a<GiNaC::symbol>(e) || GiNaC::is_a<GiNaC::numeric>(e) || GiNaC::is_a<GiNaC::constant>(e)) return e;
+        if (auto it = memo_.find(e); it != memo_.end()) return it->second;
+        const GiNaC::ex result = rebuild(e);
+        memo_.emplace(e, result);
+        return result;
+    }
+
+private:
+    // Of a sum S and its negation −S, the one with the smaller structural key is the
+    // canonical representative: true when that is −S.
+    bool prefer_negated(const GiNaC::ex& sum, GiNaC::ex& negated) {
+        GiNaC::exvector terms;
+        for (std::size_t i = 0; i < sum.nops(); ++i) terms.push_back(-sum.op(i));
+        negated = GiNaC::add(terms);
+        return order_.key(negated) < order_.key(sum);
+    }
+
+    GiNaC::ex rebuild(const GiNaC::ex& e) {
+        GiNaC::exvector ops;
+        for (std::size_t i = 0; i < e.nops(); ++i) ops.push_back((*this)(e.op(i)));
+        if (GiNaC::is_a<GiNaC::add>(e)) return GiNaC::add(ops);
+        if (GiNaC::is_a<GiNaC::mul>(e)) {
+            GiNaC::numeric sign = 1;
+            for (auto& factor : ops) {
+                const bool is_sum = GiNaC::is_a<GiNaC::add>(factor);
+                const bool is_sum_power = GiNaC::is_a<GiNaC::power>(factor) && GiNaC::is_a<GiNaC::add>(factor.op(0)) &&
+                                          factor.op(1).info(GiNaC::info_flags::integer);
+                if (!is_sum && !is_sum_power) continue;
+                GiNaC::ex flipped;
+                if (!prefer_negated(is_sum ? factor : factor.op(0), flipped)) continue;
+                if (is_sum) {
+                    factor = flipped;
+                    sign = -sign;
+                } else {
+                    factor = GiNaC::pow(flipped, factor.op(1));
+                    if (GiNaC::ex_to<GiNaC::numeric>(factor.op(1)).is_odd()) sign = -sign;
+                }
+            }
+            return sign * GiNaC::mul(ops);
+        }
+        if (GiNaC::is_a<GiNaC::power>(e)) {
+            GiNaC::ex flipped;
+            if (GiNaC::is_a<GiNaC::add>(ops[0]) && ops[1].info(GiNaC::info_flags::integer) &&
+                prefer_negated(ops[0], flipped))
+                return (GiNaC::ex_to<GiNaC::numeric>(ops[1]).is_odd() ? -1 : 1) * GiNaC::pow(flipped, ops[1]);
+            return GiNaC::pow(ops[0], ops[1]);
+        }
+        if (GiNaC::is_a<GiNaC::function>(e)) return GiNaC::ex_to<GiNaC::function>(e).thiscontainer(ops);
+        return e;
+    }
+
+    CanonicalOrder order_;
+    std::unordered_map<GiNaC::ex, GiNaC::ex> memo_;
+};
+
+}  // namespace
+
+GiNaC::ex canonical_form(const GiNaC::ex& e) { return Canonicalizer()(e); }
 
 }  // namespace eomc::codegen

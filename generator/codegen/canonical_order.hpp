@@ -26,4 +26,10 @@ private:
     std::map<GiNaC::ex, std::uint64_t, GiNaC::ex_is_less> keys_;
 };
 
+// The same expression with every sum that is a factor of a product (or the base of an
+// integer power) signed so that its canonically first term has a positive coefficient:
+// c·(−a + b)·x and −c·(a − b)·x are the same value, and which of the two GiNaC builds
+// depends on its term order. Rebuilt bottom-up, so equal subtrees become identical.
+GiNaC::ex canonical_form(const GiNaC::ex& e);
+
 }  // namespace eomc::codegen

@@ -100,15 +100,13 @@ private:
 
 namespace {
 
-// Memoized on the node's address: GiNaC shares subtrees, so a derived expression can be a
-// DAG whose tree size is far larger than its node count.
-// The memo holds each node (an operand can be a temporary whose address would be reused).
-using OperationMemo = std::unordered_map<const GiNaC::basic*, std::pair<ex, std::size_t>>;
+// Memoized by structure: GiNaC shares subtrees, so a derived expression can be a DAG whose
+// tree size is far larger than its node count.
+using OperationMemo = std::unordered_map<ex, std::size_t>;
 
 std::size_t tree_operations(const ex& e, OperationMemo& memo) {
     if (is_leaf(e)) return 0;
-    const GiNaC::basic* node = &GiNaC::ex_to<GiNaC::basic>(e);
-    if (auto it = memo.find(node); it != memo.end()) return it->second.second;
+    if (auto it = memo.find(e); it != memo.end()) return it->second;
     std::size_t ops = 0;
     for (std::size_t i = 0; i < e.nops(); ++i) ops += tree_operations(e.op(i), memo);
     if (GiNaC::is_a<GiNaC::add>(e)) {
@@ -126,7 +124,7 @@ std::size_t tree_operations(const ex& e, OperationMemo& memo) {
     } else {
         ops += 1;  // sqrt, pow, a function call
     }
-    memo.emplace(node, std::make_pair(e, ops));
+    memo.emplace(e, ops);
     return ops;
 }
 
@@ -140,12 +138,14 @@ std::size_t count_operations(const ex& e) {
 Block eliminate_common_subexpressions(const std::vector<ex>& outputs, const std::string& temp_prefix) {
     Eliminator eliminator(temp_prefix);
     std::size_t before = 0;
-    for (const ex& e : outputs) {
+    std::vector<ex> canonical;
+    for (const ex& e : outputs) canonical.push_back(canonical_form(e));
+    for (const ex& e : canonical) {
         before += count_operations(e);
         eliminator.count(e);
     }
     Block& block = eliminator.block();
-    for (const ex& e : outputs) block.outputs.push_back(eliminator.rewrite(e));
+    for (const ex& e : canonical) block.outputs.push_back(eliminator.rewrite(e));
     block.ops_before = before;
     block.ops_after = 0;
     for (const auto& t : block.temporaries) block.ops_after += count_operations(t.value);

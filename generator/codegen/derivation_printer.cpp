@@ -64,7 +64,7 @@ ex collected_lhs(const model::Model& model, const ex& lhs) {
 }
 
 std::string vector_text(const model::Vec3& v) {
-    return "(" + text(v[0]) + ", " + text(v[1]) + ", " + text(v[2]) + ")";
+    return fmt::format("({}, {}, {})", text(v[0]), text(v[1]), text(v[2]));
 }
 
 void print_text(const model::Model& model, const mechanics::Equations& eqs, std::ostream& out) {

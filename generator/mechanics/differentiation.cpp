@@ -33,10 +33,9 @@ public:
     ex operator()(const ex& e) {
         if (GiNaC::is_a<GiNaC::symbol>(e)) return e.is_equal(s_) ? ex(1) : ex(0);
         if (GiNaC::is_a<GiNaC::numeric>(e) || GiNaC::is_a<GiNaC::constant>(e)) return 0;
-        const GiNaC::basic* node = &GiNaC::ex_to<GiNaC::basic>(e);
-        if (auto it = memo_.find(node); it != memo_.end()) return it->second.second;
+        if (auto it = memo_.find(e); it != memo_.end()) return it->second;
         ex d = compute(e);
-        memo_.emplace(node, std::make_pair(e, d));  // holding e keeps the key's address valid
+        memo_.emplace(e, d);
         return d;
     }
 
@@ -76,7 +75,7 @@ private:
     }
 
     const GiNaC::symbol& s_;
-    std::unordered_map<const GiNaC::basic*, std::pair<ex, ex>> memo_;
+    std::unordered_map<ex, ex> memo_;
 };
 
 }  // namespace

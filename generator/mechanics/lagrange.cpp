@@ -55,7 +55,7 @@ CarrierMotion carrier_motion(const model::Model& model) {
 std::vector<ParticleKinematics> particle_kinematics(const model::Model& model) {
     std::vector<ParticleKinematics> out;
     for (const auto& p : model.particles) {
-        ParticleKinematics k{p.mass, p.position, diff(p.position, model.t), {}};
+        ParticleKinematics k{p.mass, p.position, diff(p.position, model.t), {}, zero_vector()};
         for (const auto& c : model.coordinates) {
             k.e.push_back(diff(p.position, c.q));
             k.r_dot = k.r_dot + c.q_dot * k.e.back();

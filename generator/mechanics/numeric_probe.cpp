@@ -67,10 +67,9 @@ public:
     explicit Evaluator(const ProbePoint& at) : at_(at) {}
 
     Dual operator()(const GiNaC::ex& e) {
-        const GiNaC::basic* node = &GiNaC::ex_to<GiNaC::basic>(e);
-        if (auto it = memo_.find(node); it != memo_.end()) return it->second.second;
+        if (auto it = memo_.find(e); it != memo_.end()) return it->second;
         const Dual value = compute(e);
-        memo_.emplace(node, std::make_pair(e, value));
+        memo_.emplace(e, value);
         return value;
     }
 
@@ -115,9 +114,9 @@ private:
     }
 
     const ProbePoint& at_;
-    // Keyed by address, holding the node: an operand of a sum or product can be a temporary
-    // object, and its address must not be reused while it is a key.
-    std::unordered_map<const GiNaC::basic*, std::pair<GiNaC::ex, Dual>> memo_;
+    // Keyed by structure, never by address: GiNaC re-points equal subtrees at one another
+    // when it compares them, so an address can be freed and reused while a memo holds it.
+    std::unordered_map<GiNaC::ex, Dual> memo_;
 };
 
 }  // namespace
