@@ -4,11 +4,11 @@
 // Equations of motion M(q,t) q̈ = f(q,q̇,t) of 1 coordinate, as first-order system
 // x = (q, q̇), ẋ = (q̇, M⁻¹f). q̈ is solved in closed form (n ≤ 2).
 // Operations per call, as derived -> after common-subexpression elimination:
-//   mass_matrix                      10 ->       9 (3 temporaries)
-//   forcing                          13 ->      12 (1 temporaries)
-//   rhs (q̈ in closed form)          26 ->      21 (3 temporaries)
-//   jacobian                         33 ->      24 (6 temporaries)
-//   invariants                       43 ->      31 (6 temporaries)
+//   mass_matrix                       8 ->       8 (2 temporaries)
+//   forcing                           9 ->       9 (0 temporaries)
+//   rhs (q̈ in closed form)          16 ->      14 (2 temporaries)
+//   jacobian                         23 ->      17 (5 temporaries)
+//   invariants                       21 ->      18 (3 temporaries)
 #pragma once
 
 #include <array>
@@ -49,10 +49,9 @@ struct BeadOnHoop {
         const S theta = x[0];
         const S m = S(p.m);
         const S R = S(p.R);
-        const S w0 = R*R;
+        const S w0 = sin(theta);
         const S w1 = cos(theta);
-        const S w2 = sin(theta);
-        out[0] = m*(w0*w2*w2 + w0*w1*w1);
+        out[0] = m*R*R*(w0*w0 + w1*w1);
     }
 
     // f(q, q̇, t).
@@ -66,8 +65,7 @@ struct BeadOnHoop {
         const S R = S(p.R);
         const S g = S(p.g);
         const S omega = S(p.omega);
-        const S w0 = sin(theta);
-        out[0] = m*w0*R*R*omega*omega*cos(theta) - R*g*m*w0;
+        out[0] = R*m*sin(theta)*(-g + R*omega*omega*cos(theta));
     }
 
     // ẋ = (q̇, q̈).
@@ -78,14 +76,12 @@ struct BeadOnHoop {
         using std::cos;
         using std::sin;
         const S theta = x[0];
-        const S m = S(p.m);
         const S R = S(p.R);
         const S g = S(p.g);
         const S omega = S(p.omega);
         const S w0 = sin(theta);
-        const S w1 = R*R;
-        const S w2 = cos(theta);
-        dxdt[1] = (-R*g*m*w0 + m*w0*w1*w2*omega*omega)/(m*(w1*w2*w2 + w1*w0*w0));
+        const S w1 = cos(theta);
+        dxdt[1] = -w0*(g - R*w1*omega*omega)/(R*(w0*w0 + w1*w1));
     }
 
     // ∂ẋ/∂x, row-major n_state×n_state.
@@ -95,19 +91,17 @@ struct BeadOnHoop {
         using std::cos;
         using std::sin;
         const S theta = x[0];
-        const S m = S(p.m);
         const S R = S(p.R);
         const S g = S(p.g);
         const S omega = S(p.omega);
-        const S w0 = R*R;
-        const S w1 = cos(theta);
-        const S w2 = w1*w1;
-        const S w3 = sin(theta);
-        const S w4 = w3*w3;
-        const S w5 = omega*omega;
+        const S w0 = cos(theta);
+        const S w1 = omega*omega;
+        const S w2 = sin(theta);
+        const S w3 = w2*w2;
+        const S w4 = w0*w0;
         out[0] = S(0);
         out[1] = S(1);
-        out[2] = -(-m*w0*w2*w5 + m*w0*w4*w5 + R*g*m*w1)/(m*(w0*w4 + w0*w2));
+        out[2] = (-R*w1*w3 - g*w0 + R*w1*w4)/(R*(w3 + w4));
         out[3] = S(0);
     }
 
@@ -123,13 +117,10 @@ struct BeadOnHoop {
         const S R = S(p.R);
         const S g = S(p.g);
         const S omega = S(p.omega);
-        const S w0 = R*R;
-        const S w1 = theta_dot*theta_dot;
+        const S w0 = sin(theta);
+        const S w1 = w0*w0;
         const S w2 = cos(theta);
-        const S w3 = w2*w2;
-        const S w4 = sin(theta);
-        const S w5 = w4*w4;
-        out[0] = -S(1)/S(2)*m*(w0*w1*w3 + w0*w1*w5) - R*g*m*w2 + m*theta_dot*(theta_dot*w0*w5 + theta_dot*w0*w3) - S(1)/S(2)*m*w0*w5*omega*omega;
+        out[0] = S(1)/S(2)*R*m*(R*theta_dot*theta_dot*(w1 + w2*w2) - R*w1*omega*omega - S(2)*g*w2);
     }
 
     template <class S>

@@ -5,10 +5,10 @@
 // x = (q, q̇), ẋ = (q̇, M⁻¹f). q̈ is solved in closed form (n ≤ 2).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                      15 ->      10 (1 temporaries)
-//   forcing                          25 ->      23 (1 temporaries)
-//   rhs (q̈ in closed form)         107 ->      52 (9 temporaries)
-//   jacobian                        659 ->     170 (23 temporaries)
-//   invariants                       56 ->      48 (4 temporaries)
+//   forcing                          22 ->      20 (1 temporaries)
+//   rhs (q̈ in closed form)          69 ->      36 (8 temporaries)
+//   jacobian                        414 ->     126 (22 temporaries)
+//   invariants                       53 ->      47 (2 temporaries)
 #pragma once
 
 #include <array>
@@ -74,8 +74,8 @@ struct DoublePendulum {
         const S l2 = S(p.l2);
         const S g = S(p.g);
         const S w0 = sin(th1 - th2);
-        out[0] = -g*l1*sin(th1)*(m1 + m2) - l1*l2*m2*w0*th2_dot*th2_dot;
-        out[1] = -g*l2*m2*sin(th2) + l1*l2*m2*w0*th1_dot*th1_dot;
+        out[0] = -l1*(g*sin(th1)*(m1 + m2) + l2*m2*w0*th2_dot*th2_dot);
+        out[1] = l2*m2*(l1*w0*th1_dot*th1_dot - g*sin(th2));
     }
 
     // ẋ = (q̇, q̈).
@@ -95,17 +95,16 @@ struct DoublePendulum {
         const S l1 = S(p.l1);
         const S l2 = S(p.l2);
         const S g = S(p.g);
-        const S w0 = l1*l1;
-        const S w1 = l2*l2;
-        const S w2 = m1 + m2;
-        const S w3 = th1 - th2;
-        const S w4 = cos(w3);
-        const S w5 = S(1)/(-w0*w1*m2*m2*w4*w4 + m2*w0*w1*w2);
-        const S w6 = sin(w3);
-        const S w7 = g*l1*w2*sin(th1) + l1*l2*m2*w6*th2_dot*th2_dot;
-        const S w8 = -g*l2*m2*sin(th2) + l1*l2*m2*w6*th1_dot*th1_dot;
-        dxdt[2] = -w5*(l1*l2*m2*w4*w8 + m2*w1*w7);
-        dxdt[3] = w5*(w0*w2*w8 + l1*l2*m2*w4*w7);
+        const S w0 = th1 - th2;
+        const S w1 = cos(w0);
+        const S w2 = -S(1)/(-m1 - m2 + m2*w1*w1);
+        const S w3 = sin(w0);
+        const S w4 = l2*m2*w3*th2_dot*th2_dot;
+        const S w5 = m1 + m2;
+        const S w6 = g*w5*sin(th1);
+        const S w7 = l1*w3*th1_dot*th1_dot - g*sin(th2);
+        dxdt[2] = -w2*(w4 + w6 + m2*w1*w7)/l1;
+        dxdt[3] = w2*(w1*(w4 + w6) + w5*w7)/l2;
     }
 
     // ∂ẋ/∂x, row-major n_state×n_state.
@@ -123,29 +122,28 @@ struct DoublePendulum {
         const S l1 = S(p.l1);
         const S l2 = S(p.l2);
         const S g = S(p.g);
-        const S w0 = l1*l1;
-        const S w1 = l2*l2;
-        const S w2 = m2*m2;
-        const S w3 = m1 + m2;
-        const S w4 = th1 - th2;
-        const S w5 = cos(w4);
-        const S w6 = w5*w5;
-        const S w7 = -w0*w1*w2*w6 + m2*w0*w1*w3;
-        const S w8 = S(1)/(w7*w7);
-        const S w9 = sin(w4);
-        const S w10 = th2_dot*th2_dot;
-        const S w11 = g*l1*w3*sin(th1) + l1*l2*m2*w10*w9;
-        const S w12 = th1_dot*th1_dot;
-        const S w13 = -g*l2*m2*sin(th2) + l1*l2*m2*w12*w9;
-        const S w14 = w0*w1*w2*w5*w8*w9*(l1*l2*m2*w13*w5 + m2*w1*w11);
-        const S w15 = S(1)/w7;
-        const S w16 = l1*l2*m2*w13*w9;
-        const S w17 = g*l1*w3*cos(th1) + l1*l2*m2*w10*w5;
-        const S w18 = l2*l2*l2;
-        const S w19 = g*l2*m2*cos(th2) + l1*l2*m2*w12*w5;
-        const S w20 = w0*w1*w2*w5*w8*w9*(l1*l2*m2*w11*w5 + w0*w13*w3);
-        const S w21 = l1*l1*l1;
-        const S w22 = l1*l2*m2*w11*w9;
+        const S w0 = S(1)/l1;
+        const S w1 = th1 - th2;
+        const S w2 = cos(w1);
+        const S w3 = w2*w2;
+        const S w4 = m1 + m2 - m2*w3;
+        const S w5 = S(1)/w4;
+        const S w6 = th1_dot*th1_dot;
+        const S w7 = m1 + m2;
+        const S w8 = g*w7*cos(th1);
+        const S w9 = th2_dot*th2_dot;
+        const S w10 = l2*m2*w2*w9;
+        const S w11 = sin(w1);
+        const S w12 = l1*w11*w6 - g*sin(th2);
+        const S w13 = l2*m2*w11*w9;
+        const S w14 = g*w7*sin(th1);
+        const S w15 = w13 + w14 + m2*w12*w2;
+        const S w16 = S(1)/(w4*w4);
+        const S w17 = l1*w2*w6 + g*cos(th2);
+        const S w18 = S(1)/l2;
+        const S w19 = w13 + w14;
+        const S w20 = w11*w19;
+        const S w21 = m2*w11*w16*w18*w2*(w19*w2 + w12*w7);
         out[0] = S(0);
         out[1] = S(0);
         out[2] = S(1);
@@ -154,14 +152,14 @@ struct DoublePendulum {
         out[5] = S(0);
         out[6] = S(0);
         out[7] = S(1);
-        out[8] = -w15*(-w16 + m2*w1*w17 + w0*w1*w12*w2*w6) + S(2)*w14;
-        out[9] = -S(2)*w14 + w15*(-w16 + l1*l2*m2*w19*w5 + l1*w10*w18*w2*w5);
-        out[10] = -S(2)*th1_dot*w0*w1*w15*w2*w5*w9;
-        out[11] = -S(2)*l1*th2_dot*w15*w18*w2*w9;
-        out[12] = -S(2)*w20 + w15*(l2*m2*w12*w21*w3*w5 - w22 + l1*l2*m2*w17*w5);
-        out[13] = -w15*(w0*w19*w3 + w0*w1*w10*w2*w6 - w22) + S(2)*w20;
-        out[14] = S(2)*l2*m2*th1_dot*w15*w21*w3*w9;
-        out[15] = S(2)*th2_dot*w0*w1*w15*w2*w5*w9;
+        out[8] = S(2)*m2*w0*w11*w15*w16*w2 + w0*w5*(m2*w11*w12 - l1*m2*w3*w6 - w10 - w8);
+        out[9] = -m2*(S(2)*w0*w11*w15*w16*w2 - w0*w5*(l2*w2*w9 + w17*w2 - w11*w12));
+        out[10] = -S(2)*m2*th1_dot*w11*w2*w5;
+        out[11] = -S(2)*l2*m2*th2_dot*w0*w11*w5;
+        out[12] = -S(2)*w21 + w18*w5*(l1*w2*w6*w7 - w20 + w2*(w10 + w8));
+        out[13] = -w18*w5*(l2*m2*w3*w9 + w17*w7 - w20) + S(2)*w21;
+        out[14] = S(2)*l1*th1_dot*w11*w18*w5*w7;
+        out[15] = S(2)*m2*th2_dot*w11*w2*w5;
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.
@@ -178,11 +176,9 @@ struct DoublePendulum {
         const S l1 = S(p.l1);
         const S l2 = S(p.l2);
         const S g = S(p.g);
-        const S w0 = l1*l1;
-        const S w1 = m1 + m2;
-        const S w2 = cos(th1 - th2);
-        const S w3 = l2*l2;
-        out[0] = th2_dot*(m2*th2_dot*w3 + l1*l2*m2*th1_dot*w2) - S(1)/S(2)*m2*w3*th2_dot*th2_dot - g*l2*m2*cos(th2) - g*l1*w1*cos(th1) - S(1)/S(2)*w0*w1*th1_dot*th1_dot - l1*l2*m2*th1_dot*th2_dot*w2 + th1_dot*(l1*l2*m2*th2_dot*w2 + th1_dot*w0*w1);
+        const S w0 = m1 + m2;
+        const S w1 = cos(th1 - th2);
+        out[0] = -g*l2*m2*cos(th2) + l2*m2*th2_dot*(l2*th2_dot + l1*th1_dot*w1) - l1*l2*m2*th1_dot*th2_dot*w1 + l1*th1_dot*(l1*th1_dot*w0 + l2*m2*th2_dot*w1) - S(1)/S(2)*m2*l2*l2*th2_dot*th2_dot - g*l1*w0*cos(th1) - S(1)/S(2)*w0*l1*l1*th1_dot*th1_dot;
     }
 
     template <class S>

@@ -5,10 +5,10 @@
 // x = (q, q̇), ẋ = (q̇, M⁻¹f). q̈ is solved in closed form (n ≤ 2).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                      38 ->      15 (4 temporaries)
-//   forcing                         209 ->      70 (8 temporaries)
-//   rhs (q̈ in closed form)         536 ->     103 (17 temporaries)
-//   jacobian                       5790 ->     453 (59 temporaries)
-//   invariants                       91 ->      34 (3 temporaries)
+//   forcing                         194 ->      61 (8 temporaries)
+//   rhs (q̈ in closed form)         490 ->      83 (14 temporaries)
+//   jacobian                       5268 ->     358 (53 temporaries)
+//   invariants                       56 ->      33 (3 temporaries)
 #pragma once
 
 #include <array>
@@ -51,12 +51,12 @@ struct FoucaultPendulum {
         const S L = S(p.L);
         const S w0 = x_*x_;
         const S w1 = y*y;
-        const S w2 = S(1)/(w0 + w1 - L*L);
+        const S w2 = -S(1)/(w0 + w1 - L*L);
         const S w3 = m*w2*x_*y;
-        out[0] = -m*(S(-1) + w0*w2);
-        out[1] = -w3;
-        out[2] = -w3;
-        out[3] = -m*(S(-1) + w1*w2);
+        out[0] = m*(S(1) + w0*w2);
+        out[1] = w3;
+        out[2] = w3;
+        out[3] = m*(S(1) + w1*w2);
     }
 
     // f(q, q̇, t).
@@ -75,16 +75,16 @@ struct FoucaultPendulum {
         const S g = S(p.g);
         const S Omega = S(p.Omega);
         const S phi = S(p.phi);
-        const S w0 = cos(phi);
-        const S w1 = x_*x_;
-        const S w2 = y*y;
-        const S w3 = L*L - w1 - w2;
-        const S w4 = S(1)/sqrt(w3);
-        const S w5 = sin(phi);
-        const S w6 = S(1)/(w3*sqrt(w3));
-        const S w7 = y_dot*(w4*y_dot + w6*x_*x_dot*y + w2*w6*y_dot) + x_dot*(w1*w6*x_dot + w6*x_*y*y_dot + w4*x_dot);
-        out[0] = -g*m*w4*x_ - m*w4*w7*x_ + S(2)*m*(Omega*w5*y_dot - Omega*w0*(w4*x_*x_dot + w4*y*y_dot) + Omega*w0*w4*x_*x_dot);
-        out[1] = -g*m*w4*y - S(2)*m*(Omega*w5*x_dot - Omega*w0*w4*x_dot*y) - m*w4*w7*y;
+        const S w0 = x_*x_;
+        const S w1 = y*y;
+        const S w2 = L*L - w1 - w0;
+        const S w3 = S(1)/(w2*sqrt(w2));
+        const S w4 = S(1)/sqrt(w2);
+        const S w5 = x_dot*(w3*x_*y*y_dot + w4*x_dot + w0*w3*x_dot) + y_dot*(w3*x_*x_dot*y + w4*y_dot + w1*w3*y_dot);
+        const S w6 = cos(phi);
+        const S w7 = sin(phi);
+        out[0] = -m*(-S(2)*Omega*(-w4*w6*(x_*x_dot + y*y_dot) + w7*y_dot + w4*w6*x_*x_dot) + g*w4*x_ + w4*w5*x_);
+        out[1] = -m*(w4*w5*y - S(2)*Omega*x_dot*(w4*w6*y - w7) + g*w4*y);
     }
 
     // ẋ = (q̇, q̈).
@@ -100,30 +100,26 @@ struct FoucaultPendulum {
         const S y = x[1];
         const S x_dot = x[2];
         const S y_dot = x[3];
-        const S m = S(p.m);
         const S L = S(p.L);
         const S g = S(p.g);
         const S Omega = S(p.Omega);
         const S phi = S(p.phi);
-        const S w0 = L*L;
+        const S w0 = y*y;
         const S w1 = x_*x_;
-        const S w2 = y*y;
-        const S w3 = w0 - w1 - w2;
-        const S w4 = S(1)/sqrt(w3);
-        const S w5 = cos(phi);
-        const S w6 = sin(phi);
-        const S w7 = S(1)/(w3*sqrt(w3));
-        const S w8 = y_dot*(w4*y_dot + w2*w7*y_dot + w7*x_*x_dot*y) + x_dot*(w7*x_*y*y_dot + w4*x_dot + w1*w7*x_dot);
-        const S w9 = m*w4*w8*x_ + g*m*w4*x_ - S(2)*m*(-Omega*w5*(w4*x_*x_dot + w4*y*y_dot) + Omega*w4*w5*x_*x_dot + Omega*w6*y_dot);
-        const S w10 = w1 + w2 - w0;
-        const S w11 = S(1)/w10;
-        const S w12 = S(-1) + w11*w2;
-        const S w13 = g*m*w4*y + m*w4*w8*y + S(2)*m*(Omega*w6*x_dot - Omega*w4*w5*x_dot*y);
-        const S w14 = m*m;
-        const S w15 = S(-1) + w1*w11;
-        const S w16 = -S(1)/(-w12*w14*w15 + w1*w14*w2/(w10*w10));
-        dxdt[2] = w16*(-m*w11*w13*x_*y + m*w12*w9);
-        dxdt[3] = -w16*(-m*w13*w15 + m*w11*w9*x_*y);
+        const S w2 = L*L - w1 - w0;
+        const S w3 = S(1)/w2;
+        const S w4 = S(1) + w0*w3;
+        const S w5 = S(1)/(w2*sqrt(w2));
+        const S w6 = S(1)/sqrt(w2);
+        const S w7 = y_dot*(w6*y_dot + w5*x_*x_dot*y + w0*w5*y_dot) + x_dot*(w5*x_*y*y_dot + w6*x_dot + w1*w5*x_dot);
+        const S w8 = cos(phi);
+        const S w9 = sin(phi);
+        const S w10 = w6*w7*x_ - S(2)*Omega*(w9*y_dot - w6*w8*(x_*x_dot + y*y_dot) + w6*w8*x_*x_dot) + g*w6*x_;
+        const S w11 = -S(2)*Omega*x_dot*(w6*w8*y - w9) + g*w6*y + w6*w7*y;
+        const S w12 = S(1) + w1*w3;
+        const S w13 = -S(1)/(w0*w1/(w2*w2) - w12*w4);
+        dxdt[2] = -w13*(w10*w4 - w11*w3*x_*y);
+        dxdt[3] = w13*(-w11*w12 + w10*w3*x_*y);
     }
 
     // ∂ẋ/∂x, row-major n_state×n_state.
@@ -138,70 +134,63 @@ struct FoucaultPendulum {
         const S y = x[1];
         const S x_dot = x[2];
         const S y_dot = x[3];
-        const S m = S(p.m);
         const S L = S(p.L);
         const S g = S(p.g);
         const S Omega = S(p.Omega);
         const S phi = S(p.phi);
-        const S w0 = m*m;
-        const S w1 = y*y;
-        const S w2 = x_*x_;
-        const S w3 = L*L;
-        const S w4 = w1 + w2 - w3;
-        const S w5 = S(1)/w4;
-        const S w6 = S(-1) + w1*w5;
-        const S w7 = S(-1) + w2*w5;
-        const S w8 = S(1)/(w4*w4);
-        const S w9 = -w0*w1*w2*w8 + w0*w6*w7;
-        const S w10 = S(1)/w9;
-        const S w11 = w3 - w1 - w2;
-        const S w12 = S(1)/(w11*sqrt(w11));
+        const S w0 = y*y;
+        const S w1 = x_*x_;
+        const S w2 = L*L - w1 - w0;
+        const S w3 = S(1)/(w2*w2);
+        const S w4 = S(1)/w2;
+        const S w5 = S(1) + w1*w4;
+        const S w6 = S(1) + w0*w4;
+        const S w7 = w1*w3;
+        const S w8 = w4 + w7;
+        const S w9 = w0*w3;
+        const S w10 = w0*w1/(w2*w2*w2);
+        const S w11 = w9 - w6*w8 - w0*w3*w5 + S(2)*w10;
+        const S w12 = S(1)/(w2*sqrt(w2));
         const S w13 = w12*x_*x_dot*y;
-        const S w14 = S(1)/sqrt(w11);
+        const S w14 = S(1)/sqrt(w2);
         const S w15 = w14*y_dot;
-        const S w16 = w1*w12*y_dot;
-        const S w17 = w13 + w15 + w16;
-        const S w18 = w14*x_dot;
-        const S w19 = w12*x_*y*y_dot;
-        const S w20 = w12*w2*x_dot;
-        const S w21 = w18 + w19 + w20;
-        const S w22 = w21*x_dot + w17*y_dot;
-        const S w23 = cos(phi);
-        const S w24 = sin(phi);
-        const S w25 = S(2)*m*(-Omega*w14*w23*x_dot*y + Omega*w24*x_dot) + m*w14*w22*y + g*m*w14*y;
-        const S w26 = m*w2*w25*w8*y;
-        const S w27 = g*m*w14*x_ - S(2)*m*(Omega*w24*y_dot + Omega*w14*w23*x_*x_dot - Omega*w23*(w14*x_*x_dot + w14*y*y_dot)) + m*w14*w22*x_;
-        const S w28 = m*w1*w27*w8*x_;
-        const S w29 = pow(w11, S(-5)/S(2));
-        const S w30 = S(3)*w1*w29*x_*y_dot + w12*x_*y_dot + S(3)*w2*w29*x_dot*y + w12*x_dot*y;
-        const S w31 = w12*y*y_dot;
-        const S w32 = w12*x_*x_dot;
-        const S w33 = x_*x_*x_;
-        const S w34 = w30*y_dot + x_dot*(w31 + S(3)*w32 + S(3)*w2*w29*y*y_dot + S(3)*w29*w33*x_dot);
-        const S w35 = m*w14*w22;
-        const S w36 = Omega*w14*w23*x_dot;
-        const S w37 = g*m*w14;
-        const S w38 = w35 + w37 + m*w12*w2*w22 + g*m*w12*w2 + m*w14*w34*x_ - S(2)*m*(w36 - Omega*w21*w23 + Omega*w12*w2*w23*x_dot);
-        const S w39 = m*w12*w22*x_*y;
-        const S w40 = g*m*w12*x_*y;
-        const S w41 = w39 + w40 + m*w14*w34*y - S(2)*Omega*m*w12*w23*x_*x_dot*y;
-        const S w42 = S(1)/(w9*w9);
-        const S w43 = S(1)/(w4*w4*w4);
-        const S w44 = -w5*x_ + w33*w8;
-        const S w45 = w0*w44*w6 + w0*w1*w8*x_ - S(2)*w0*w1*w33*w43 + w0*w1*w7*w8*x_;
-        const S w46 = -m*w27*w6 + m*w25*w5*x_*y;
-        const S w47 = y*y*y;
-        const S w48 = w5*y - w47*w8;
-        const S w49 = -w0*w2*w8*y + w0*w48*w7 + S(2)*w0*w2*w43*w47 - w0*w2*w6*w8*y;
-        const S w50 = y_dot*(w32 + S(3)*w1*w29*x_*x_dot + S(3)*w31 + S(3)*w29*w47*y_dot) + w30*x_dot;
-        const S w51 = w35 + w37 + g*m*w1*w12 - S(2)*m*(w36 + Omega*w1*w12*w23*x_dot) + m*w14*w50*y + m*w1*w12*w22;
-        const S w52 = w39 + w40 - S(2)*m*(-Omega*w17*w23 + Omega*w12*w23*x_*x_dot*y) + m*w14*w50*x_;
-        const S w53 = w18 + w20 + x_dot*(w14 + w12*w2) + S(2)*w19;
-        const S w54 = m*(-Omega*w14*w23*y + Omega*w24);
-        const S w55 = m*w14*w53*y + S(2)*w54;
-        const S w56 = w15 + w16 + S(2)*w13 + y_dot*(w14 + w1*w12);
-        const S w57 = -S(2)*w54 + m*w14*w56*x_;
-        const S w58 = m*w25*w7 - m*w27*w5*x_*y;
+        const S w16 = w0*w12*y_dot;
+        const S w17 = w14*x_dot;
+        const S w18 = w12*x_*y*y_dot;
+        const S w19 = w1*w12*x_dot;
+        const S w20 = y_dot*(w13 + w15 + w16) + x_dot*(w17 + w18 + w19);
+        const S w21 = cos(phi);
+        const S w22 = sin(phi);
+        const S w23 = S(2)*Omega*(-w22*y_dot + w14*w21*(x_*x_dot + y*y_dot) - w14*w21*x_*x_dot) + w14*w20*x_ + g*w14*x_;
+        const S w24 = w14*w21*y - w22;
+        const S w25 = -S(2)*Omega*w24*x_dot + w14*w20*y + g*w14*y;
+        const S w26 = w25*w4*x_*y - w23*w6;
+        const S w27 = -w0*w1*w3 + w5*w6;
+        const S w28 = S(1)/(w27*w27);
+        const S w29 = w14*w20;
+        const S w30 = g*w14;
+        const S w31 = pow(w2, S(-5)/S(2));
+        const S w32 = w12*x_*y_dot + w12*x_dot*y + S(3)*w0*w31*x_*y_dot + S(3)*w1*w31*x_dot*y;
+        const S w33 = w12*y*y_dot;
+        const S w34 = w12*x_*x_dot;
+        const S w35 = w32*y_dot + x_dot*(w33 + S(3)*w34 + S(3)*w31*x_dot*x_*x_*x_ + S(3)*w1*w31*y*y_dot);
+        const S w36 = w29 + w30 + w1*w12*w20 + S(2)*Omega*w12*w21*x_*y*y_dot + g*w1*w12 + w14*w35*x_;
+        const S w37 = w1*w25*w3*y;
+        const S w38 = g*w12*x_ - S(2)*Omega*w12*w21*x_*x_dot + w12*w20*x_ + w14*w35;
+        const S w39 = w0*w23*w3*x_;
+        const S w40 = S(1)/w27;
+        const S w41 = y_dot*(w34 + S(3)*w31*y_dot*y*y*y + S(3)*w33 + S(3)*w0*w31*x_*x_dot) + w32*x_dot;
+        const S w42 = w14 + w0*w12;
+        const S w43 = S(2)*Omega*w21*w42*y_dot + g*w12*x_*y + w14*w41*x_ + w12*w20*x_*y;
+        const S w44 = w4 + w9;
+        const S w45 = -g*w0*w12 + S(2)*Omega*w21*w42*x_dot - w29 - w14*w41*y - w30 - w0*w12*w20;
+        const S w46 = w7 - w44*w5 - w1*w3*w6 + S(2)*w10;
+        const S w47 = w17 + w19 + x_dot*(w14 + w1*w12) + S(2)*w18;
+        const S w48 = Omega*w24;
+        const S w49 = -w14*w47*y + S(2)*w48;
+        const S w50 = w15 + w16 + S(2)*w13 + w42*y_dot;
+        const S w51 = w14*w50*x_ + S(2)*w48;
+        const S w52 = -w25*w5 + w23*w4*x_*y;
         out[0] = S(0);
         out[1] = S(0);
         out[2] = S(1);
@@ -210,14 +199,14 @@ struct FoucaultPendulum {
         out[5] = S(0);
         out[6] = S(0);
         out[7] = S(1);
-        out[8] = -S(2)*w42*w45*w46 - w10*(m*w25*w5*y + m*w41*w5*x_*y + S(2)*w28 - m*w38*w6 - S(2)*w26);
-        out[9] = w10*(-m*w25*w5*x_ + S(2)*m*w27*w48 - m*w5*w51*x_*y + m*w52*w6 + S(2)*m*w1*w25*w8*x_) + S(2)*w42*w46*w49;
-        out[10] = w10*(-m*w5*w55*x_*y + w0*w14*w53*w6*x_);
-        out[11] = w10*(-w0*w1*w14*w5*w56*x_ + m*w57*w6);
-        out[12] = S(2)*w42*w45*w58 + w10*(m*w41*w7 - m*w27*w5*y + S(2)*m*w2*w27*w8*y - m*w38*w5*x_*y - S(2)*m*w25*w44);
-        out[13] = w10*(S(2)*w28 + m*w51*w7 - m*w27*w5*x_ - S(2)*w26 - m*w5*w52*x_*y) - S(2)*w42*w49*w58;
-        out[14] = w10*(m*w55*w7 - w0*w14*w2*w5*w53*y);
-        out[15] = -w10*(-w0*w14*w56*w7*y + m*w5*w57*x_*y);
+        out[8] = w40*(w0*w38*w4*x_ + w25*w4*y - S(2)*w39 - w36*w6 + S(2)*w37) + S(2)*w11*w26*w28*x_;
+        out[9] = w40*(S(2)*w0*w25*w3*x_ + w25*w4*x_ - w4*w45*x_*y - w43*w6 - S(2)*w23*w44*y) + S(2)*w26*w28*w46*y;
+        out[10] = -w40*x_*(w14*w47*w6 + w4*w49*y);
+        out[11] = -w40*(w51*w6 - w0*w12*w50*x_);
+        out[12] = S(2)*w11*w28*w52*x_ - w40*(-w36*w4*x_*y + S(2)*w25*w8*x_ - S(2)*w1*w23*w3*y + w38*w5*y - w23*w4*y);
+        out[13] = S(2)*w28*w46*w52*y - w40*(-w45*w5 - S(2)*w39 - w4*w43*x_*y - w23*w4*x_ + S(2)*w37);
+        out[14] = w40*(w49*w5 + w1*w12*w47*y);
+        out[15] = -w40*y*(w14*w5*w50 - w4*w51*x_);
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.
@@ -232,10 +221,10 @@ struct FoucaultPendulum {
         const S m = S(p.m);
         const S L = S(p.L);
         const S g = S(p.g);
-        const S w0 = L*L - x_*x_ - y*y;
-        const S w1 = S(1)/sqrt(w0);
-        const S w2 = w1*y*y_dot + w1*x_*x_dot;
-        out[0] = -g*m*sqrt(w0) + m*y_dot*(y_dot + w1*w2*y) - S(1)/S(2)*m*(w2*w2 + x_dot*x_dot + y_dot*y_dot) + m*x_dot*(x_dot + w1*w2*x_);
+        const S w0 = x_*x_dot + y*y_dot;
+        const S w1 = L*L - x_*x_ - y*y;
+        const S w2 = S(1)/w1;
+        out[0] = -S(1)/S(2)*m*(x_dot*x_dot + y_dot*y_dot + S(2)*g*sqrt(w1) + w2*w0*w0 - S(2)*x_dot*(x_dot + w0*w2*x_) - S(2)*y_dot*(y_dot + w0*w2*y));
     }
 
     template <class S>

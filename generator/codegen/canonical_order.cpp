@@ -1,6 +1,7 @@
 #include "codegen/canonical_order.hpp"
 
 #include <algorithm>
+#include <map>
 #include <unordered_map>
 #include <sstream>
 #include <string>
@@ -116,10 +117,53 @@ private:
         return order_.key(negated) < order_.key(sum);
     }
 
+    // A term as base → integer exponent (numeric coefficients left out).
+    static std::map<GiNaC::ex, GiNaC::numeric, GiNaC::ex_is_less> factors_of(const GiNaC::ex& term) {
+        std::map<GiNaC::ex, GiNaC::numeric, GiNaC::ex_is_less> out;
+        auto add_factor = [&out](const GiNaC::ex& f) {
+            if (GiNaC::is_a<GiNaC::numeric>(f)) return;
+            if (GiNaC::is_a<GiNaC::power>(f) && f.op(1).info(GiNaC::info_flags::integer))
+                out[f.op(0)] += GiNaC::ex_to<GiNaC::numeric>(f.op(1));
+            else
+                out[f] += 1;
+        };
+        if (GiNaC::is_a<GiNaC::mul>(term))
+            for (std::size_t i = 0; i < term.nops(); ++i) add_factor(term.op(i));
+        else
+            add_factor(term);
+        return out;
+    }
+
+    // x·a + x²·b → x·(a + x·b): the factors (with the smallest positive power) that every
+    // term has. Structural matching only; no polynomial gcd (that is what makes GiNaC's
+    // collect_common_factors too slow for large equations).
+    GiNaC::ex factor_out_common(const GiNaC::ex& sum) {
+        if (!GiNaC::is_a<GiNaC::add>(sum)) return sum;
+        auto common = factors_of(sum.op(0));
+        for (std::size_t i = 1; i < sum.nops() && !common.empty(); ++i) {
+            const auto f = factors_of(sum.op(i));
+            for (auto it = common.begin(); it != common.end();) {
+                auto found = f.find(it->first);
+                if (found == f.end() || !found->second.is_positive() || !it->second.is_positive()) {
+                    it = common.erase(it);
+                } else {
+                    if (found->second < it->second) it->second = found->second;
+                    ++it;
+                }
+            }
+        }
+        if (common.empty()) return sum;
+        GiNaC::ex divisor = 1;
+        for (const auto& [base, k] : common) divisor *= GiNaC::pow(base, k);
+        GiNaC::exvector rest;
+        for (std::size_t i = 0; i < sum.nops(); ++i) rest.push_back(sum.op(i) / divisor);
+        return divisor * factor_out_common(GiNaC::add(rest));
+    }
+
     GiNaC::ex rebuild(const GiNaC::ex& e) {
         GiNaC::exvector ops;
         for (std::size_t i = 0; i < e.nops(); ++i) ops.push_back((*this)(e.op(i)));
-        if (GiNaC::is_a<GiNaC::add>(e)) return GiNaC::add(ops);
+        if (GiNaC::is_a<GiNaC::add>(e)) return factor_out_common(GiNaC::add(ops));
         if (GiNaC::is_a<GiNaC::mul>(e)) {
             GiNaC::numeric sign = 1;
             for (auto& factor : ops) {

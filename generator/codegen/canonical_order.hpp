@@ -26,10 +26,13 @@ private:
     std::map<GiNaC::ex, std::uint64_t, GiNaC::ex_is_less> keys_;
 };
 
-// The same expression with every sum that is a factor of a product (or the base of an
-// integer power) signed so that its canonically first term has a positive coefficient:
-// c·(−a + b)·x and −c·(a − b)·x are the same value, and which of the two GiNaC builds
-// depends on its term order. Rebuilt bottom-up, so equal subtrees become identical.
+// The same expression, rebuilt bottom-up so that equal subtrees become identical:
+// - factors common to every term of a sum are taken out (m2·w + m3·w → w·(m2 + m3)):
+//   GiNaC keeps sums distributed, and a factor repeated across terms is work that
+//   common-subexpression elimination cannot see;
+// - every sum that is a factor of a product (or the base of an integer power) is signed
+//   canonically: c·(−a + b)·x and −c·(a − b)·x are the same value, and which of the two
+//   GiNaC builds depends on its term order.
 GiNaC::ex canonical_form(const GiNaC::ex& e);
 
 }  // namespace eomc::codegen
