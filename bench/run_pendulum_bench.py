@@ -32,7 +32,7 @@ CXXFLAGS = ["-O2", "-std=c++20"]
 def find_eomc(explicit):
     if explicit:
         return pathlib.Path(explicit)
-    for build in ("build-lead", "build-bench", "build"):
+    for build in ("build", "build-lead", "build-bench"):
         p = ROOT / build / "generator" / "eomc"
         if p.exists():
             return p
@@ -126,7 +126,7 @@ def main():
                     help="run LagrangesMethod only for n <= N (it takes about a minute at n = 16)")
     ap.add_argument("--lagrange-timeout", type=float, default=600, help="seconds per size before giving up")
     ap.add_argument("--repeat", type=int, default=5, help="eomc generate runs per size (median)")
-    ap.add_argument("--eomc", help="eomc binary (default: build-lead, then build-bench)")
+    ap.add_argument("--eomc", help="eomc binary (default: build/generator/eomc, as scripts/setup.sh builds it)")
     ap.add_argument("-o", "--output-dir", type=pathlib.Path, default=BENCH / "results")
     a = ap.parse_args()
 

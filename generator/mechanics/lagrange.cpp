@@ -1,5 +1,6 @@
 #include "mechanics/lagrange.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/Eigenvalues>
