@@ -16,7 +16,13 @@ ex display_form(const ex& e) {
     const std::size_t size = count_operations(e);
     if (size > 4000) return e;
     const ex expanded = e.expand();
-    return count_operations(expanded) <= 2 * size + 8 ? expanded : e;
+    if (count_operations(expanded) > 2 * size + 8) return e;
+    // sin² + cos² = 1, the one identity a reader expects to see used (R² sin²θ θ̇² +
+    // R² cos²θ θ̇² is R² θ̇²); kept only when it shortens the expression.
+    const GiNaC::ex u = GiNaC::wild(0);
+    const ex trig = expanded.subs(GiNaC::pow(GiNaC::sin(u), 2) == 1 - GiNaC::pow(GiNaC::cos(u), 2),
+                                  GiNaC::subs_options::algebraic).expand();
+    return count_operations(trig) < count_operations(expanded) ? trig : expanded;
 }
 
 namespace {
@@ -31,6 +37,25 @@ std::string latex(const ex& e) {
     std::ostringstream os;
     os << GiNaC::latex << e;
     return os.str();
+}
+
+// Width on a terminal of UTF-8 text: one column per character, none for the combining
+// marks that draw the dots of ṙ and q̇ (U+0300–U+036F).
+std::size_t display_width(const std::string& s) {
+    std::size_t width = 0;
+    for (std::size_t i = 0; i < s.size(); ++i) {
+        const auto c = static_cast<unsigned char>(s[i]);
+        if ((c & 0xC0) == 0x80) continue;  // continuation byte
+        const bool combining = (c == 0xCC || (c == 0xCD && i + 1 < s.size() &&
+                                              static_cast<unsigned char>(s[i + 1]) <= 0xAF));
+        if (!combining) ++width;
+    }
+    return width;
+}
+
+std::string padded(const std::string& s, std::size_t width) {
+    const std::size_t w = display_width(s);
+    return w >= width ? s : s + std::string(width - w, ' ');
 }
 
 // The inertial term of an effect, in the seed's notation.
@@ -109,7 +134,7 @@ void print_text(const model::Model& model, const mechanics::Equations& eqs, std:
     for (const auto& eq : eqs.equations) {
         out << "\n  s = " << eq.coordinate << "\n";
         for (const auto& term : eq.effects)
-            out << fmt::format("    {:<12} {:<28} = ", model::name(term.effect), effect_formula(term.effect))
+            out << "    " << padded(model::name(term.effect), 12) << " " << padded(effect_formula(term.effect), 34) << " = "
                 << text(display_form(term.value)) << "\n";
         out << "    " << text(collected_lhs(model, eq.lhs)) << " = " << text(display_form(eq.rhs)) << "\n";
     }
@@ -173,7 +198,8 @@ void print_latex(const model::Model& model, const mechanics::Equations& eqs, std
         << "$\\varepsilon_s(T) = Q_s + \\varepsilon_s(V)$, with "
         << "$\\varepsilon_s = \\frac{d}{dt}\\frac{\\partial}{\\partial\\dot q_s} - \\frac{\\partial}{\\partial q_s}$.\n";
     for (const auto& eq : eqs.equations) {
-        out << "\\paragraph{$s = " << latex_escape(eq.coordinate) << "$}\n\\begin{align*}\n";
+        out << "\\paragraph{$s = " << latex(model.coordinates[std::size_t(&eq - eqs.equations.data())].q)
+            << "$}\n\\begin{align*}\n";
         out << "\\frac{\\partial T}{\\partial \\dot q_s} &= " << latex(display_form(eq.dT_dqdot)) << "\\\\\n";
         for (const auto& term : eq.effects)
             out << "\\text{" << model::name(term.effect) << "}: \\ " << effect_formula_latex(term.effect) << " &= "
