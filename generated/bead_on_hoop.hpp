@@ -65,7 +65,7 @@ struct BeadOnHoop {
         const S R = S(p.R);
         const S g = S(p.g);
         const S omega = S(p.omega);
-        out[0] = R*m*sin(theta)*(-g + R*omega*omega*cos(theta));
+        out[0] = -R*m*sin(theta)*(g - R*omega*omega*cos(theta));
     }
 
     // ẋ = (q̇, q̈).
@@ -101,7 +101,7 @@ struct BeadOnHoop {
         const S w4 = w0*w0;
         out[0] = S(0);
         out[1] = S(1);
-        out[2] = (-R*w1*w3 - g*w0 + R*w1*w4)/(R*(w3 + w4));
+        out[2] = -(-R*w1*w4 + g*w0 + R*w1*w3)/(R*(w3 + w4));
         out[3] = S(0);
     }
 
@@ -120,7 +120,7 @@ struct BeadOnHoop {
         const S w0 = sin(theta);
         const S w1 = w0*w0;
         const S w2 = cos(theta);
-        out[0] = S(1)/S(2)*R*m*(R*theta_dot*theta_dot*(w1 + w2*w2) - R*w1*omega*omega - S(2)*g*w2);
+        out[0] = -S(1)/S(2)*R*m*(R*w1*omega*omega + S(2)*g*w2 - R*theta_dot*theta_dot*(w1 + w2*w2));
     }
 
     template <class S>

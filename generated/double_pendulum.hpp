@@ -75,7 +75,7 @@ struct DoublePendulum {
         const S g = S(p.g);
         const S w0 = sin(th1 - th2);
         out[0] = -l1*(g*sin(th1)*(m1 + m2) + l2*m2*w0*th2_dot*th2_dot);
-        out[1] = l2*m2*(l1*w0*th1_dot*th1_dot - g*sin(th2));
+        out[1] = -l2*m2*(g*sin(th2) - l1*w0*th1_dot*th1_dot);
     }
 
     // ẋ = (q̇, q̈).
@@ -97,14 +97,14 @@ struct DoublePendulum {
         const S g = S(p.g);
         const S w0 = th1 - th2;
         const S w1 = cos(w0);
-        const S w2 = -S(1)/(-m1 - m2 + m2*w1*w1);
+        const S w2 = S(1)/(-m1 - m2 + m2*w1*w1);
         const S w3 = sin(w0);
         const S w4 = l2*m2*w3*th2_dot*th2_dot;
         const S w5 = m1 + m2;
         const S w6 = g*w5*sin(th1);
         const S w7 = l1*w3*th1_dot*th1_dot - g*sin(th2);
-        dxdt[2] = -w2*(w4 + w6 + m2*w1*w7)/l1;
-        dxdt[3] = w2*(w1*(w4 + w6) + w5*w7)/l2;
+        dxdt[2] = w2*(w4 + w6 + m2*w1*w7)/l1;
+        dxdt[3] = -w2*(w1*(w4 + w6) + w5*w7)/l2;
     }
 
     // ∂ẋ/∂x, row-major n_state×n_state.
@@ -126,7 +126,7 @@ struct DoublePendulum {
         const S w1 = th1 - th2;
         const S w2 = cos(w1);
         const S w3 = w2*w2;
-        const S w4 = m1 + m2 - m2*w3;
+        const S w4 = m2*w3 - m1 - m2;
         const S w5 = S(1)/w4;
         const S w6 = th1_dot*th1_dot;
         const S w7 = m1 + m2;
@@ -135,15 +135,15 @@ struct DoublePendulum {
         const S w10 = l2*m2*w2*w9;
         const S w11 = sin(w1);
         const S w12 = l1*w11*w6 - g*sin(th2);
-        const S w13 = l2*m2*w11*w9;
-        const S w14 = g*w7*sin(th1);
-        const S w15 = w13 + w14 + m2*w12*w2;
-        const S w16 = S(1)/(w4*w4);
+        const S w13 = S(1)/(w4*w4);
+        const S w14 = l2*m2*w11*w9;
+        const S w15 = g*w7*sin(th1);
+        const S w16 = w14 + w15 + m2*w12*w2;
         const S w17 = l1*w2*w6 + g*cos(th2);
         const S w18 = S(1)/l2;
-        const S w19 = w13 + w14;
-        const S w20 = w11*w19;
-        const S w21 = m2*w11*w16*w18*w2*(w19*w2 + w12*w7);
+        const S w19 = w14 + w15;
+        const S w20 = m2*w11*w13*w18*w2*(w19*w2 + w12*w7);
+        const S w21 = w11*w19;
         out[0] = S(0);
         out[1] = S(0);
         out[2] = S(1);
@@ -152,14 +152,14 @@ struct DoublePendulum {
         out[5] = S(0);
         out[6] = S(0);
         out[7] = S(1);
-        out[8] = S(2)*m2*w0*w11*w15*w16*w2 + w0*w5*(m2*w11*w12 - l1*m2*w3*w6 - w10 - w8);
-        out[9] = -m2*(S(2)*w0*w11*w15*w16*w2 - w0*w5*(l2*w2*w9 + w17*w2 - w11*w12));
-        out[10] = -S(2)*m2*th1_dot*w11*w2*w5;
-        out[11] = -S(2)*l2*m2*th2_dot*w0*w11*w5;
-        out[12] = -S(2)*w21 + w18*w5*(l1*w2*w6*w7 - w20 + w2*(w10 + w8));
-        out[13] = -w18*w5*(l2*m2*w3*w9 + w17*w7 - w20) + S(2)*w21;
-        out[14] = S(2)*l1*th1_dot*w11*w18*w5*w7;
-        out[15] = S(2)*m2*th2_dot*w11*w2*w5;
+        out[8] = w0*w5*(w10 + w8 + l1*m2*w3*w6 - m2*w11*w12) + S(2)*m2*w0*w11*w13*w16*w2;
+        out[9] = -m2*(S(2)*w0*w11*w13*w16*w2 + w0*w5*(l2*w2*w9 + w17*w2 - w11*w12));
+        out[10] = S(2)*m2*th1_dot*w11*w2*w5;
+        out[11] = S(2)*l2*m2*th2_dot*w0*w11*w5;
+        out[12] = -S(2)*w20 - w18*w5*(l1*w2*w6*w7 + w2*(w10 + w8) - w21);
+        out[13] = -w18*w5*(w21 - l2*m2*w3*w9 - w17*w7) + S(2)*w20;
+        out[14] = -S(2)*l1*th1_dot*w11*w18*w5*w7;
+        out[15] = -S(2)*m2*th2_dot*w11*w2*w5;
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.

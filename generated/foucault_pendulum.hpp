@@ -6,9 +6,9 @@
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                      38 ->      15 (4 temporaries)
 //   forcing                         194 ->      61 (8 temporaries)
-//   rhs (q̈ in closed form)         490 ->      83 (14 temporaries)
-//   jacobian                       5268 ->     358 (53 temporaries)
-//   invariants                       56 ->      33 (3 temporaries)
+//   rhs (q̈ in closed form)         490 ->      85 (16 temporaries)
+//   jacobian                       5282 ->     362 (55 temporaries)
+//   invariants                       56 ->      35 (5 temporaries)
 #pragma once
 
 #include <array>
@@ -51,12 +51,12 @@ struct FoucaultPendulum {
         const S L = S(p.L);
         const S w0 = x_*x_;
         const S w1 = y*y;
-        const S w2 = -S(1)/(w0 + w1 - L*L);
+        const S w2 = S(1)/(w0 + w1 - L*L);
         const S w3 = m*w2*x_*y;
-        out[0] = m*(S(1) + w0*w2);
-        out[1] = w3;
-        out[2] = w3;
-        out[3] = m*(S(1) + w1*w2);
+        out[0] = -m*(S(-1) + w0*w2);
+        out[1] = -w3;
+        out[2] = -w3;
+        out[3] = -m*(S(-1) + w1*w2);
     }
 
     // f(q, q̇, t).
@@ -106,20 +106,22 @@ struct FoucaultPendulum {
         const S phi = S(p.phi);
         const S w0 = y*y;
         const S w1 = x_*x_;
-        const S w2 = L*L - w1 - w0;
-        const S w3 = S(1)/w2;
-        const S w4 = S(1) + w0*w3;
-        const S w5 = S(1)/(w2*sqrt(w2));
-        const S w6 = S(1)/sqrt(w2);
-        const S w7 = y_dot*(w6*y_dot + w5*x_*x_dot*y + w0*w5*y_dot) + x_dot*(w5*x_*y*y_dot + w6*x_dot + w1*w5*x_dot);
+        const S w2 = L*L;
+        const S w3 = w0 + w1 - w2;
+        const S w4 = S(1)/w3;
+        const S w5 = S(-1) + w0*w4;
+        const S w6 = S(-1) + w1*w4;
+        const S w7 = -S(1)/(-w0*w1/(w3*w3) + w5*w6);
         const S w8 = cos(phi);
-        const S w9 = sin(phi);
-        const S w10 = w6*w7*x_ - S(2)*Omega*(w9*y_dot - w6*w8*(x_*x_dot + y*y_dot) + w6*w8*x_*x_dot) + g*w6*x_;
-        const S w11 = -S(2)*Omega*x_dot*(w6*w8*y - w9) + g*w6*y + w6*w7*y;
-        const S w12 = S(1) + w1*w3;
-        const S w13 = -S(1)/(w0*w1/(w2*w2) - w12*w4);
-        dxdt[2] = -w13*(w10*w4 - w11*w3*x_*y);
-        dxdt[3] = w13*(-w11*w12 + w10*w3*x_*y);
+        const S w9 = w2 - w1 - w0;
+        const S w10 = S(1)/sqrt(w9);
+        const S w11 = sin(phi);
+        const S w12 = S(1)/(w9*sqrt(w9));
+        const S w13 = x_dot*(w1*w12*x_dot + w10*x_dot + w12*x_*y*y_dot) + y_dot*(w0*w12*y_dot + w12*x_*x_dot*y + w10*y_dot);
+        const S w14 = w10*w13*y - S(2)*Omega*x_dot*(w10*w8*y - w11) + g*w10*y;
+        const S w15 = w10*w13*x_ - S(2)*Omega*(-w10*w8*(x_*x_dot + y*y_dot) + w11*y_dot + w10*w8*x_*x_dot) + g*w10*x_;
+        dxdt[2] = -w7*(w15*w5 - w14*w4*x_*y);
+        dxdt[3] = w7*(w15*w4*x_*y - w14*w6);
     }
 
     // ∂ẋ/∂x, row-major n_state×n_state.
@@ -140,57 +142,59 @@ struct FoucaultPendulum {
         const S phi = S(p.phi);
         const S w0 = y*y;
         const S w1 = x_*x_;
-        const S w2 = L*L - w1 - w0;
-        const S w3 = S(1)/(w2*w2);
-        const S w4 = S(1)/w2;
-        const S w5 = S(1) + w1*w4;
-        const S w6 = S(1) + w0*w4;
-        const S w7 = w1*w3;
-        const S w8 = w4 + w7;
-        const S w9 = w0*w3;
-        const S w10 = w0*w1/(w2*w2*w2);
-        const S w11 = w9 - w6*w8 - w0*w3*w5 + S(2)*w10;
-        const S w12 = S(1)/(w2*sqrt(w2));
-        const S w13 = w12*x_*x_dot*y;
-        const S w14 = S(1)/sqrt(w2);
-        const S w15 = w14*y_dot;
-        const S w16 = w0*w12*y_dot;
-        const S w17 = w14*x_dot;
-        const S w18 = w12*x_*y*y_dot;
-        const S w19 = w1*w12*x_dot;
-        const S w20 = y_dot*(w13 + w15 + w16) + x_dot*(w17 + w18 + w19);
-        const S w21 = cos(phi);
-        const S w22 = sin(phi);
-        const S w23 = S(2)*Omega*(-w22*y_dot + w14*w21*(x_*x_dot + y*y_dot) - w14*w21*x_*x_dot) + w14*w20*x_ + g*w14*x_;
-        const S w24 = w14*w21*y - w22;
-        const S w25 = -S(2)*Omega*w24*x_dot + w14*w20*y + g*w14*y;
-        const S w26 = w25*w4*x_*y - w23*w6;
-        const S w27 = -w0*w1*w3 + w5*w6;
-        const S w28 = S(1)/(w27*w27);
-        const S w29 = w14*w20;
-        const S w30 = g*w14;
-        const S w31 = pow(w2, S(-5)/S(2));
-        const S w32 = w12*x_*y_dot + w12*x_dot*y + S(3)*w0*w31*x_*y_dot + S(3)*w1*w31*x_dot*y;
-        const S w33 = w12*y*y_dot;
-        const S w34 = w12*x_*x_dot;
-        const S w35 = w32*y_dot + x_dot*(w33 + S(3)*w34 + S(3)*w31*x_dot*x_*x_*x_ + S(3)*w1*w31*y*y_dot);
-        const S w36 = w29 + w30 + w1*w12*w20 + S(2)*Omega*w12*w21*x_*y*y_dot + g*w1*w12 + w14*w35*x_;
-        const S w37 = w1*w25*w3*y;
-        const S w38 = g*w12*x_ - S(2)*Omega*w12*w21*x_*x_dot + w12*w20*x_ + w14*w35;
-        const S w39 = w0*w23*w3*x_;
-        const S w40 = S(1)/w27;
-        const S w41 = y_dot*(w34 + S(3)*w31*y_dot*y*y*y + S(3)*w33 + S(3)*w0*w31*x_*x_dot) + w32*x_dot;
-        const S w42 = w14 + w0*w12;
-        const S w43 = S(2)*Omega*w21*w42*y_dot + g*w12*x_*y + w14*w41*x_ + w12*w20*x_*y;
-        const S w44 = w4 + w9;
-        const S w45 = -g*w0*w12 + S(2)*Omega*w21*w42*x_dot - w29 - w14*w41*y - w30 - w0*w12*w20;
-        const S w46 = w7 - w44*w5 - w1*w3*w6 + S(2)*w10;
-        const S w47 = w17 + w19 + x_dot*(w14 + w1*w12) + S(2)*w18;
-        const S w48 = Omega*w24;
-        const S w49 = -w14*w47*y + S(2)*w48;
-        const S w50 = w15 + w16 + S(2)*w13 + w42*y_dot;
-        const S w51 = w14*w50*x_ + S(2)*w48;
-        const S w52 = -w25*w5 + w23*w4*x_*y;
+        const S w2 = L*L;
+        const S w3 = w0 + w1 - w2;
+        const S w4 = S(1)/w3;
+        const S w5 = S(-1) + w0*w4;
+        const S w6 = S(-1) + w1*w4;
+        const S w7 = S(1)/(w3*w3);
+        const S w8 = w0*w1*w7 - w5*w6;
+        const S w9 = S(1)/w8;
+        const S w10 = w2 - w1 - w0;
+        const S w11 = S(1)/(w10*sqrt(w10));
+        const S w12 = w11*x_*x_dot*y;
+        const S w13 = S(1)/sqrt(w10);
+        const S w14 = w13*y_dot;
+        const S w15 = w0*w11*y_dot;
+        const S w16 = w13*x_dot;
+        const S w17 = w11*x_*y*y_dot;
+        const S w18 = w1*w11*x_dot;
+        const S w19 = x_dot*(w16 + w17 + w18) + y_dot*(w12 + w14 + w15);
+        const S w20 = w13*w19;
+        const S w21 = g*w13;
+        const S w22 = cos(phi);
+        const S w23 = pow(w10, S(-5)/S(2));
+        const S w24 = S(3)*w0*w23*x_*y_dot + w11*x_dot*y + S(3)*w1*w23*x_dot*y + w11*x_*y_dot;
+        const S w25 = w11*y*y_dot;
+        const S w26 = w11*x_*x_dot;
+        const S w27 = w24*y_dot + x_dot*(w25 + S(3)*w23*x_dot*x_*x_*x_ + S(3)*w26 + S(3)*w1*w23*y*y_dot);
+        const S w28 = w20 + w21 + S(2)*Omega*w11*w22*x_*y*y_dot + g*w1*w11 + w13*w27*x_ + w1*w11*w19;
+        const S w29 = S(2)*Omega*w11*w22*x_*x_dot - w11*w19*x_ - g*w11*x_ - w13*w27;
+        const S w30 = sin(phi);
+        const S w31 = w13*w19*x_ + S(2)*Omega*(-w30*y_dot + w13*w22*(x_*x_dot + y*y_dot) - w13*w22*x_*x_dot) + g*w13*x_;
+        const S w32 = w0*w31*w7*x_;
+        const S w33 = w30 - w13*w22*y;
+        const S w34 = S(2)*Omega*w33*x_dot + g*w13*y + w13*w19*y;
+        const S w35 = w1*w34*w7*y;
+        const S w36 = w1*w7;
+        const S w37 = w36 - w4;
+        const S w38 = w0*w1/(w3*w3*w3);
+        const S w39 = w0*w7;
+        const S w40 = w39 + w37*w5 - S(2)*w38 + w0*w6*w7;
+        const S w41 = S(1)/(w8*w8);
+        const S w42 = w34*w4*x_*y - w31*w5;
+        const S w43 = w39 - w4;
+        const S w44 = w36 + w43*w6 - S(2)*w38 + w1*w5*w7;
+        const S w45 = w24*x_dot + y_dot*(w26 + S(3)*w0*w23*x_*x_dot + S(3)*w23*y_dot*y*y*y + S(3)*w25);
+        const S w46 = w13 + w0*w11;
+        const S w47 = w11*w19*x_*y + w13*w45*x_ + g*w11*x_*y + S(2)*Omega*w22*w46*y_dot;
+        const S w48 = w20 + w21 + w13*w45*y + w0*w11*w19 + g*w0*w11 - S(2)*Omega*w22*w46*x_dot;
+        const S w49 = w16 + w18 + S(2)*w17 + x_dot*(w13 + w1*w11);
+        const S w50 = Omega*w33;
+        const S w51 = S(2)*w50 + w13*w49*y;
+        const S w52 = w14 + w15 + S(2)*w12 + w46*y_dot;
+        const S w53 = w13*w52*x_ - S(2)*w50;
+        const S w54 = -w34*w6 + w31*w4*x_*y;
         out[0] = S(0);
         out[1] = S(0);
         out[2] = S(1);
@@ -199,14 +203,14 @@ struct FoucaultPendulum {
         out[5] = S(0);
         out[6] = S(0);
         out[7] = S(1);
-        out[8] = w40*(w0*w38*w4*x_ + w25*w4*y - S(2)*w39 - w36*w6 + S(2)*w37) + S(2)*w11*w26*w28*x_;
-        out[9] = w40*(S(2)*w0*w25*w3*x_ + w25*w4*x_ - w4*w45*x_*y - w43*w6 - S(2)*w23*w44*y) + S(2)*w26*w28*w46*y;
-        out[10] = -w40*x_*(w14*w47*w6 + w4*w49*y);
-        out[11] = -w40*(w51*w6 - w0*w12*w50*x_);
-        out[12] = S(2)*w11*w28*w52*x_ - w40*(-w36*w4*x_*y + S(2)*w25*w8*x_ - S(2)*w1*w23*w3*y + w38*w5*y - w23*w4*y);
-        out[13] = S(2)*w28*w46*w52*y - w40*(-w45*w5 - S(2)*w39 - w4*w43*x_*y - w23*w4*x_ + S(2)*w37);
-        out[14] = w40*(w49*w5 + w1*w12*w47*y);
-        out[15] = -w40*y*(w14*w5*w50 - w4*w51*x_);
+        out[8] = -S(2)*w40*w41*w42*x_ + w9*(-S(2)*w35 + w34*w4*y - w0*w29*w4*x_ - w28*w5 + S(2)*w32);
+        out[9] = -S(2)*w41*w42*w44*y + w9*(S(2)*w31*w43*y - S(2)*w0*w34*w7*x_ + w4*w48*x_*y - w47*w5 + w34*w4*x_);
+        out[10] = -w9*x_*(w13*w49*w5 - w4*w51*y);
+        out[11] = w9*(w0*w13*w4*w52*x_ - w5*w53);
+        out[12] = w9*(w31*w4*y + w28*w4*x_*y - S(2)*w1*w31*w7*y + w29*w6*y + S(2)*w34*w37*x_) - S(2)*w40*w41*w54*x_;
+        out[13] = w9*(w4*w47*x_*y - S(2)*w32 + S(2)*w35 - w48*w6 + w31*w4*x_) - S(2)*w41*w44*w54*y;
+        out[14] = -w9*(w51*w6 - w1*w13*w4*w49*y);
+        out[15] = w9*y*(w4*w53*x_ - w13*w52*w6);
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.
@@ -221,10 +225,12 @@ struct FoucaultPendulum {
         const S m = S(p.m);
         const S L = S(p.L);
         const S g = S(p.g);
-        const S w0 = x_*x_dot + y*y_dot;
-        const S w1 = L*L - x_*x_ - y*y;
-        const S w2 = S(1)/w1;
-        out[0] = -S(1)/S(2)*m*(x_dot*x_dot + y_dot*y_dot + S(2)*g*sqrt(w1) + w2*w0*w0 - S(2)*x_dot*(x_dot + w0*w2*x_) - S(2)*y_dot*(y_dot + w0*w2*y));
+        const S w0 = x_*x_;
+        const S w1 = y*y;
+        const S w2 = L*L;
+        const S w3 = S(1)/(w0 + w1 - w2);
+        const S w4 = x_*x_dot + y*y_dot;
+        out[0] = -S(1)/S(2)*m*(x_dot*x_dot + y_dot*y_dot + S(2)*g*sqrt(w2 - w1 - w0) - w3*w4*w4 - S(2)*x_dot*(x_dot - w3*w4*x_) + S(2)*y_dot*(-y_dot + w3*w4*y));
     }
 
     template <class S>

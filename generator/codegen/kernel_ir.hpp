@@ -33,7 +33,7 @@ struct Block {
 
 struct NamedSymbol {
     std::string name;
-    GiNaC::ex symbol;  // held as ex: copying a realsymbol into a GiNaC::symbol would slice it
+    GiNaC::ex symbol;
 };
 
 struct KernelIR {

@@ -148,9 +148,9 @@ std::string tex_name(const std::string& name, SymbolKind kind) {
 
 }  // namespace
 
-GiNaC::realsymbol SymbolTable::declare(const std::string& name, SymbolKind kind) {
-    if (auto it = table_.find(name); it != table_.end()) return GiNaC::ex_to<GiNaC::realsymbol>(it->second);
-    GiNaC::realsymbol s(name, tex_name(name, kind));
+GiNaC::symbol SymbolTable::declare(const std::string& name, SymbolKind kind) {
+    if (auto it = table_.find(name); it != table_.end()) return GiNaC::ex_to<GiNaC::symbol>(it->second);
+    GiNaC::symbol s(name, tex_name(name, kind));
     table_[name] = s;
     kinds_[name] = kind;
     return s;

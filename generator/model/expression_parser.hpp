@@ -31,8 +31,11 @@ const char* describe(SymbolKind kind);  // "a coordinate", "a velocity", ...
 
 class SymbolTable {
 public:
-    // The one factory: declaring a name twice returns the same symbol.
-    GiNaC::realsymbol declare(const std::string& name, SymbolKind kind);
+    // The one factory: declaring a name twice returns the same symbol. Plain GiNaC::symbol,
+    // not realsymbol: realsymbol's type_info lives in each program that uses it, and GiNaC
+    // seeds its hash values (and so its term order) with that address — generated code
+    // would then change whenever eomc itself is rebuilt.
+    GiNaC::symbol declare(const std::string& name, SymbolKind kind);
     bool contains(const std::string& name) const { return kinds_.count(name) != 0; }
 
     // Parses `expr`; only names of the `allowed` kinds may appear (`what` names the place

@@ -28,13 +28,13 @@ const char* name(Effect e);
 
 struct Parameter {
     std::string name;
-    GiNaC::realsymbol symbol;
+    GiNaC::symbol symbol;
     double value = 0.0;  // the scene's default
 };
 
 struct Coordinate {
     std::string name;
-    GiNaC::realsymbol q, q_dot, q_ddot;  // q, q_dot, q_ddot in the scene's expressions
+    GiNaC::symbol q, q_dot, q_ddot;  // q, q_dot, q_ddot in the scene's expressions
     double initial = 0.0;
     double rate = 0.0;
 };
@@ -56,7 +56,7 @@ struct Model {
     std::string struct_name;  // DiskTubeBall
     std::string summary;
     std::string source;       // scene path as given
-    GiNaC::realsymbol t;
+    GiNaC::symbol t;
     std::vector<Parameter> parameters;
     std::vector<Coordinate> coordinates;
 

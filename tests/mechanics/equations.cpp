@@ -35,7 +35,7 @@ Model from_string(const std::string& toml) {
     return eomc::model::build_model(eomc::scene::parse_scene_string(toml, "<test>"));
 }
 
-const GiNaC::realsymbol& parameter(const Model& model, const std::string& name) {
+const GiNaC::symbol& parameter(const Model& model, const std::string& name) {
     for (const auto& p : model.parameters)
         if (p.name == name) return p.symbol;
     BOOST_FAIL("no parameter " << name);
