@@ -284,7 +284,7 @@ Equations derive(const model::Model& model) {
     if (proven_conserved(model, eqs, h)) {
         eqs.invariants.push_back(
             {"energy", h,
-             !eqs.has_carrier ? "energy h = Σ q̇ ∂L/∂q̇ − L (the Jacobi integral; T + V for a kinetic energy quadratic in q̇)"
+             !eqs.has_carrier ? "h = Σ q̇ ∂L/∂q̇ − L, the Jacobi integral (T + V when T is quadratic in q̇)"
              : std::all_of(model.keep.begin(), model.keep.end(), [](bool k) { return k; })
                  ? "Jacobi integral h = Σ q̇ ∂L/∂q̇ − L = T_r − T_e + V"
                  : "Jacobi integral of the kept equations"});
