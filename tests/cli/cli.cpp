@@ -123,6 +123,7 @@ BOOST_AUTO_TEST_CASE(bad_overrides_and_missing_files) {
     Result r = run("simulate " + file.string() + " --set Omgea=2 --cache-dir " + (dir / "cache").string(), dir);
     BOOST_TEST(r.status == 2);
     BOOST_TEST(r.err.find("Omgea") != std::string::npos, r.err);
+    BOOST_TEST(r.err.find("did you mean 'Omega'") != std::string::npos, r.err);  // a swap is one typo
     r = run("simulate " + file.string() + " --set Omega=abc", dir);
     BOOST_TEST(r.status == 2);
     r = run("derive " + (dir / "missing.toml").string(), dir);
