@@ -18,6 +18,7 @@
 #include "codegen/cpp_emitter.hpp"
 #include "codegen/derivation_printer.hpp"
 #include "codegen/kernel_ir.hpp"
+#include "mechanics/equilibria.hpp"
 #include "mechanics/lagrange.hpp"
 #include "model/model.hpp"
 #include "scene/scene.hpp"
@@ -122,6 +123,41 @@ cli::SimulationRequest simulation_request(const Pipeline& p, const std::string& 
     return r;
 }
 
+// `eomc equilibria`: each relative equilibrium with its eigenvalues and verdict.
+void print_equilibria(const model::Model& model, const std::vector<mechanics::Equilibrium>& found,
+                      const std::string& format, std::ostream& out) {
+    if (format == "json") {
+        out << "{\"equilibria\": [";
+        for (std::size_t i = 0; i < found.size(); ++i) {
+            out << (i ? ",\n  " : "\n  ") << "{\"q\": {";
+            for (std::size_t k = 0; k < found[i].q.size(); ++k)
+                out << (k ? ", " : "") << fmt::format("\"{}\": {:.17g}", model.coordinates[k].name, found[i].q[k]);
+            out << "}, \"eigenvalues\": [";
+            for (std::size_t k = 0; k < found[i].eigenvalues.size(); ++k)
+                out << (k ? ", " : "")
+                    << fmt::format("[{:.17g}, {:.17g}]", found[i].eigenvalues[k].real(), found[i].eigenvalues[k].imag());
+            out << "], \"verdict\": \"" << found[i].verdict << "\"}";
+        }
+        out << (found.empty() ? "]}\n" : "\n]}\n");
+        return;
+    }
+    out << fmt::format("{} relative equilibri{} of {} (q̇ = 0, parameters at their defaults)\n", found.size(),
+                       found.size() == 1 ? "um" : "a", model.name);
+    for (const auto& e : found) {
+        out << "\n ";
+        for (std::size_t k = 0; k < e.q.size(); ++k) out << fmt::format(" {} = {:.12g}", model.coordinates[k].name, e.q[k]);
+        out << "\n    " << e.verdict;
+        std::string rates;
+        for (const auto& l : e.eigenvalues) {
+            if (e.verdict == "unstable" && l.real() > 0) rates += fmt::format(" {:.9g}", l.real());
+            if (e.verdict != "unstable" && l.imag() > 0) rates += fmt::format(" {:.9g}", l.imag());
+        }
+        out << (e.verdict == "unstable" ? ": growth rates" : ": frequencies") << rates << "\n    eigenvalues";
+        for (const auto& l : e.eigenvalues) out << fmt::format(" ({:.6g}{:+.6g}i)", l.real(), l.imag());
+        out << "\n";
+    }
+}
+
 // `eomc generate --timings`: the same output, with each stage timed.
 int generate_with_timings(const std::string& scene_path, const std::string& out_dir) {
     using clock = std::chrono::steady_clock;
@@ -181,6 +217,10 @@ int main(int argc, char** argv) {
     simulate->add_option("scene", scene_path, "scene file (TOML)")->required();
     add_simulate_options(simulate, sim);
 
+    auto* equilibria = app.add_subcommand("equilibria", "relative equilibria of a steady carrier and their stability");
+    equilibria->add_option("scene", scene_path, "scene file (TOML)")->required();
+    equilibria->add_option("--format", format, "text | json")->check(CLI::IsMember({"text", "json"}));
+
     auto* run = app.add_subcommand("run", "derive + generate + simulate: the whole job on one scene");
     run->add_option("scene", scene_path, "scene file (TOML)")->required();
     run->add_option("-d,--dir", out_dir, "directory for the header and the CSV (default: .)");
@@ -203,6 +243,8 @@ int main(int argc, char** argv) {
         } else if (simulate->parsed()) {
             const auto result = cli::simulate(simulation_request(p, kernel_header(p), sim));
             cli::print_summary(result, sim.summary, std::cout);
+        } else if (equilibria->parsed()) {
+            print_equilibria(p.model, mechanics::relative_equilibria(p.model, p.equations), format, std::cout);
         } else if (run->parsed()) {
             codegen::print_derivation(p.model, p.equations, codegen::DerivationFormat::text, std::cout);
             const std::string header = kernel_header(p);

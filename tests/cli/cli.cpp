@@ -208,3 +208,16 @@ BOOST_AUTO_TEST_CASE(the_readme_example_derives_as_the_readme_says) {
     const Result text = run("derive " + file.string(), dir);
     BOOST_TEST(text.out.find("T_m = Σ m (v_o + ω × r')·ṙ'  = 0") != std::string::npos, text.out);
 }
+
+BOOST_AUTO_TEST_CASE(equilibria_json_lists_the_hoop_equilibria) {
+    const fs::path dir = scratch("equilibria");
+    const Result r = run("equilibria " + (fs::path(EOMC_SOURCE_DIR) / "scenes/bead_on_hoop.toml").string() +
+                             " --format json", dir);
+    BOOST_REQUIRE(r.status == 0);
+    std::ofstream(dir / "e.json") << r.out;
+    BOOST_TEST(std::system(("python3 -m json.tool " + (dir / "e.json").string() + " > /dev/null").c_str()) == 0);
+    std::size_t count = 0;
+    for (auto at = r.out.find("\"verdict\""); at != std::string::npos; at = r.out.find("\"verdict\"", at + 1)) ++count;
+    BOOST_TEST(count == 5u);  // −π, −θ*, 0, θ*, π
+    BOOST_TEST(r.out.find("\"verdict\": \"stable\"") != std::string::npos);
+}
