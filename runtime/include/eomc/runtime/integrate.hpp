@@ -68,8 +68,8 @@ namespace detail {
 
 // The adaptive loop shared by integrate_adaptive and integrate_times: steps from t0 to t1 and
 // calls on_accept(t_old, t_new, x) after every accepted step; the last one lands exactly on t1.
-template <class S, class Sys, class OnAccept>
-Stats adaptive_loop(Dopri5<S>& stepper, Sys& sys, State<S>& x, S t0, S t1, S h0, const Tolerances& tol,
+template <template <class> class Stepper, class S, class Sys, class OnAccept>
+Stats adaptive_loop(Stepper<S>& stepper, Sys& sys, State<S>& x, S t0, S t1, S h0, const Tolerances& tol,
                     const Limits& limits, NoProgressChecker<S>& checker, OnAccept&& on_accept) {
   using std::abs;
   Stats stats;
@@ -81,7 +81,7 @@ Stats adaptive_loop(Dopri5<S>& stepper, Sys& sys, State<S>& x, S t0, S t1, S h0,
   checker.check_derivative(t0, stepper.prepare(sys, x, t0));
   std::size_t extra_evals = 0;
   S h = h0 > S(0) ? (h0 < hmax ? h0 : hmax)
-                  : initial_step(sys, t0, x, stepper.derivative(), dir, Dopri5<S>::error_order, tol, hmax,
+                  : initial_step(sys, t0, x, stepper.derivative(), dir, Stepper<S>::error_order, tol, hmax,
                                  extra_evals);
   checker.set_reference_step(h);
   h *= dir;
@@ -117,13 +117,14 @@ Stats adaptive_loop(Dopri5<S>& stepper, Sys& sys, State<S>& x, S t0, S t1, S h0,
 
 }  // namespace detail
 
-// Adaptive integration with Dopri5 from t0 to t1 (either direction). h0 > 0 is the magnitude of the
+// Adaptive integration with an embedded pair (Dopri5, Dop853: anything with prepare, try_step,
+// derivative, calc_state, error_order) from t0 to t1 (either direction). h0 > 0 is the magnitude of the
 // first step; h0 <= 0 chooses it with initial_step(). observer(t, x) at t0 and after every
 // accepted step, landing exactly on t1. Throws IntegrationError on step underflow, an exhausted
 // step budget or a non-finite state/derivative.
-template <class S, class Sys, class Obs>
+template <template <class> class Stepper, class S, class Sys, class Obs>
   requires System<Sys, S> && Observer<Obs, S>
-Stats integrate_adaptive(Dopri5<S>& stepper, Sys& sys, State<S>& x, std::type_identity_t<S> t0,
+Stats integrate_adaptive(Stepper<S>& stepper, Sys& sys, State<S>& x, std::type_identity_t<S> t0,
                          std::type_identity_t<S> t1, std::type_identity_t<S> h0, const Tolerances& tol,
                          Obs&& observer, const Limits& limits = {}) {
   validate(tol);
@@ -140,9 +141,9 @@ Stats integrate_adaptive(Dopri5<S>& stepper, Sys& sys, State<S>& x, std::type_id
 // observer(t, x) is called exactly once per entry of times, at exactly that time: interior times are
 // evaluated with the dense output of the step containing them (steps are not shortened for them),
 // times that coincide with a step end get that step's state.
-template <class S, class Sys, class Obs>
+template <template <class> class Stepper, class S, class Sys, class Obs>
   requires System<Sys, S> && Observer<Obs, S>
-Stats integrate_times(Dopri5<S>& stepper, Sys& sys, State<S>& x, const std::vector<S>& times,
+Stats integrate_times(Stepper<S>& stepper, Sys& sys, State<S>& x, const std::vector<S>& times,
                       std::type_identity_t<S> h0, const Tolerances& tol, Obs&& observer,
                       const Limits& limits = {}) {
   validate(tol);

@@ -3,8 +3,10 @@
 // Umbrella header of the eomc runtime.
 
 #include "eomc/runtime/checker.hpp"
+#include "eomc/runtime/dop853.hpp"
 #include "eomc/runtime/dopri5.hpp"
 #include "eomc/runtime/errors.hpp"
+#include "eomc/runtime/gauss_legendre.hpp"
 #include "eomc/runtime/integrate.hpp"
 #include "eomc/runtime/rk4.hpp"
 #include "eomc/runtime/state.hpp"
