@@ -95,11 +95,12 @@ struct SimulateOptions {
 
 void add_simulate_options(CLI::App* cmd, SimulateOptions& o) {
     cmd->add_option("--t-end", o.t_end, "final time (default: [simulate] t_end)")->check(CLI::PositiveNumber);
-    cmd->add_option("--integrator", o.integrator, "rk4 | dopri5 (default: [simulate] integrator)")
-        ->check(CLI::IsMember({"rk4", "dopri5"}));
-    cmd->add_option("--rtol", o.rtol, "relative tolerance (dopri5)")->check(CLI::PositiveNumber);
-    cmd->add_option("--atol", o.atol, "absolute tolerance (dopri5)")->check(CLI::PositiveNumber);
-    cmd->add_option("--step", o.step, "step size (rk4)")->check(CLI::PositiveNumber);
+    cmd->add_option("--integrator", o.integrator,
+                    "rk4 | dopri5 | dop853 | gl4 | gl6 | gl8 (default: [simulate] integrator)")
+        ->check(CLI::IsMember(std::vector<std::string>(scene::integrator_names.begin(), scene::integrator_names.end())));
+    cmd->add_option("--rtol", o.rtol, "relative tolerance (dopri5, dop853)")->check(CLI::PositiveNumber);
+    cmd->add_option("--atol", o.atol, "absolute tolerance (dopri5, dop853)")->check(CLI::PositiveNumber);
+    cmd->add_option("--step", o.step, "step size (rk4, gl4, gl6, gl8)")->check(CLI::PositiveNumber);
     cmd->add_option("--set", o.overrides, "NAME=VALUE: a parameter, or an initial value (q, q_dot)");
     cmd->add_option("--output", o.output, "trajectory CSV (t, state, invariants)");
     cmd->add_option("--summary", o.summary, "text | json")->check(CLI::IsMember({"text", "json"}));

@@ -19,6 +19,7 @@
 
 #include "cli/kernel_loader.hpp"
 #include "eomc/runtime/runtime.hpp"
+#include "scene/scene.hpp"
 #include "support/diagnostic.hpp"
 
 namespace eomc::cli {
@@ -38,17 +39,21 @@ std::string join(const std::vector<std::string>& names) {
 
 // Everything that can be checked before compiling, so that a typo costs no compile.
 void validate(const SimulationRequest& r) {
-    if (r.integrator != "rk4" && r.integrator != "dopri5") {
-        const std::string near = nearest_name(r.integrator, {"rk4", "dopri5"});
-        throw InputError(SourcePos{"--integrator"}, fmt::format("unknown integrator '{}'{} (expected rk4 or dopri5)",
+    if (!scene::is_integrator(r.integrator)) {
+        const std::vector<std::string> names(scene::integrator_names.begin(), scene::integrator_names.end());
+        const std::string near = nearest_name(r.integrator, names);
+        throw InputError(SourcePos{"--integrator"}, fmt::format("unknown integrator '{}'{} (expected one of {})",
                                                                 r.integrator,
-                                                                near.empty() ? "" : "; did you mean '" + near + "'?"));
+                                                                near.empty() ? "" : "; did you mean '" + near + "'?",
+                                                                join(names)));
     }
+    const bool fixed = scene::is_fixed_step(r.integrator);
     if (!(std::isfinite(r.t_end) && r.t_end > 0.0))
         throw InputError(SourcePos{"--t-end"}, fmt::format("the end time must be positive and finite, not {}", r.t_end));
-    if (r.integrator == "rk4" && !(std::isfinite(r.step) && r.step > 0.0))
-        throw InputError(SourcePos{"--step"}, fmt::format("the rk4 step must be positive and finite, not {}", r.step));
-    if (r.integrator == "dopri5") {
+    if (fixed && !(std::isfinite(r.step) && r.step > 0.0))
+        throw InputError(SourcePos{"--step"}, fmt::format("the {} step must be positive and finite, not {}",
+                                                          r.integrator, r.step));
+    if (!fixed) {
         if (!(r.rtol >= 0.0 && r.atol >= 0.0 && (r.rtol > 0.0 || r.atol > 0.0) && std::isfinite(r.rtol) &&
               std::isfinite(r.atol)))
             throw InputError(SourcePos{"--rtol"}, fmt::format("tolerances must be finite, non-negative and not both zero "
@@ -233,8 +238,9 @@ SimulationResult simulate(const SimulationRequest& request) {
 
     SimulationResult result;
     result.scene_name = lib.scene_name();
-    result.integrator = request.integrator == "rk4" ? fmt::format("rk4 (step {})", request.step)
-                                                    : fmt::format("dopri5 (rtol {}, atol {})", request.rtol, request.atol);
+    result.integrator = scene::is_fixed_step(request.integrator)
+                            ? fmt::format("{} (step {})", request.integrator, request.step)
+                            : fmt::format("{} (rtol {}, atol {})", request.integrator, request.rtol, request.atol);
     result.compile_s = lib.seconds();
     result.cache_hit = lib.cache_hit();
     result.library_path = lib.library_path();
@@ -270,20 +276,26 @@ SimulationResult simulate(const SimulationRequest& request) {
     const auto start = Clock::now();
     runtime::Stats stats;
     try {
-        if (request.integrator == "rk4") {
-            runtime::Rk4<double> stepper;
+        auto fixed_step = [&](auto&& stepper) {
             // The step count is the user's choice here, not a sign of no progress: the budget
             // must not stop a long fixed-step run short of t_end.
             runtime::Limits limits;
             const double steps = std::ceil(request.t_end / request.step) + 2.0;
             limits.max_steps = std::max(limits.max_steps, steps >= 1e18 ? std::size_t{1'000'000'000'000'000'000}
                                                                         : static_cast<std::size_t>(steps));
-            stats = runtime::integrate_fixed(stepper, system, x, 0.0, request.t_end, request.step, observer, limits);
-        } else {
-            runtime::Dopri5<double> stepper;
-            stats = runtime::integrate_adaptive(stepper, system, x, 0.0, request.t_end, 0.0,
-                                                runtime::Tolerances{request.rtol, request.atol}, observer);
-        }
+            return runtime::integrate_fixed(stepper, system, x, 0.0, request.t_end, request.step, observer, limits);
+        };
+        auto adaptive = [&](auto&& stepper) {
+            return runtime::integrate_adaptive(stepper, system, x, 0.0, request.t_end, 0.0,
+                                               runtime::Tolerances{request.rtol, request.atol}, observer);
+        };
+        const std::string& name = request.integrator;
+        if (name == "rk4") stats = fixed_step(runtime::Rk4<double>{});
+        else if (name == "gl4") stats = fixed_step(runtime::Gl4<double>{});
+        else if (name == "gl6") stats = fixed_step(runtime::Gl6<double>{});
+        else if (name == "gl8") stats = fixed_step(runtime::Gl8<double>{});
+        else if (name == "dop853") stats = adaptive(runtime::Dop853<double>{});
+        else stats = adaptive(runtime::Dopri5<double>{});
     } catch (const runtime::IntegrationError& e) {
         // Say which variable failed and where the solution was last seen; `csv` removes its temporary.
         std::string message = fmt::format("simulating {} with {}: {}", lib.scene_name(), request.integrator, e.what());

@@ -14,6 +14,7 @@
 #include <utility>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <toml++/toml.h>
 
 namespace eomc::scene {
@@ -533,10 +534,11 @@ private:
         if (const toml::node* v = t.get("integrator")) {
             sim.integrator = read_string(*v, "simulate.integrator");
             sim.integrator_pos = at(*v);
-            if (sim.integrator != "rk4" && sim.integrator != "dopri5") {
-                const std::string near = nearest_name(sim.integrator, {"rk4", "dopri5"});
+            if (!is_integrator(sim.integrator)) {
+                const std::vector<std::string> names(integrator_names.begin(), integrator_names.end());
+                const std::string near = nearest_name(sim.integrator, names);
                 fail(at(*v), fmt::format("unknown integrator '{}'; {}", sim.integrator,
-                                         near.empty() ? std::string("expected 'rk4' or 'dopri5'")
+                                         near.empty() ? fmt::format("expected one of {}", fmt::join(names, ", "))
                                                       : fmt::format("did you mean '{}'?", near)));
             }
         }

@@ -6,6 +6,7 @@
 // (with a "did you mean" for typos), types, vector lengths, names, effect names.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <optional>
 #include <string>
@@ -83,12 +84,19 @@ struct Effects {
     std::vector<SourcePos> keep_pos;     // position of each entry
 };
 
+// The integrators `eomc simulate` offers: fixed-step ones take a step, adaptive ones tolerances.
+inline constexpr std::array<std::string_view, 6> integrator_names{"rk4", "dopri5", "dop853", "gl4", "gl6", "gl8"};
+inline bool is_integrator(std::string_view name) {
+    return std::find(integrator_names.begin(), integrator_names.end(), name) != integrator_names.end();
+}
+inline bool is_fixed_step(std::string_view name) { return name == "rk4" || name.substr(0, 2) == "gl"; }
+
 struct Simulate {
     double t_end = 10.0;
-    std::string integrator = "dopri5";  // "rk4" | "dopri5"
+    std::string integrator = "dopri5";  // one of integrator_names
     double rtol = 1e-10;
     double atol = 1e-12;
-    double step = 1e-3;                 // for fixed-step integrators
+    double step = 1e-3;                 // for fixed-step integrators (rk4, gl4, gl6, gl8)
     SourcePos integrator_pos;
 };
 

@@ -3,6 +3,7 @@
 
 #include <sys/wait.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -220,4 +221,23 @@ BOOST_AUTO_TEST_CASE(equilibria_json_lists_the_hoop_equilibria) {
     for (auto at = r.out.find("\"verdict\""); at != std::string::npos; at = r.out.find("\"verdict\"", at + 1)) ++count;
     BOOST_TEST(count == 5u);  // −π, −θ*, 0, θ*, π
     BOOST_TEST(r.out.find("\"verdict\": \"stable\"") != std::string::npos);
+}
+
+BOOST_AUTO_TEST_CASE(every_integrator_closes_the_kepler_orbit) {
+    // After one period the orbit is back at pericentre, r = a(1 − e) = 0.5. With h = 1e-3
+    // (fixed step) or tolerance 1e-12 (adaptive) every method here is accurate to ~1e-12
+    // (RK4: C h⁴ with C ~ 1; Gauss–Legendre and DOP853 far better). 1e-8 leaves four orders
+    // of margin and still fails for a wrong tableau, whose error would be O(h) ~ 1e-3.
+    const fs::path dir = scratch("integrators");
+    for (const char* method : {"rk4", "dopri5", "dop853", "gl4", "gl6", "gl8"}) {
+        const Result r = run("simulate " + (fs::path(EOMC_SOURCE_DIR) / "scenes/kepler_orbit.toml").string() +
+                                 " --integrator " + method + " --step 1e-3 --rtol 1e-12 --atol 1e-12 --summary json" +
+                                 " --cache-dir " + (dir / "cache").string(),
+                             dir);
+        BOOST_REQUIRE_MESSAGE(r.status == 0, method << ": " << r.err);
+        const auto at = r.out.find("\"r\": ");
+        BOOST_REQUIRE(at != std::string::npos);
+        const double radius = std::stod(r.out.substr(at + 5));
+        BOOST_TEST(std::abs(radius - 0.5) < 1e-8, method << ": r = " << radius);
+    }
 }
