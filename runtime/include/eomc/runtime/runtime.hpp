@@ -9,6 +9,7 @@
 #include "eomc/runtime/gauss_legendre.hpp"
 #include "eomc/runtime/integrate.hpp"
 #include "eomc/runtime/rk4.hpp"
+#include "eomc/runtime/splitting.hpp"
 #include "eomc/runtime/state.hpp"
 #include "eomc/runtime/step_control.hpp"
 #include "eomc/runtime/version.hpp"
