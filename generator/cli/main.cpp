@@ -2,6 +2,7 @@
 //   scene --parse--> Scene --build--> Model --derive--> Equations --lower--> KernelIR --emit--> header
 // Exit codes: 0 success, 2 bad input (file:line:column: error: …), 1 any other failure.
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -195,6 +196,8 @@ int generate_with_timings(const std::string& scene_path, const std::string& out_
 }  // namespace
 
 int main(int argc, char** argv) {
+    // EOMC_TEST_ASLR keeps randomisation on: for measuring how far the output itself is
+    // independent of GiNaC's hash order (see ensure_reproducible_layout).
     if (!std::getenv("EOMC_TEST_ASLR")) ensure_reproducible_layout(argv);
     CLI::App app{"eomc — equations-of-motion compiler for analytical mechanics"};
     app.set_version_flag("--version", std::string(EOMC_VERSION));
