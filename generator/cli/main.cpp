@@ -24,6 +24,7 @@
 #include "model/model.hpp"
 #include "scene/scene.hpp"
 #include "support/diagnostic.hpp"
+#include "support/json.hpp"
 
 namespace fs = std::filesystem;
 using namespace eomc;
@@ -42,20 +43,55 @@ void ensure_reproducible_layout(char** argv) {
     ::execv("/proc/self/exe", argv);
 }
 
+// Seconds per pipeline stage, for `eomc generate --timings` and the benchmarks.
+class StageClock {
+public:
+    void lap(const char* stage) {
+        const auto now = std::chrono::steady_clock::now();
+        stages_.emplace_back(stage, std::chrono::duration<double>(now - last_).count());
+        last_ = now;
+    }
+    void add(const char* stage, double seconds) { stages_.emplace_back(stage, seconds); }
+    void print(std::ostream& out) const {
+        double total = 0;
+        for (const auto& [stage, seconds] : stages_) {
+            out << fmt::format("timing {} {:.6f}\n", stage, seconds);
+            if (std::string_view(stage) != "lower") total += seconds;  // lower is the sum of its parts
+        }
+        out << fmt::format("timing total {:.6f}\n", total);
+    }
+
+private:
+    std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+    std::vector<std::pair<const char*, double>> stages_;
+};
+
 struct Pipeline {
     model::Model model;
     mechanics::Equations equations;
 };
 
-Pipeline front_end(const std::string& scene_path) {
+Pipeline front_end(const std::string& scene_path, StageClock* clock = nullptr) {
     const scene::Scene scene = scene::parse_scene_file(scene_path);
     Pipeline p{model::build_model(scene), {}};
+    if (clock) clock->lap("parse");
     p.equations = mechanics::derive(p.model);
+    if (clock) clock->lap("derive");
     return p;
 }
 
-std::string kernel_header(const Pipeline& p) {
-    return codegen::emit_header(codegen::lower(p.model, p.equations), {EOMC_VERSION});
+std::string kernel_header(const Pipeline& p, StageClock* clock = nullptr) {
+    codegen::LoweringTimes lowering;
+    const codegen::KernelIR ir = codegen::lower(p.model, p.equations, &lowering);
+    if (clock) {
+        clock->lap("lower");
+        clock->add("cse_mass_forcing", lowering.mass_and_forcing);
+        clock->add("jacobian", lowering.jacobian);
+        clock->add("invariants", lowering.invariants);
+    }
+    std::string header = codegen::emit_header(ir, {EOMC_VERSION});
+    if (clock) clock->lap("emit");
+    return header;
 }
 
 codegen::DerivationFormat derivation_format(const std::string& name) {
@@ -133,7 +169,7 @@ void print_equilibria(const model::Model& model, const std::vector<mechanics::Eq
         for (std::size_t i = 0; i < found.size(); ++i) {
             out << (i ? ",\n  " : "\n  ") << "{\"q\": {";
             for (std::size_t k = 0; k < found[i].q.size(); ++k)
-                out << (k ? ", " : "") << fmt::format("\"{}\": {:.17g}", model.coordinates[k].name, found[i].q[k]);
+                out << (k ? ", " : "") << json_string(model.coordinates[k].name) << fmt::format(": {:.17g}", found[i].q[k]);
             out << "}, \"eigenvalues\": [";
             for (std::size_t k = 0; k < found[i].eigenvalues.size(); ++k)
                 out << (k ? ", " : "")
@@ -158,39 +194,6 @@ void print_equilibria(const model::Model& model, const std::vector<mechanics::Eq
         for (const auto& l : e.eigenvalues) out << fmt::format(" ({:.6g}{:+.6g}i)", l.real(), l.imag());
         out << "\n";
     }
-}
-
-// `eomc generate --timings`: the same output, with each stage timed.
-int generate_with_timings(const std::string& scene_path, const std::string& out_dir) {
-    using clock = std::chrono::steady_clock;
-    const auto start = clock::now();
-    auto last = start;
-    auto lap = [&last] {
-        const auto now = clock::now();
-        const double s = std::chrono::duration<double>(now - last).count();
-        last = now;
-        return s;
-    };
-    const scene::Scene scene = scene::parse_scene_file(scene_path);
-    const model::Model model = model::build_model(scene);
-    const double parse = lap();
-    const mechanics::Equations equations = mechanics::derive(model);
-    const double derive = lap();
-    codegen::LoweringTimes lowering;
-    const codegen::KernelIR ir = codegen::lower(model, equations, &lowering);
-    lap();
-    const std::string header = codegen::emit_header(ir, {EOMC_VERSION});
-    const fs::path path = fs::path(out_dir) / (model.name + ".hpp");
-    cli::write_file_atomically(path, header);
-    const double emit = lap();
-    const double total = std::chrono::duration<double>(clock::now() - start).count();
-    for (const auto& [stage, seconds] : {std::pair{"parse", parse}, {"derive", derive},
-                                         {"cse_mass_forcing", lowering.mass_and_forcing},
-                                         {"jacobian", lowering.jacobian}, {"invariants", lowering.invariants},
-                                         {"emit", emit}, {"total", total}})
-        std::cerr << fmt::format("timing {} {:.6f}\n", stage, seconds);
-    std::cerr << "wrote " << path.string() << "\n";
-    return 0;
 }
 
 }  // namespace
@@ -233,8 +236,8 @@ int main(int argc, char** argv) {
     CLI11_PARSE(app, argc, argv);
 
     try {
-        if (generate->parsed() && timings) return generate_with_timings(scene_path, out_dir);
-        const Pipeline p = front_end(scene_path);
+        StageClock clock;
+        const Pipeline p = front_end(scene_path, timings ? &clock : nullptr);
         if (derive->parsed()) {
             std::ostringstream text;
             codegen::print_derivation(p.model, p.equations, derivation_format(format), text);
@@ -242,7 +245,8 @@ int main(int argc, char** argv) {
             else cli::write_file_atomically(output, text.str());
         } else if (generate->parsed()) {
             const fs::path path = fs::path(out_dir) / (p.model.name + ".hpp");
-            cli::write_file_atomically(path, kernel_header(p));
+            cli::write_file_atomically(path, kernel_header(p, timings ? &clock : nullptr));
+            if (timings) clock.print(std::cerr);
             std::cerr << "wrote " << path.string() << "\n";
         } else if (simulate->parsed()) {
             const auto result = cli::simulate(simulation_request(p, kernel_header(p), sim));

@@ -21,6 +21,7 @@
 #include "eomc/runtime/runtime.hpp"
 #include "scene/scene.hpp"
 #include "support/diagnostic.hpp"
+#include "support/json.hpp"
 
 namespace eomc::cli {
 
@@ -203,17 +204,6 @@ double track_max(double current_max, double drift) {
 std::string number(double v) { return fmt::format("{:.17g}", v); }
 
 std::string json_number(double v) { return std::isfinite(v) ? number(v) : "null"; }
-
-// Names are identifiers, but a JSON writer should not rely on that.
-std::string json_string(const std::string& s) {
-    std::string out = "\"";
-    for (unsigned char c : s) {
-        if (c == '"' || c == '\\') out += '\\', out += static_cast<char>(c);
-        else if (c < 0x20) out += fmt::format("\\u{:04x}", c);
-        else out += static_cast<char>(c);
-    }
-    return out + "\"";
-}
 
 }  // namespace
 

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "codegen/templates.hpp"
+#include "model/functions.hpp"
 
 namespace eomc::codegen {
 
@@ -79,10 +80,8 @@ std::string CppExpressionPrinter::print(const ex& e, Precedence context) {
             own = text.find_first_of("*/") == std::string::npos ? atom : product;
         }
     } else if (GiNaC::is_a<GiNaC::function>(e)) {
-        static const std::set<std::string> known{"sin",  "cos",  "tan",  "exp",  "log",  "asin",
-                                                 "acos", "atan", "sinh", "cosh", "tanh"};
         const std::string name = GiNaC::ex_to<GiNaC::function>(e).get_name();
-        if (!known.count(name) || e.nops() != 1) throw std::runtime_error("cannot emit the function '" + name + "'");
+        if (!model::is_elementary_function(name) || e.nops() != 1) throw std::runtime_error("cannot emit the function '" + name + "'");
         text = call(name, print(e.op(0), sum));
     } else {
         throw std::runtime_error(std::string("cannot emit an expression of kind ") +

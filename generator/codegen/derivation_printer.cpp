@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "codegen/kernel_ir.hpp"
+#include "support/json.hpp"
 
 namespace eomc::codegen {
 
@@ -212,17 +213,6 @@ void print_latex(const model::Model& model, const mechanics::Equations& eqs, std
         out << latex_escape(inv.name) << ":\n\\begin{align*}\nh &= " << latex(display_form(inv.value))
             << "\n\\end{align*}\n";
     out << "\\end{document}\n";
-}
-
-std::string json_string(const std::string& s) {
-    std::string out = "\"";
-    for (unsigned char c : s) {
-        if (c == '"' || c == '\\') out += '\\', out += char(c);
-        else if (c == '\n') out += "\\n";
-        else if (c < 0x20) out += fmt::format("\\u{:04x}", unsigned(c));
-        else out += char(c);
-    }
-    return out + "\"";
 }
 
 std::string json_ex(const ex& e) { return json_string(text(e)); }

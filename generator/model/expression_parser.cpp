@@ -6,16 +6,20 @@
 
 #include <fmt/format.h>
 
+#include "model/functions.hpp"
 #include "support/diagnostic.hpp"
 
 namespace eomc::model {
 
 namespace {
 
-// The functions a scene may call; each one the emitter knows how to print.
+// The functions a scene may call (model/functions.hpp), and sqrt.
 const std::set<std::string>& known_functions() {
-    static const std::set<std::string> names{"sin",  "cos",  "tan",  "exp",  "log",  "sqrt",
-                                             "asin", "acos", "atan", "sinh", "cosh", "tanh"};
+    static const std::set<std::string> names = [] {
+        std::set<std::string> out(elementary_functions.begin(), elementary_functions.end());
+        out.insert("sqrt");
+        return out;
+    }();
     return names;
 }
 
