@@ -161,7 +161,7 @@ namespace {
 const std::set<std::string>& reserved_words() {
     static const std::set<std::string> words{
         // what the emitted functions call their arguments and helpers
-        "t", "x", "p", "out", "out_M", "out_f", "out_G", "dxdt", "acc", "S", "std", "Eigen", "Parameters",
+        "t", "x", "p", "out", "out_M", "out_f", "out_G", "dxdt", "acc", "rate", "S", "std", "Eigen", "Parameters",
         // math functions reached through `using std::…`
         "sin", "cos", "tan", "exp", "log", "sqrt", "asin", "acos", "atan", "sinh", "cosh", "tanh", "pow", "abs",
         // C++ keywords a scene name could plausibly be
@@ -301,9 +301,24 @@ std::string replace_all(std::string text, const std::string& key, const std::str
 
 }  // namespace
 
+// A comment block: each line of `text` behind "// ".
+std::string comment(const std::string& text, std::size_t width = 92) {
+    std::string out, line;
+    std::istringstream words(text);
+    for (std::string word; words >> word;) {
+        if (!line.empty() && line.size() + 1 + word.size() > width) {
+            out += "// " + line + "\n";
+            line.clear();
+        }
+        line += (line.empty() ? "" : " ") + word;
+    }
+    if (!line.empty()) out += "// " + line;
+    return out;
+}
+
 std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
     const LocalNames names(ir);
-    const std::size_t n = ir.n_coordinates, N = 2 * n;
+    const std::size_t N = ir.state.size(), nu = ir.n_velocities;
     std::string text = kernel_template();
 
     std::vector<std::string> state_names, parameter_names;
@@ -320,56 +335,93 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
         table += fmt::format("//   {:<26} {:>8} -> {:>7} ({} temporaries)\n", name, b.ops_before, b.ops_after,
                              b.temporaries.size());
     };
+    // A function body for a block whose output array may be left unused.
+    auto body = [&](const Block& block, const std::string& array, Inputs inputs = {}) {
+        return (block.outputs.empty() ? "(void)" + array + ";\n" : std::string()) +
+               function_body(ir, names, block, indexed(array, block.outputs.size()), inputs);
+    };
     row("mass_matrix", ir.mass_matrix);
     row("forcing", ir.forcing);
     if (ir.explicit_solution) {
-        std::string copy;
-        for (std::size_t i = 0; i < n; ++i) copy += fmt::format("dxdt[{}] = x[{}];\n", i, n + i);
-        rhs = copy + function_body(ir, names, ir.accelerations_explicit, indexed("dxdt", n, n));
+        rhs = function_body(ir, names, ir.rhs_explicit, indexed("dxdt", N));
         jacobian = function_body(ir, names, ir.jacobian_explicit, indexed("out", N * N));
-        row("rhs (q̈ in closed form)", ir.accelerations_explicit);
+        row("rhs (u̇ in closed form)", ir.rhs_explicit);
         row("jacobian", ir.jacobian_explicit);
     } else {
         includes = "#include <Eigen/Core>\n#include <Eigen/Cholesky>\n";  // LDLT only: Dense would double the compile time
-        rhs = fmt::format(
-            "Eigen::Matrix<S, n_coordinates, n_coordinates, Eigen::RowMajor> M;\n"
-            "Eigen::Matrix<S, n_coordinates, 1> f;\n"
-            "mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);\n"
-            "for (int i = 0; i < n_coordinates; ++i) dxdt[i] = x[n_coordinates + i];\n"
-            "Eigen::Map<Eigen::Matrix<S, n_coordinates, 1>>(dxdt + n_coordinates) = M.ldlt().solve(f);");
-        jacobian = fmt::format(
-            "Eigen::Matrix<S, n_coordinates, n_coordinates, Eigen::RowMajor> M;\n"
-            "Eigen::Matrix<S, n_coordinates, 1> f;\n"
-            "mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);\n"
-            "const Eigen::Matrix<S, n_coordinates, 1> acc = M.ldlt().solve(f);\n"
-            "Eigen::Matrix<S, n_coordinates, n_state, Eigen::RowMajor> G;\n"
-            "mass_matrix_and_jacobian_terms_(t, x, acc.data(), M.data(), G.data(), p);\n"
-            "// d(M⁻¹f)/dx = M⁻¹ (∂f/∂x − (∂M/∂x) q̈)\n"
-            "const Eigen::Matrix<S, n_coordinates, n_state, Eigen::RowMajor> lower = M.ldlt().solve(G);\n"
-            "for (int i = 0; i < n_coordinates; ++i)\n"
-            "    for (int j = 0; j < n_state; ++j) {{\n"
-            "        out[i * n_state + j] = S(j == n_coordinates + i ? 1 : 0);\n"
-            "        out[(n_coordinates + i) * n_state + j] = lower(i, j);\n"
-            "    }}");
+        rhs = "Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;\n"
+              "Eigen::Matrix<S, n_velocities, 1> f;\n"
+              "mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);\n"
+              "explicit_rates_(t, x, dxdt, p);\n"
+              "Eigen::Map<Eigen::Matrix<S, n_velocities, 1>>(dxdt + velocity_offset) = M.ldlt().solve(f);";
+        jacobian = "Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;\n"
+                   "Eigen::Matrix<S, n_velocities, 1> f;\n"
+                   "mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);\n"
+                   "const Eigen::Matrix<S, n_velocities, 1> acc = M.ldlt().solve(f);\n"
+                   "Eigen::Matrix<S, n_velocities, n_state, Eigen::RowMajor> G;\n"
+                   "mass_matrix_and_jacobian_terms_(t, x, acc.data(), M.data(), G.data(), p);\n"
+                   "explicit_rates_jacobian_(t, x, out, p);\n"
+                   "// d(M⁻¹f)/dx = M⁻¹ (∂f/∂x − (∂M/∂x) u̇)\n"
+                   "const Eigen::Matrix<S, n_velocities, n_state, Eigen::RowMajor> lower = M.ldlt().solve(G);\n"
+                   "for (int i = 0; i < n_velocities; ++i)\n"
+                   "    for (int j = 0; j < n_state; ++j) out[(velocity_offset + i) * n_state + j] = lower(i, j);";
         row("mass_matrix + forcing", ir.mass_and_forcing);
+        row("explicit rates", ir.explicit_rates);
         row("mass_matrix + jacobian terms", ir.mass_and_jacobian_terms);
-        std::vector<std::string> mf = indexed("out_M", n * n);
-        for (const auto& s : indexed("out_f", n)) mf.push_back(s);
-        std::vector<std::string> mg = indexed("out_M", n * n);
-        for (const auto& s : indexed("out_G", n * N)) mg.push_back(s);
+        row("explicit rates jacobian", ir.explicit_rates_jacobian);
+        std::vector<std::string> mf = indexed("out_M", nu * nu);
+        for (const auto& s : indexed("out_f", nu)) mf.push_back(s);
+        std::vector<std::string> mg = indexed("out_M", nu * nu);
+        for (const auto& s : indexed("out_G", nu * N)) mg.push_back(s);
+        std::vector<std::string> rates, rate_rows;
+        for (std::size_t i : ir.explicit_index) {
+            rates.push_back(fmt::format("dxdt[{}]", i));
+            for (std::size_t j = 0; j < N; ++j) rate_rows.push_back(fmt::format("out[{}]", i * N + j));
+        }
         private_part = fmt::format(
             "\n private:\n"
             "    // M and f together: they share most of their subexpressions.\n"
             "    template <class S>\n"
             "    static void mass_matrix_and_forcing_(S t, const S* x, S* out_M, S* out_f, const Parameters& p) {{\n{}\n    }}\n\n"
-            "    // M and G = ∂f/∂x − (∂M/∂x) q̈, with q̈ = acc, both row-major.\n"
+            "    // The rates given in closed form (everything outside the velocity block).\n"
             "    template <class S>\n"
-            "    static void mass_matrix_and_jacobian_terms_(S t, const S* x, const S* acc, S* out_M, S* out_G, const Parameters& p) {{\n{}\n    }}\n",
+            "    static void explicit_rates_(S t, const S* x, S* dxdt, const Parameters& p) {{\n{}\n    }}\n\n"
+            "    // M and G = ∂f/∂x − (∂M/∂x) u̇, with u̇ = acc, both row-major.\n"
+            "    template <class S>\n"
+            "    static void mass_matrix_and_jacobian_terms_(S t, const S* x, const S* acc, S* out_M, S* out_G, const Parameters& p) {{\n{}\n    }}\n\n"
+            "    // The rows of ∂ẋ/∂x of the closed-form rates.\n"
+            "    template <class S>\n"
+            "    static void explicit_rates_jacobian_(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n",
             indent(function_body(ir, names, ir.mass_and_forcing, mf), 8),
-            indent(function_body(ir, names, ir.mass_and_jacobian_terms, mg, {true}), 8));
+            indent(function_body(ir, names, ir.explicit_rates, rates), 8),
+            indent(function_body(ir, names, ir.mass_and_jacobian_terms, mg, {true}), 8),
+            indent(function_body(ir, names, ir.explicit_rates_jacobian, rate_rows), 8));
     }
     row("invariants", ir.invariants);
+    if (!ir.output_names.empty()) row("outputs", ir.outputs);
     table.pop_back();
+
+    // The outputs may read u̇: computed once by rhs and handed over as `acc`.
+    std::string outputs;
+    if (ir.output_names.empty()) {
+        outputs = "(void)t;\n(void)x;\n(void)out;\n(void)p;";
+    } else {
+        outputs = "std::array<S, n_state> rate;\nrhs(t, x, rate.data(), p);\nconst S* acc = rate.data() + velocity_offset;\n" +
+                  function_body(ir, names, ir.outputs, indexed("out", ir.output_names.size()), {true});
+    }
+
+    std::string acceleration;
+    if (ir.separable) {
+        acceleration =
+            "\n    // q̈ = a(t, q): the velocities do not enter the forces, so they are left at zero.\n"
+            "    template <class S>\n"
+            "    static void acceleration(S t, const S* q, S* a, const Parameters& p) {\n"
+            "        std::array<S, n_state> x{}, rate;\n"
+            "        for (int i = 0; i < n_coordinates; ++i) x[i] = q[i];\n"
+            "        rhs(t, x.data(), rate.data(), p);\n"
+            "        for (int i = 0; i < n_coordinates; ++i) a[i] = rate[velocity_offset + i];\n"
+            "    }\n";
+    }
 
     std::string accessors;
     for (std::size_t k = 0; k < ir.invariant_names.size(); ++k) {
@@ -380,32 +432,40 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
             ir.invariant_names[k], k);
     }
 
+    const std::string solve_note = ir.explicit_solution ? "u̇ is solved in closed form (n_velocities ≤ 2)."
+                                                        : "M u̇ = f is solved at run time (Eigen LDLT).";
     const std::vector<std::pair<std::string, std::string>> fields{
         {"version", options.generator_version},
         {"source", ir.source},
         {"summary", ir.summary.empty() ? ir.scene_name : ir.summary},
-        {"n_coordinates_text", fmt::format("{} coordinate{}", n, n == 1 ? "" : "s")},
-        {"solve_note", ir.explicit_solution ? "q̈ is solved in closed form (n ≤ 2)."
-                                            : "M q̈ = f is solved at run time (Eigen LDLT)."},
+        {"description", comment(ir.description + " " + solve_note)},
         {"operation_table", table},
         {"includes", includes},
         {"runtime_version", "1"},
         {"struct_name", ir.struct_name},
         {"scene_name", ir.scene_name},
-        {"n", std::to_string(n)},
+        {"n", std::to_string(ir.n_coordinates)},
         {"n_state", std::to_string(N)},
+        {"velocity_offset", std::to_string(ir.velocity_offset)},
+        {"n_velocities", std::to_string(nu)},
         {"n_parameters", std::to_string(ir.parameters.size())},
         {"n_invariants", std::to_string(ir.invariant_names.size())},
+        {"n_outputs", std::to_string(ir.output_names.size())},
+        {"separable", ir.separable ? "true" : "false"},
         {"state_names", quoted_list(state_names)},
         {"parameter_names", quoted_list(parameter_names)},
         {"invariant_names", quoted_list(ir.invariant_names)},
+        {"output_names", quoted_list(ir.output_names)},
         {"initial_state", number_list(ir.initial_state)},
         {"parameter_members", members},
-        {"mass_matrix_body", indent(function_body(ir, names, ir.mass_matrix, indexed("out", n * n)), 8)},
-        {"forcing_body", indent(function_body(ir, names, ir.forcing, indexed("out", n)), 8)},
+        {"mass_matrix_body", indent(function_body(ir, names, ir.mass_matrix, indexed("out", nu * nu)), 8)},
+        {"forcing_body", indent(function_body(ir, names, ir.forcing, indexed("out", nu)), 8)},
         {"rhs_body", indent(rhs, 8)},
         {"jacobian_body", indent(jacobian, 8)},
-        {"invariants_body", indent(function_body(ir, names, ir.invariants, indexed("out", ir.invariant_names.size())), 8)},
+        {"invariants_body", indent(body(ir.invariants, "out"), 8)},
+        {"outputs_note", ir.output_names.empty() ? "none for this model" : "functions of t, x and u̇"},
+        {"outputs_body", indent(outputs, 8)},
+        {"acceleration", acceleration},
         {"invariant_accessors", accessors},
         {"private_part", private_part},
     };

@@ -14,6 +14,7 @@
 
 #include <ginac/ginac.h>
 
+#include "mechanics/first_order.hpp"
 #include "mechanics/lagrange.hpp"
 #include "model/model.hpp"
 
@@ -38,23 +39,31 @@ struct NamedSymbol {
 
 struct KernelIR {
     std::string scene_name, struct_name, summary, source;
+    std::string description;                 // what the state and the equations are (banner)
     std::size_t n_coordinates = 0;
+    std::size_t velocity_offset = 0, n_velocities = 0;  // the block solved from M u̇ = f
     GiNaC::ex t;
-    std::vector<NamedSymbol> state;          // q_1..q_n, q_1_dot..q_n_dot
-    std::vector<NamedSymbol> accelerations;  // inputs of jacobian_terms (the solved q̈)
+    std::vector<NamedSymbol> state;          // in kernel order
+    std::vector<NamedSymbol> accelerations;  // u̇: inputs of the Jacobian terms and of the outputs
     std::vector<NamedSymbol> parameters;
     std::vector<double> parameter_defaults;
     std::vector<double> initial_state;
     std::vector<std::string> invariant_names;
+    std::vector<std::string> output_names;
+    bool separable = false;                  // q̈ = a(t, q): emit acceleration() for the splitting methods
 
-    Block mass_matrix;   // n*n outputs, row-major
-    Block forcing;       // n outputs
-    Block mass_and_forcing;  // both, CSE'd together: what rhs evaluates
-    bool explicit_solution = false;  // n ≤ 2: q̈ = M⁻¹f solved symbolically
-    Block accelerations_explicit;    // n outputs, when explicit_solution
-    Block jacobian_explicit;         // 2n*2n outputs, when explicit_solution
-    Block mass_and_jacobian_terms;   // otherwise: n*n outputs of M, then n*2n of G = ∂f/∂x − (∂M/∂x)·q̈
+    Block mass_matrix;       // n_velocities² outputs, row-major
+    Block forcing;           // n_velocities outputs
+    bool explicit_solution = false;  // n_velocities ≤ 2: u̇ = M⁻¹f solved symbolically
+    Block rhs_explicit;              // when explicit_solution: every rate, in state order
+    Block jacobian_explicit;         // when explicit_solution: n_state² outputs
+    Block mass_and_forcing;          // otherwise: M and f CSE'd together (what rhs evaluates)
+    std::vector<std::size_t> explicit_index;  // otherwise: the state index of each explicit rate
+    Block explicit_rates;            // otherwise: those rates
+    Block explicit_rates_jacobian;   // otherwise: their rows of ∂ẋ/∂x, |explicit_index| × n_state
+    Block mass_and_jacobian_terms;   // otherwise: M, then G = ∂f/∂x − (∂M/∂x)·u̇, n_velocities × n_state
     Block invariants;                // one output per invariant
+    Block outputs;                   // one per output, functions of (t, x, u̇)
 };
 
 // Common-subexpression elimination over all outputs of one function.
@@ -67,12 +76,14 @@ std::size_t count_operations(const GiNaC::ex& e);
 
 // Seconds spent per lowering step, for `eomc generate --timings` and the benchmarks.
 struct LoweringTimes {
-    double mass_and_forcing = 0;  // CSE of M, f and M+f
+    double mass_and_forcing = 0;  // CSE of M, f, M+f and the explicit rates
     double jacobian = 0;          // the Jacobian's derivatives and their CSE
     double invariants = 0;
 };
 
-// Model + equations → kernel IR. Deterministic: the same scene gives the same IR.
+// A first-order form → kernel IR. Deterministic: the same scene gives the same IR.
+KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form, LoweringTimes* times = nullptr);
+// Lagrange's equations of the model, through mechanics::first_order_form.
 KernelIR lower(const model::Model& model, const mechanics::Equations& equations, LoweringTimes* times = nullptr);
 
 }  // namespace eomc::codegen

@@ -15,14 +15,11 @@ using GiNaC::ex;
 namespace {
 
 // "w" unless a scene name looks like a temporary (w0, w12, …); then "w_", "w__", ….
-std::string temporary_prefix(const model::Model& model) {
+std::string temporary_prefix(const model::Model& model, const mechanics::FirstOrderForm& form) {
     std::set<std::string> names;
     for (const auto& p : model.parameters) names.insert(p.name);
-    for (const auto& c : model.coordinates) {
-        names.insert(c.name);
-        names.insert(c.name + "_dot");
-        names.insert(c.name + "_ddot");
-    }
+    for (const auto& c : form.state) names.insert(c.name);
+    for (const auto& c : form.velocity_rates) names.insert(c.name);
     std::string prefix = "w";
     for (;;) {
         const std::regex pattern(prefix + "[0-9]+");
@@ -32,17 +29,19 @@ std::string temporary_prefix(const model::Model& model) {
     }
 }
 
-// q̈ = M⁻¹ f in closed form, for one or two coordinates only (beyond that the expressions
-// swell; the kernel solves M q̈ = f numerically instead).
+// u̇ = M⁻¹ f in closed form, for one or two velocities only (beyond that the expressions
+// swell; the kernel solves M u̇ = f numerically instead).
 std::vector<ex> solve_explicitly(const GiNaC::matrix& M, const std::vector<ex>& f) {
     if (f.size() == 1) return {f[0] / M(0, 0)};
     const ex det = M(0, 0) * M(1, 1) - M(0, 1) * M(1, 0);
     return {(M(1, 1) * f[0] - M(0, 1) * f[1]) / det, (M(0, 0) * f[1] - M(1, 0) * f[0]) / det};
 }
 
+const GiNaC::symbol& as_symbol(const ex& e) { return GiNaC::ex_to<GiNaC::symbol>(e); }
+
 }  // namespace
 
-KernelIR lower(const model::Model& model, const mechanics::Equations& eqs, LoweringTimes* times) {
+KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form, LoweringTimes* times) {
     using clock = std::chrono::steady_clock;
     auto lap = [last = clock::now()]() mutable {
         const auto now = clock::now();
@@ -58,68 +57,91 @@ KernelIR lower(const model::Model& model, const mechanics::Equations& eqs, Lower
     ir.summary = model.summary;
     // The file name only: the header must not depend on the directory eomc ran in.
     ir.source = std::filesystem::path(model.source).filename().string();
+    ir.description = form.description;
     ir.t = model.t;
-    const std::size_t n = model.coordinates.size();
-    ir.n_coordinates = n;
-    for (const auto& c : model.coordinates) {
-        ir.state.push_back({c.name, c.q});
+    ir.n_coordinates = form.n_coordinates;
+    ir.velocity_offset = form.velocity_offset;
+    const std::size_t nu = form.n_velocities(), N = form.state.size();
+    ir.n_velocities = nu;
+    ir.separable = form.separable;
+    for (const auto& c : form.state) {
+        ir.state.push_back({c.name, c.symbol});
         ir.initial_state.push_back(c.initial);
     }
-    for (const auto& c : model.coordinates) {
-        ir.state.push_back({c.name + "_dot", c.q_dot});
-        ir.initial_state.push_back(c.rate);
-    }
-    for (const auto& c : model.coordinates) ir.accelerations.push_back({c.name + "_ddot", c.q_ddot});
+    for (const auto& c : form.velocity_rates) ir.accelerations.push_back({c.name, c.symbol});
     for (const auto& p : model.parameters) {
         ir.parameters.push_back({p.name, p.symbol});
         ir.parameter_defaults.push_back(p.value);
     }
-    const std::string prefix = temporary_prefix(model);
+    const std::string prefix = temporary_prefix(model, form);
+    auto d = [&](const ex& e, std::size_t j) { return mechanics::derivative(e, as_symbol(ir.state[j].symbol)); };
 
-    std::vector<ex> M, G;
-    for (std::size_t i = 0; i < n; ++i)
-        for (std::size_t j = 0; j < n; ++j) M.push_back(eqs.mass_matrix(unsigned(i), unsigned(j)));
+    std::vector<ex> M;
+    for (std::size_t i = 0; i < nu; ++i)
+        for (std::size_t j = 0; j < nu; ++j) M.push_back(form.mass_matrix(unsigned(i), unsigned(j)));
     std::vector<ex> M_and_f = M;
-    M_and_f.insert(M_and_f.end(), eqs.forcing.begin(), eqs.forcing.end());
+    M_and_f.insert(M_and_f.end(), form.forcing.begin(), form.forcing.end());
 
     ir.mass_matrix = eliminate_common_subexpressions(M, prefix);
-    ir.forcing = eliminate_common_subexpressions(eqs.forcing, prefix);
-    ir.mass_and_forcing = eliminate_common_subexpressions(M_and_f, prefix);
+    ir.forcing = eliminate_common_subexpressions(form.forcing, prefix);
+    ir.explicit_solution = nu <= 2;
+    if (!ir.explicit_solution) {
+        ir.mass_and_forcing = eliminate_common_subexpressions(M_and_f, prefix);
+        std::vector<ex> rates;
+        for (const auto& [index, rate] : form.explicit_rates) {
+            ir.explicit_index.push_back(index);
+            rates.push_back(rate);
+        }
+        ir.explicit_rates = eliminate_common_subexpressions(rates, prefix);
+    }
     t.mass_and_forcing = lap();
 
-    ir.explicit_solution = n <= 2;
     if (ir.explicit_solution) {
-        const std::vector<ex> acc = solve_explicitly(eqs.mass_matrix, eqs.forcing);
-        ir.accelerations_explicit = eliminate_common_subexpressions(acc, prefix);
+        std::vector<ex> rates(N);
+        for (const auto& [index, rate] : form.explicit_rates) rates[index] = rate;
+        const std::vector<ex> acc = solve_explicitly(form.mass_matrix, form.forcing);
+        for (std::size_t k = 0; k < nu; ++k) rates[form.velocity_offset + k] = acc[k];
+        ir.rhs_explicit = eliminate_common_subexpressions(rates, prefix);
         std::vector<ex> J;
-        for (std::size_t i = 0; i < 2 * n; ++i)
-            for (std::size_t j = 0; j < 2 * n; ++j)
-                J.push_back(i < n ? ex(i + n == j ? 1 : 0) : mechanics::derivative(acc[i - n], GiNaC::ex_to<GiNaC::symbol>(ir.state[j].symbol)));
+        for (std::size_t i = 0; i < N; ++i)
+            for (std::size_t j = 0; j < N; ++j) J.push_back(d(rates[i], j));
         ir.jacobian_explicit = eliminate_common_subexpressions(J, prefix);
     } else {
-        // d(M⁻¹f)/dx_j = M⁻¹ ∂(f − M q̈)/∂x_j with q̈ held at the solved value (acc): one
+        std::vector<ex> rows;
+        for (const auto& [index, rate] : form.explicit_rates)
+            for (std::size_t j = 0; j < N; ++j) rows.push_back(d(rate, j));
+        ir.explicit_rates_jacobian = eliminate_common_subexpressions(rows, prefix);
+        // d(M⁻¹f)/dx_j = M⁻¹ ∂(f − M u̇)/∂x_j with u̇ held at the solved value (acc): one
         // derivative of the residual per entry instead of one per entry of M.
         std::vector<ex> terms = M;
-        for (std::size_t i = 0; i < n; ++i) {
-            ex residual = eqs.forcing[i];
-            for (std::size_t k = 0; k < n; ++k)
-                residual -= eqs.mass_matrix(unsigned(i), unsigned(k)) * model.coordinates[k].q_ddot;
-            for (std::size_t j = 0; j < 2 * n; ++j)
-                terms.push_back(mechanics::derivative(residual, GiNaC::ex_to<GiNaC::symbol>(ir.state[j].symbol)));
+        for (std::size_t i = 0; i < nu; ++i) {
+            ex residual = form.forcing[i];
+            for (std::size_t k = 0; k < nu; ++k)
+                residual -= form.mass_matrix(unsigned(i), unsigned(k)) * form.velocity_rates[k].symbol;
+            for (std::size_t j = 0; j < N; ++j) terms.push_back(d(residual, j));
         }
         ir.mass_and_jacobian_terms = eliminate_common_subexpressions(terms, prefix);
     }
-
     t.jacobian = lap();
 
     std::vector<ex> invariants;
-    for (const auto& inv : eqs.invariants) {
+    for (const auto& inv : form.invariants) {
         ir.invariant_names.push_back(inv.name);
         invariants.push_back(inv.value);
     }
     ir.invariants = eliminate_common_subexpressions(invariants, prefix);
+    std::vector<ex> outputs;
+    for (const auto& out : form.outputs) {
+        ir.output_names.push_back(out.name);
+        outputs.push_back(out.value);
+    }
+    ir.outputs = eliminate_common_subexpressions(outputs, prefix);
     t.invariants = lap();
     return ir;
+}
+
+KernelIR lower(const model::Model& model, const mechanics::Equations& equations, LoweringTimes* times) {
+    return lower(model, mechanics::first_order_form(model, equations), times);
 }
 
 }  // namespace eomc::codegen

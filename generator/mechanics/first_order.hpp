@@ -1,0 +1,62 @@
+// The equations as a kernel integrates them: a first-order system ẋ = F(t, x).
+//
+// Every formulation ends here. Some state components have their rate in closed form (the
+// coordinates, q̇ = q_dot; a quaternion, ½ q ⊗ ω; Hamilton's q̇ = ∂H/∂p); the rest, the
+// velocity block u (q̇ and a free carrier's quasi-velocities; Hamilton's p), is solved from
+// M(t, x) u̇ = f(t, x). Lowering and emission work on this form only, so a new formulation
+// needs no new code generator.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <ginac/ginac.h>
+
+#include "mechanics/lagrange.hpp"
+#include "model/model.hpp"
+
+namespace eomc::mechanics {
+
+struct StateComponent {
+    std::string name;
+    GiNaC::symbol symbol;
+    double initial = 0.0;
+};
+
+struct NamedExpression {
+    std::string name;
+    GiNaC::ex value;
+};
+
+struct FirstOrderForm {
+    std::string description;  // one line for the kernel's banner: what the state and equations are
+    std::vector<StateComponent> state;
+    std::size_t n_coordinates = 0;  // the leading entries are the generalized coordinates
+
+    // x[velocity_offset .. velocity_offset + n_velocities) solved from M u̇ = f; M and f are
+    // functions of (t, x), u̇ is named by velocity_rates (the symbols q_ddot, v0_dot, …).
+    std::size_t velocity_offset = 0;
+    std::vector<StateComponent> velocity_rates;
+    GiNaC::matrix mass_matrix;
+    std::vector<GiNaC::ex> forcing;
+
+    // (state index, rate) for every component outside the velocity block, in state order.
+    std::vector<std::pair<std::size_t, GiNaC::ex>> explicit_rates;
+
+    std::vector<Invariant> invariants;
+    // Quantities written beside the state (a free carrier's reactions): functions of (t, x, u̇).
+    std::vector<NamedExpression> outputs;
+
+    // q̈ = a(t, q) alone, M constant: the symplectic splitting methods apply.
+    bool separable = false;
+
+    std::size_t n_velocities() const { return velocity_rates.size(); }
+};
+
+// Lagrange's equations (with a free carrier's quasi-velocities and kinematics, when there
+// is one) as the first-order system x = (q, u, kinematic states).
+FirstOrderForm first_order_form(const model::Model& model, const Equations& equations);
+
+}  // namespace eomc::mechanics
