@@ -33,7 +33,7 @@ namespace {
 
 // Bumped whenever the C interface below changes; the loader refuses a library that reports
 // another value (a cache written by an older eomc).
-constexpr int adapter_abi = 1;
+constexpr int adapter_abi = 2;
 
 // The adapter: C functions over double, so that the host needs no knowledge of the kernel's
 // C++ types. Parameters travel by position in parameter_names order, never by member name
@@ -73,9 +73,11 @@ EOMC_EXPORT const char* eomc_scene_name() { return K::scene_name; }
 EOMC_EXPORT int eomc_n_state() { return K::n_state; }
 EOMC_EXPORT int eomc_n_parameters() { return K::n_parameters; }
 EOMC_EXPORT int eomc_n_invariants() { return K::n_invariants; }
+EOMC_EXPORT int eomc_n_outputs() { return K::n_outputs; }
 EOMC_EXPORT const char* const* eomc_state_names() { return K::state_names.data(); }
 EOMC_EXPORT const char* const* eomc_parameter_names() { return K::parameter_names.data(); }
 EOMC_EXPORT const char* const* eomc_invariant_names() { return K::invariant_names.data(); }
+EOMC_EXPORT const char* const* eomc_output_names() { return K::output_names.data(); }
 EOMC_EXPORT const double* eomc_initial_state() { return K::initial_state.data(); }
 
 EOMC_EXPORT void eomc_parameter_defaults(double* out) {
@@ -96,6 +98,9 @@ EOMC_EXPORT void eomc_rhs(double t, const double* x, double* dxdt, const void* p
 }
 EOMC_EXPORT void eomc_invariants(double t, const double* x, double* out, const void* p) {
     K::invariants<double>(t, x, out, *static_cast<const P*>(p));
+}
+EOMC_EXPORT void eomc_outputs(double t, const double* x, double* out, const void* p) {
+    K::outputs<double>(t, x, out, *static_cast<const P*>(p));
 }
 )";
 
@@ -313,10 +318,12 @@ KernelLibrary KernelLibrary::load(const std::string& header_text, const std::str
     const int n_state = symbol<int (*)()>(h, "eomc_n_state", p)();
     const int n_par = symbol<int (*)()>(h, "eomc_n_parameters", p)();
     const int n_inv = symbol<int (*)()>(h, "eomc_n_invariants", p)();
+    const int n_out = symbol<int (*)()>(h, "eomc_n_outputs", p)();
     using Names = const char* const* (*)();
     lib.state_names_ = names(symbol<Names>(h, "eomc_state_names", p)(), n_state);
     lib.parameter_names_ = names(symbol<Names>(h, "eomc_parameter_names", p)(), n_par);
     lib.invariant_names_ = names(symbol<Names>(h, "eomc_invariant_names", p)(), n_inv);
+    lib.output_names_ = names(symbol<Names>(h, "eomc_output_names", p)(), n_out);
     const double* x0 = symbol<const double* (*)()>(h, "eomc_initial_state", p)();
     lib.initial_state_.assign(x0, x0 + n_state);
     lib.parameter_defaults_.assign(static_cast<std::size_t>(n_par), 0.0);
@@ -325,6 +332,7 @@ KernelLibrary KernelLibrary::load(const std::string& header_text, const std::str
     lib.destroy_parameters_ = symbol<void (*)(void*)>(h, "eomc_destroy_parameters", p);
     lib.rhs_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_rhs", p);
     lib.invariants_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_invariants", p);
+    lib.outputs_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_outputs", p);
     lib.seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return lib;
 }
@@ -349,12 +357,14 @@ KernelLibrary& KernelLibrary::operator=(KernelLibrary&& other) noexcept {
         state_names_ = std::move(other.state_names_);
         parameter_names_ = std::move(other.parameter_names_);
         invariant_names_ = std::move(other.invariant_names_);
+        output_names_ = std::move(other.output_names_);
         initial_state_ = std::move(other.initial_state_);
         parameter_defaults_ = std::move(other.parameter_defaults_);
         create_parameters_ = other.create_parameters_;
         destroy_parameters_ = other.destroy_parameters_;
         rhs_ = other.rhs_;
         invariants_ = other.invariants_;
+        outputs_ = other.outputs_;
     }
     return *this;
 }

@@ -34,6 +34,7 @@ public:
     const std::vector<std::string>& state_names() const { return state_names_; }
     const std::vector<std::string>& parameter_names() const { return parameter_names_; }
     const std::vector<std::string>& invariant_names() const { return invariant_names_; }
+    const std::vector<std::string>& output_names() const { return output_names_; }
     const std::vector<double>& initial_state() const { return initial_state_; }
     const std::vector<double>& parameter_defaults() const { return parameter_defaults_; }
 
@@ -51,6 +52,9 @@ public:
         invariants_(t, x, out, p.get());
     }
 
+    // Quantities written beside the state (a free carrier's reactions), n_outputs doubles.
+    void outputs(double t, const double* x, double* out, const Parameters& p) const { outputs_(t, x, out, p.get()); }
+
     // How the library was obtained.
     const std::string& library_path() const { return path_; }
     bool cache_hit() const { return cache_hit_; }
@@ -66,12 +70,13 @@ private:
     double seconds_ = 0.0;
 
     std::string scene_name_;
-    std::vector<std::string> state_names_, parameter_names_, invariant_names_;
+    std::vector<std::string> state_names_, parameter_names_, invariant_names_, output_names_;
     std::vector<double> initial_state_, parameter_defaults_;
     void* (*create_parameters_)(const double*) = nullptr;
     void (*destroy_parameters_)(void*) = nullptr;
     void (*rhs_)(double, const double*, double*, const void*) = nullptr;
     void (*invariants_)(double, const double*, double*, const void*) = nullptr;
+    void (*outputs_)(double, const double*, double*, const void*) = nullptr;
 };
 
 // Exposed for tests: the adapter source for a struct, and the cache key (FNV-1a 64, hex) of

@@ -128,12 +128,13 @@ public:
         std::remove(temp_.c_str());
     }
 
-    void row(double t, const State<double>& x, const std::vector<double>& invariants) {
+    void row(double t, const State<double>& x, const std::vector<double>& invariants, const std::vector<double>& outputs) {
         if (!file_) return;
         buffer_.clear();
         fmt::format_to(std::back_inserter(buffer_), "{:.17g}", t);
         for (double v : x) fmt::format_to(std::back_inserter(buffer_), ",{:.17g}", v);
         for (double v : invariants) fmt::format_to(std::back_inserter(buffer_), ",{:.17g}", v);
+        for (double v : outputs) fmt::format_to(std::back_inserter(buffer_), ",{:.17g}", v);
         buffer_.push_back('\n');
         std::fwrite(buffer_.data(), 1, buffer_.size(), file_);
         ++rows_;
@@ -241,7 +242,9 @@ SimulationResult simulate(const SimulationRequest& request) {
     std::vector<std::string> columns{"t"};
     columns.insert(columns.end(), lib.state_names().begin(), lib.state_names().end());
     columns.insert(columns.end(), lib.invariant_names().begin(), lib.invariant_names().end());
+    columns.insert(columns.end(), lib.output_names().begin(), lib.output_names().end());
     CsvOutput csv(request.csv_path, columns);
+    std::vector<double> outputs(lib.output_names().size());
 
     auto system = [&](double t, const State<double>& xs, State<double>& dxdt) {
         lib.rhs(t, xs.data(), dxdt.data(), parameters);
@@ -257,7 +260,8 @@ SimulationResult simulate(const SimulationRequest& request) {
         lib.invariants(t, xs.data(), inv.data(), parameters);
         if (first) inv0 = inv, first = false;
         for (std::size_t i = 0; i < n_inv; ++i) max_drift[i] = track_max(max_drift[i], std::abs(inv[i] - inv0[i]));
-        csv.row(t, xs, inv);
+        if (!outputs.empty() && !request.csv_path.empty()) lib.outputs(t, xs.data(), outputs.data(), parameters);
+        csv.row(t, xs, inv, outputs);
         t_last = t;
         x_last = xs;
         progress.update(t);

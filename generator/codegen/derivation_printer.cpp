@@ -82,11 +82,23 @@ const char* effect_formula_latex(Effect e) {
     return "";
 }
 
-// The inertial side with q̈ collected, for reading.
+// The inertial side with u̇ (q̈ and the quasi-velocities' rates) collected, for reading.
 ex collected_lhs(const model::Model& model, const ex& lhs) {
     GiNaC::lst accelerations;
     for (const auto& c : model.coordinates) accelerations.append(c.q_ddot);
+    for (const auto& v : model.quasi_velocities) accelerations.append(v.rate);
     return display_form(lhs).collect(accelerations, true);
+}
+
+// The applied side of a carrier balance: the load, plus the reaction when the component is held.
+ex carrier_rhs(const mechanics::CarrierEquation& c) { return c.held ? c.applied + c.reaction : c.applied; }
+
+// Names of the velocities u, the rows and columns of M.
+std::vector<std::string> velocity_names(const model::Model& model) {
+    std::vector<std::string> names;
+    for (const auto& c : model.coordinates) names.push_back(c.name);
+    for (const auto& v : model.quasi_velocities) names.push_back(v.name);
+    return names;
 }
 
 std::string vector_text(const model::Vec3& v) {
@@ -107,8 +119,19 @@ void print_text(const model::Model& model, const mechanics::Equations& eqs, std:
     } else if (eqs.from_particles) {
         out << "Frame: inertial (no carrier)\n";
     }
-    for (const auto& p : model.particles)
+    if (model.free_carrier()) {
+        const auto& c = *model.carrier;
+        out << "  free carrier: mass " << text(c.mass) << ", inertia about o " << text(c.inertia) << ", mass centre "
+            << vector_text(c.center) << "\n  applied: V = " << vector_text(c.resultant) << ", m⁰ = " << vector_text(c.moment)
+            << "\n";
+    }
+    for (const auto& p : model.particles) {
         out << "  body " << p.name << ": m = " << text(p.mass) << ", r' = " << vector_text(p.position) << "\n";
+        if (p.rigid)
+            out << "    rigid: inertia about its mass centre " << text(p.inertia) << ", orientation R = " << text(p.rotation)
+                << ",\n    angular velocity relative to the carrier (body axes) "
+                << vector_text(p.relative_angular_velocity) << "\n";
+    }
 
     out << "\nKinetic energy\n";
     if (eqs.from_particles) {
@@ -140,16 +163,30 @@ void print_text(const model::Model& model, const mechanics::Equations& eqs, std:
         out << "    " << text(collected_lhs(model, eq.lhs)) << " = " << text(display_form(eq.rhs)) << "\n";
     }
 
-    const std::size_t n = model.coordinates.size();
-    out << "\nEquations of motion M q̈ = f\n";
-    for (std::size_t i = 0; i < n; ++i) {
-        out << "  M[" << model.coordinates[i].name << "] = [";
-        for (std::size_t j = 0; j < n; ++j)
+    if (model.free_carrier()) {
+        out << "\nFree carrier: P = ∂T/∂v_o, K = ∂T/∂ω (T of the whole system)\n"
+            << "  P = (" << text(display_form(eqs.momentum[0])) << ", " << text(display_form(eqs.momentum[1])) << ", "
+            << text(display_form(eqs.momentum[2])) << ")\n"
+            << "  K = (" << text(display_form(eqs.angular_momentum[0])) << ", "
+            << text(display_form(eqs.angular_momentum[1])) << ", " << text(display_form(eqs.angular_momentum[2]))
+            << ")\n"
+            << "  dP/dt + ω × P = V (1.1.14),  dK/dt + ω × K + v_o × P = m⁰ (1.1.15);\n"
+            << "  a held component's equation gives the reaction R_i / N_i that holds it\n";
+        for (const auto& c : eqs.carrier_equations)
+            out << "    " << padded(c.name, 9) << (c.held ? "(held)   " : "(" + c.quasi_velocity + ")" + std::string(7 > c.quasi_velocity.size() ? 7 - c.quasi_velocity.size() : 0, ' '))
+                << text(collected_lhs(model, c.lhs)) << " = " << text(display_form(carrier_rhs(c))) << "\n";
+    }
+
+    const std::vector<std::string> u = velocity_names(model);
+    out << "\nEquations of motion M u̇ = f" << (model.free_carrier() ? ", u = (q̇, quasi-velocities)" : ", u = q̇")
+        << "\n";
+    for (std::size_t i = 0; i < u.size(); ++i) {
+        out << "  M[" << u[i] << "] = [";
+        for (std::size_t j = 0; j < u.size(); ++j)
             out << (j ? ", " : "") << text(display_form(eqs.mass_matrix(unsigned(i), unsigned(j))));
         out << "]\n";
     }
-    for (std::size_t i = 0; i < n; ++i)
-        out << "  f[" << model.coordinates[i].name << "] = " << text(display_form(eqs.forcing[i])) << "\n";
+    for (std::size_t i = 0; i < u.size(); ++i) out << "  f[" << u[i] << "] = " << text(display_form(eqs.forcing[i])) << "\n";
 
     out << "\nInvariants\n";
     if (eqs.invariants.empty()) out << "  none proven (L depends on t explicitly, or forces do work)\n";
@@ -207,6 +244,15 @@ void print_latex(const model::Model& model, const mechanics::Equations& eqs, std
                 << latex(display_form(term.value)) << "\\\\\n";
         out << latex(collected_lhs(model, eq.lhs)) << " &= " << latex(display_form(eq.rhs)) << "\n\\end{align*}\n";
     }
+    if (model.free_carrier()) {
+        out << "\\subsection*{Free carrier}\n$P = \\partial T/\\partial v_o$, $K = \\partial T/\\partial\\omega$; "
+            << "$\\dot P + \\omega\\times P = V$, $\\dot K + \\omega\\times K + v_o\\times P = m^0$ "
+            << "(a held component's equation gives its reaction).\n\\begin{align*}\n";
+        for (const auto& c : eqs.carrier_equations)
+            out << "\\text{" << latex_escape(c.name) << "}: \\ " << latex(collected_lhs(model, c.lhs)) << " &= "
+                << latex(display_form(carrier_rhs(c))) << (&c == &eqs.carrier_equations.back() ? "\n" : "\\\\\n");
+        out << "\\end{align*}\n";
+    }
     out << "\\subsection*{Invariants}\n";
     if (eqs.invariants.empty()) out << "None proven.\n";
     for (const auto& inv : eqs.invariants)
@@ -219,6 +265,7 @@ std::string json_ex(const ex& e) { return json_string(text(e)); }
 
 void print_json(const model::Model& model, const mechanics::Equations& eqs, std::ostream& out) {
     const std::size_t n = model.coordinates.size();
+    const std::vector<std::string> u = velocity_names(model);
     out << "{\n  \"scene\": " << json_string(model.name) << ",\n  \"coordinates\": [";
     for (std::size_t i = 0; i < n; ++i) out << (i ? ", " : "") << json_string(model.coordinates[i].name);
     out << "],\n  \"parameters\": {";
@@ -236,16 +283,28 @@ void print_json(const model::Model& model, const mechanics::Equations& eqs, std:
         for (std::size_t k = 0; k < eq.effects.size(); ++k)
             out << (k ? ", " : "") << json_string(model::name(eq.effects[k].effect)) << ": "
                 << json_ex(eq.effects[k].value);
-        out << "}}" << (s + 1 < n ? "," : "") << "\n";
+        out << "}}" << (s + 1 < n || !eqs.carrier_equations.empty() ? "," : "") << "\n";
     }
-    out << "  ],\n  \"mass_matrix\": [";
-    for (std::size_t i = 0; i < n; ++i) {
+    // A free carrier's balances: lhs the inertial side, rhs the applied side with the
+    // reaction symbol of a held component.
+    for (std::size_t k = 0; k < eqs.carrier_equations.size(); ++k) {
+        const auto& c = eqs.carrier_equations[k];
+        out << "    {\"name\": " << json_string(c.name) << ", \"lhs\": " << json_ex(c.lhs) << ", \"rhs\": "
+            << json_ex(carrier_rhs(c)) << ", \"held\": " << (c.held ? "true" : "false");
+        if (c.held) out << ", \"reaction\": " << json_string(c.reaction.get_name());
+        else out << ", \"quasi_velocity\": " << json_string(c.quasi_velocity);
+        out << "}" << (k + 1 < eqs.carrier_equations.size() ? "," : "") << "\n";
+    }
+    out << "  ],\n  \"velocities\": [";
+    for (std::size_t i = 0; i < u.size(); ++i) out << (i ? ", " : "") << json_string(u[i]);
+    out << "],\n  \"mass_matrix\": [";
+    for (std::size_t i = 0; i < u.size(); ++i) {
         out << (i ? ", " : "") << "[";
-        for (std::size_t j = 0; j < n; ++j) out << (j ? ", " : "") << json_ex(eqs.mass_matrix(unsigned(i), unsigned(j)));
+        for (std::size_t j = 0; j < u.size(); ++j) out << (j ? ", " : "") << json_ex(eqs.mass_matrix(unsigned(i), unsigned(j)));
         out << "]";
     }
     out << "],\n  \"forcing\": [";
-    for (std::size_t i = 0; i < n; ++i) out << (i ? ", " : "") << json_ex(eqs.forcing[i]);
+    for (std::size_t i = 0; i < u.size(); ++i) out << (i ? ", " : "") << json_ex(eqs.forcing[i]);
     out << "],\n  \"invariants\": {";
     for (std::size_t k = 0; k < eqs.invariants.size(); ++k)
         out << (k ? ", " : "") << json_string(eqs.invariants[k].name) << ": " << json_ex(eqs.invariants[k].value);

@@ -27,6 +27,10 @@ struct RestSystem {
 
 RestSystem rest_system(const model::Model& model, const Equations& eqs) {
     RestSystem r;
+    if (model.free_carrier())
+        throw InputError(SourcePos{model.source, 0, 0},
+                         "relative equilibria are defined for a carrier whose motion is prescribed and steady; this "
+                         "scene's carrier is free (its motion is part of the solution)");
     r.n = model.coordinates.size();
     GiNaC::exmap at_rest;
     for (const auto& c : model.coordinates) at_rest[c.q_dot] = 0;

@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include "support/diagnostic.hpp"
+
 namespace eomc::mechanics {
 
 using GiNaC::ex;
@@ -27,6 +29,44 @@ bool is_separable(const model::Model& model, const FirstOrderForm& form) {
     return std::none_of(form.forcing.begin(), form.forcing.end(), [&](const ex& f) { return depends_on_any(f, velocities); });
 }
 
+// Unit quaternion e = (e0, e1, e2, e3) of the carrier's attitude (carrier → inertial axes)
+// and the pole's inertial position: ė = ½ e ⊗ (0, ω), ṙ_o = R(e) v_o / |e|². R(e) is the
+// homogeneous quadratic form of the rotation, so R(e)/|e|² is exactly orthogonal even when
+// integration lets |e| drift from 1 by the tolerance.
+void add_carrier_kinematics(const model::Model& model, FirstOrderForm& form) {
+    const auto& c = *model.carrier;
+    const std::size_t first = form.state.size();
+    const char* names[] = {"carrier_e0", "carrier_e1", "carrier_e2", "carrier_e3", "carrier_x", "carrier_y", "carrier_z"};
+    for (int k = 0; k < 7; ++k) {
+        for (const auto& s : form.state)
+            if (s.name == names[k])
+                throw InputError(SourcePos{model.source, 0, 0},
+                                 fmt::format("the name '{}' is needed for the free carrier's attitude or position; "
+                                             "rename the coordinate or quasi-velocity that uses it",
+                                             names[k]));
+        form.state.push_back({names[k], GiNaC::symbol(names[k]), k == 0 ? 1.0 : 0.0});
+    }
+    const ex e0 = form.state[first].symbol, e1 = form.state[first + 1].symbol, e2 = form.state[first + 2].symbol,
+             e3 = form.state[first + 3].symbol;
+    const ex& w1 = c.angular_velocity[0];
+    const ex& w2 = c.angular_velocity[1];
+    const ex& w3 = c.angular_velocity[2];
+    const ex half = GiNaC::numeric(1, 2);
+    const ex attitude[4] = {-half * (e1 * w1 + e2 * w2 + e3 * w3), half * (e0 * w1 + e2 * w3 - e3 * w2),
+                            half * (e0 * w2 + e3 * w1 - e1 * w3), half * (e0 * w3 + e1 * w2 - e2 * w1)};
+    const ex R[3][3] = {
+        {e0 * e0 + e1 * e1 - e2 * e2 - e3 * e3, 2 * (e1 * e2 - e0 * e3), 2 * (e1 * e3 + e0 * e2)},
+        {2 * (e1 * e2 + e0 * e3), e0 * e0 - e1 * e1 + e2 * e2 - e3 * e3, 2 * (e2 * e3 - e0 * e1)},
+        {2 * (e1 * e3 - e0 * e2), 2 * (e2 * e3 + e0 * e1), e0 * e0 - e1 * e1 - e2 * e2 + e3 * e3}};
+    const ex norm2 = e0 * e0 + e1 * e1 + e2 * e2 + e3 * e3;
+    for (std::size_t k = 0; k < 4; ++k) form.explicit_rates.emplace_back(first + k, attitude[k]);
+    for (std::size_t i = 0; i < 3; ++i) {
+        ex v = 0;
+        for (std::size_t j = 0; j < 3; ++j) v += R[i][j] * c.pole_velocity[j];
+        form.explicit_rates.emplace_back(first + 4 + i, v.is_zero() ? v : v / norm2);
+    }
+}
+
 }  // namespace
 
 FirstOrderForm first_order_form(const model::Model& model, const Equations& eqs) {
@@ -41,6 +81,21 @@ FirstOrderForm first_order_form(const model::Model& model, const Equations& eqs)
     for (const auto& c : model.coordinates) form.state.push_back({c.name + "_dot", c.q_dot, c.rate});
     for (const auto& c : model.coordinates) form.velocity_rates.push_back({c.name + "_ddot", c.q_ddot, 0.0});
     for (std::size_t s = 0; s < n; ++s) form.explicit_rates.emplace_back(s, model.coordinates[s].q_dot);
+    for (const auto& v : model.quasi_velocities) {
+        form.state.push_back({v.name, v.symbol, v.initial});
+        form.velocity_rates.push_back({v.name + "_dot", v.rate, 0.0});
+    }
+    if (model.free_carrier()) {
+        form.description = fmt::format(
+            "Lagrange's equations in the {} coordinate{} and the free carrier's balance equations (1.1.14)-(1.1.15) "
+            "for its {} quasi-velocit{}, M u̇ = f with u = (q̇, quasi-velocities); the state adds the carrier's "
+            "attitude quaternion e and the pole's inertial position.",
+            n, n == 1 ? "" : "s", model.quasi_velocities.size(), model.quasi_velocities.size() == 1 ? "y" : "ies");
+        add_carrier_kinematics(model, form);
+        // The reaction that holds each held component: the balance's inertial side minus the applied load.
+        for (const auto& c : eqs.carrier_equations)
+            if (c.held) form.outputs.push_back({"reaction_" + c.name, c.lhs - c.applied});
+    }
     form.mass_matrix = eqs.mass_matrix;
     form.forcing = eqs.forcing;
     form.invariants = eqs.invariants;

@@ -42,13 +42,30 @@ struct Invariant {
     std::string description;  // how it was formed, for the printer
 };
 
+// One of a free carrier's six balance equations (1.1.14)–(1.1.15), in carrier axes:
+// force_i   (dP/dt + ω × P)_i           = V_i  (+ R_i when held)
+// moment_i  (dK/dt + ω × K + v_o × P)_i = m⁰_i (+ N_i when held)
+// with P = ∂T/∂v_o and K = ∂T/∂ω, T the kinetic energy of the whole system.
+struct CarrierEquation {
+    std::string name;        // force_1 … moment_3
+    GiNaC::ex lhs;           // inertial side (contains q̈ and the quasi-velocities' rates)
+    GiNaC::ex applied;       // V_i or m⁰_i
+    bool held = false;       // the component is held at zero: the equation gives its reaction
+    GiNaC::symbol reaction;  // R_i or N_i, the constraint's reaction (held components only)
+    std::string quasi_velocity;  // otherwise: the quasi-velocity it determines
+};
+
 struct Equations {
     bool from_particles = false;  // T built from carried particles (T_e, T_m, T_r meaningful)
     bool has_carrier = false;
     GiNaC::ex T, T_e, T_m, T_r, V;
     std::vector<Equation> equations;   // one per coordinate, in declaration order
-    GiNaC::matrix mass_matrix;         // M_sk = ∂(lhs_s − rhs_s)/∂q̈_k, symmetric
-    std::vector<GiNaC::ex> forcing;    // f_s = −(lhs_s − rhs_s)|q̈=0
+    std::vector<CarrierEquation> carrier_equations;  // a free carrier's six, force_1 … moment_3
+    GiNaC::ex momentum[3], angular_momentum[3];      // a free carrier's P and K (about o)
+    // Over the velocities u = (q̇, the quasi-velocities in model order): rows of the
+    // coordinate equations, then of the carrier equations of the unknown quasi-velocities.
+    GiNaC::matrix mass_matrix;         // M_sk = ∂(lhs_s − rhs_s)/∂u̇_k, symmetric
+    std::vector<GiNaC::ex> forcing;    // f_s = −(lhs_s − rhs_s)|u̇=0
     std::vector<Invariant> invariants; // only those proven conserved along the equations
 };
 
@@ -57,7 +74,8 @@ Equations derive(const model::Model& model);
 
 // The Euler operator ε_s(F) = d/dt ∂F/∂q̇_s − ∂F/∂q_s, d/dt acting on explicit t too.
 GiNaC::ex euler_operator(const model::Model& model, const GiNaC::ex& F, std::size_t s);
-// Total time derivative along a motion: ∂_t + Σ q̇_k ∂_{q_k} + Σ q̈_k ∂_{q̇_k}.
+// Total time derivative along a motion: ∂_t + Σ q̇_k ∂_{q_k} + Σ q̈_k ∂_{q̇_k} (+ Σ ν̇ ∂_ν over a
+// free carrier's quasi-velocities).
 GiNaC::ex total_derivative(const model::Model& model, const GiNaC::ex& F);
 
 // Kinetic energy parts of carried particles (FORMULAS §1); zero carrier motion when the

@@ -35,6 +35,11 @@ std::vector<ProbePoint> make_points(const model::Model& model, std::size_t count
             else if (p.value == 0.0) v[p.symbol] = uniform(0.3, 1.3);
             else v[p.symbol] = p.value * uniform(0.8, 1.25);
         }
+        for (const auto& q : model.quasi_velocities) {
+            v[q.symbol] = uniform(-1, 1);
+            v[q.rate] = uniform(-1, 1);
+            point.rates[q.symbol] = v[q.rate];
+        }
     }
     return points;
 }

@@ -18,7 +18,7 @@
 namespace eomc::mechanics {
 
 struct ProbePoint {
-    std::map<GiNaC::ex, double, GiNaC::ex_is_less> values;  // t, q, q_dot, q_ddot and the parameters
+    std::map<GiNaC::ex, double, GiNaC::ex_is_less> values;  // t, q, q_dot, q_ddot, quasi-velocities and their rates, parameters
     std::map<GiNaC::ex, double, GiNaC::ex_is_less> rates;   // d/dt of each: 1 for t, q_dot for q, q_ddot for q_dot
 };
 

@@ -1,5 +1,8 @@
 #include "model/model.hpp"
 
+#include <algorithm>
+#include <cctype>
+
 #include <fmt/format.h>
 
 #include "model/expression_parser.hpp"
@@ -24,6 +27,7 @@ GiNaC::lst Model::state_symbols() const {
     GiNaC::lst out{t};
     for (const auto& c : coordinates) out.append(c.q);
     for (const auto& c : coordinates) out.append(c.q_dot);
+    for (const auto& v : quasi_velocities) out.append(v.symbol);
     for (const auto& p : parameters) out.append(p.symbol);
     return out;
 }
@@ -55,6 +59,128 @@ ex parse_mass(const SymbolTable& symbols, const scene::Body& body, const Model& 
     return mass;
 }
 
+// 3 principal moments or 9 entries → a symmetric 3×3 matrix of constants.
+GiNaC::matrix parse_inertia(const SymbolTable& symbols, const std::vector<scene::Expr>& entries, const SourcePos& pos,
+                            const std::string& what) {
+    GiNaC::matrix I(3, 3);
+    for (std::size_t k = 0; k < entries.size(); ++k) {
+        const ex value = symbols.parse(entries[k], unsigned(SymbolKind::parameter), what);
+        if (entries.size() == 3) I(unsigned(k), unsigned(k)) = value;
+        else I(unsigned(k / 3), unsigned(k % 3)) = value;
+    }
+    for (unsigned i = 0; i < 3; ++i)
+        for (unsigned j = i + 1; j < 3; ++j)
+            if (!(I(i, j) - I(j, i)).expand().is_zero())
+                throw InputError(pos, fmt::format("{} is not symmetric: entry ({},{}) differs from ({},{})", what, i + 1,
+                                                  j + 1, j + 1, i + 1));
+    return I;
+}
+
+// Elementary rotation about a body axis by `angle`: carrier components = R · body components.
+GiNaC::matrix elementary_rotation(char axis, const ex& angle) {
+    const ex c = GiNaC::cos(angle), s = GiNaC::sin(angle);
+    switch (axis) {
+        case 'x': return GiNaC::matrix(3, 3, GiNaC::lst{1, 0, 0, 0, c, -s, 0, s, c});
+        case 'y': return GiNaC::matrix(3, 3, GiNaC::lst{c, 0, s, 0, 1, 0, -s, 0, c});
+        default: return GiNaC::matrix(3, 3, GiNaC::lst{c, -s, 0, s, c, 0, 0, 0, 1});
+    }
+}
+
+Vec3 unit_axis(char axis) {
+    return {axis == 'x' ? 1 : 0, axis == 'y' ? 1 : 0, axis == 'z' ? 1 : 0};
+}
+
+// A rigid body's orientation R = R_1 R_2 … R_m relative to the carrier and its angular
+// velocity relative to the carrier in body axes, Σ_k (R_{k+1} … R_m)ᵀ θ̇_k e_k: each rate
+// about its own axis, carried into the final body axes (no simplification of RᵀṘ needed).
+void orient(Particle& body, const std::vector<scene::Rotation>& rotations, const SymbolTable& symbols,
+            const Model& model) {
+    std::vector<GiNaC::matrix> R;
+    std::vector<ex> rates;
+    for (const auto& r : rotations) {
+        const ex angle = symbols.parse(r.angle, configuration, fmt::format("an orientation angle of body '{}'", body.name));
+        R.push_back(elementary_rotation(r.axis, angle));
+        ex rate = angle.diff(model.t);
+        for (const auto& c : model.coordinates) rate += angle.diff(c.q) * c.q_dot;
+        rates.push_back(rate);
+    }
+    GiNaC::matrix total = GiNaC::ex_to<GiNaC::matrix>(GiNaC::unit_matrix(3));
+    for (const auto& r : R) total = total.mul(r);
+    body.rotation = total;
+    Vec3 w{0, 0, 0};
+    for (std::size_t k = 0; k < R.size(); ++k) {
+        const Vec3 e = unit_axis(rotations[k].axis);
+        Vec3 term{rates[k] * e[0], rates[k] * e[1], rates[k] * e[2]};
+        for (std::size_t j = k + 1; j < R.size(); ++j) {
+            const GiNaC::matrix& Rj = R[j];
+            Vec3 next{0, 0, 0};
+            for (unsigned a = 0; a < 3; ++a)
+                for (unsigned b = 0; b < 3; ++b) next[a] += Rj(b, a) * term[b];
+            term = next;
+        }
+        for (int a = 0; a < 3; ++a) w[a] += term[a];
+    }
+    body.relative_angular_velocity = w;
+}
+
+// A free carrier: each component of v_o and ω is a new name (an unknown quasi-velocity) or
+// "0" (held by the constraints); anything else is an error at that component.
+void build_free_carrier(const scene::Carrier& c, const scene::Forces& forces, SymbolTable& symbols, Model& model) {
+    Carrier carrier;
+    carrier.free = true;
+    std::map<std::string, SourcePos> declared;
+    for (const bool angular : {false, true}) {
+        const scene::Vec3& v = angular ? c.angular_velocity : c.pole_velocity;
+        Vec3& out = angular ? carrier.angular_velocity : carrier.pole_velocity;
+        for (int axis = 0; axis < 3; ++axis) {
+            const scene::Expr& e = v[std::size_t(axis)];
+            if (e.text == "0") {
+                out[std::size_t(axis)] = 0;
+                continue;
+            }
+            const bool identifier = !e.text.empty() && (std::isalpha(static_cast<unsigned char>(e.text[0]))) &&
+                                    std::all_of(e.text.begin(), e.text.end(), [](char ch) {
+                                        return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_';
+                                    });
+            const std::string what = angular ? "angular_velocity" : "pole_velocity";
+            if (!identifier)
+                throw InputError(e.pos, fmt::format("a free carrier's {} component must be a new name (an unknown "
+                                                    "quasi-velocity) or \"0\" (held by the constraints), got '{}'",
+                                                    what, e.text));
+            if (symbols.contains(e.text) || symbols.contains(e.text + "_dot") || declared.count(e.text))
+                throw InputError(e.pos, fmt::format("the quasi-velocity '{}' clashes with a name already declared "
+                                                    "(it needs '{}' and '{}_dot' to be free)",
+                                                    e.text, e.text, e.text));
+            declared.emplace(e.text, e.pos);
+            QuasiVelocity q{e.text, symbols.declare(e.text, SymbolKind::velocity),
+                            symbols.declare(e.text + "_dot", SymbolKind::acceleration), 0.0, angular, axis};
+            out[std::size_t(axis)] = q.symbol;
+            model.quasi_velocities.push_back(std::move(q));
+        }
+    }
+    for (const auto& init : c.initial) {
+        auto it = std::find_if(model.quasi_velocities.begin(), model.quasi_velocities.end(),
+                               [&](const QuasiVelocity& q) { return q.name == init.name; });
+        if (it == model.quasi_velocities.end()) {
+            std::vector<std::string> names;
+            for (const auto& q : model.quasi_velocities) names.push_back(q.name);
+            const std::string near = nearest_name(init.name, names);
+            throw InputError(init.pos, fmt::format("'{}' in [carrier.initial] is not a quasi-velocity of the carrier{}",
+                                                   init.name, near.empty() ? "" : fmt::format("; did you mean '{}'?", near)));
+        }
+        it->initial = init.value;
+    }
+    scene::Body as_body{"carrier", *c.mass, {}, {}, {}, c.pos, {}, {}};
+    carrier.mass = parse_mass(symbols, as_body, model);
+    carrier.inertia = parse_inertia(symbols, c.inertia, c.pos, "the carrier's inertia");
+    carrier.center = parse_vector(symbols, c.center, unsigned(SymbolKind::parameter), "the carrier's mass centre");
+    // The applied loads may depend on the whole motion (a damper, a motor law).
+    const unsigned loads = phase;
+    if (forces.resultant) carrier.resultant = parse_vector(symbols, *forces.resultant, loads, "the resultant force");
+    if (forces.moment) carrier.moment = parse_vector(symbols, *forces.moment, loads, "the resultant moment");
+    model.carrier = std::move(carrier);
+}
+
 }  // namespace
 
 Model build_model(const scene::Scene& scene) {
@@ -78,17 +204,29 @@ Model build_model(const scene::Scene& scene) {
 
     if (scene.carrier) {
         const auto& c = *scene.carrier;
-        if (c.motion == "free")
-            throw InputError(c.motion_pos, "a free carrier (motion = \"free\") is not yet supported; "
-                                           "give its motion as functions of t with motion = \"prescribed\"");
-        model.carrier = Carrier{
-            parse_vector(symbols, c.angular_velocity, time_and_parameters, "the carrier's angular velocity"),
-            parse_vector(symbols, c.pole_velocity, time_and_parameters, "the carrier's pole velocity")};
+        if (c.motion == "free") {
+            if (scene.effects.given)
+                throw InputError(scene.effects.keep_pos.empty() ? c.motion_pos : scene.effects.keep_pos.front(),
+                                 "[effects] cannot drop terms of a free carrier's equations: its motion follows from "
+                                 "all of them");
+            build_free_carrier(c, scene.forces, symbols, model);
+        } else {
+            Carrier carrier;
+            carrier.angular_velocity =
+                parse_vector(symbols, c.angular_velocity, time_and_parameters, "the carrier's angular velocity");
+            carrier.pole_velocity = parse_vector(symbols, c.pole_velocity, time_and_parameters, "the carrier's pole velocity");
+            model.carrier = std::move(carrier);
+        }
     }
     for (const auto& b : scene.bodies) {
-        model.particles.push_back(
-            {b.name, parse_mass(symbols, b, model),
-             parse_vector(symbols, b.position, configuration, fmt::format("the position of body '{}'", b.name))});
+        Particle body{b.name, parse_mass(symbols, b, model),
+                      parse_vector(symbols, b.position, configuration, fmt::format("the position of body '{}'", b.name))};
+        if (!b.inertia.empty()) {
+            body.rigid = true;
+            body.inertia = parse_inertia(symbols, b.inertia, b.inertia_pos, fmt::format("the inertia of body '{}'", b.name));
+            orient(body, b.orientation, symbols, model);
+        }
+        model.particles.push_back(std::move(body));
     }
     if (!scene.bodies.empty()) model.kinetic_pos = scene.bodies.front().pos;
 

@@ -39,16 +39,37 @@ struct Coordinate {
     double rate = 0.0;
 };
 
+// A carried body: a particle at r'(q, t) or, with an inertia, a rigid body with its mass
+// centre there, turned by `rotation` (body axes → carrier axes) from the carrier.
 struct Particle {
     std::string name;
     GiNaC::ex mass;
     Vec3 position;  // r'(q, t) in carrier axes
+    bool rigid = false;
+    GiNaC::matrix inertia = GiNaC::matrix(3, 3);   // about the mass centre, body axes
+    GiNaC::matrix rotation = GiNaC::ex_to<GiNaC::matrix>(GiNaC::unit_matrix(3));  // carrier = rotation · body components
+    Vec3 relative_angular_velocity{0, 0, 0};       // of the body relative to the carrier, body axes
 };
 
-// A carrier whose motion is prescribed: ω(t) and v_o(t) in carrier axes.
+// An unknown velocity of a free carrier: one component of v_o or of ω (seed §1.1).
+struct QuasiVelocity {
+    std::string name;
+    GiNaC::symbol symbol, rate;  // v0 and v0_dot
+    double initial = 0.0;
+    bool angular = false;  // a component of ω, else of v_o
+    int axis = 0;
+};
+
+// The carrier: ω and v_o in carrier axes, functions of t (prescribed) or, for a free
+// carrier, each component a quasi-velocity symbol or 0 (held by the constraints).
 struct Carrier {
     Vec3 angular_velocity;
     Vec3 pole_velocity;
+    bool free = false;
+    GiNaC::ex mass = 0;                             // a free carrier's own mass,
+    GiNaC::matrix inertia = GiNaC::matrix(3, 3);    // its inertia about o,
+    Vec3 center{0, 0, 0};                           // its mass centre (carrier axes)
+    Vec3 resultant{0, 0, 0}, moment{0, 0, 0};       // external force on the system, moment about o
 };
 
 struct Model {
@@ -62,6 +83,7 @@ struct Model {
 
     // Either particles (with an optional carrier: absent = inertial frame) or a kinetic energy.
     std::optional<Carrier> carrier;
+    std::vector<QuasiVelocity> quasi_velocities;  // a free carrier's unknowns, in axis order (v_o, then ω)
     std::vector<Particle> particles;
     std::optional<GiNaC::ex> kinetic_energy;  // [lagrangian] T
 
@@ -73,7 +95,8 @@ struct Model {
     scene::Simulate simulate;
 
     bool keeps(Effect e) const { return keep[static_cast<int>(e)]; }
-    // All symbols that are inputs of the equations: t, q, q_dot, parameters.
+    bool free_carrier() const { return carrier && carrier->free; }
+    // All symbols that are inputs of the equations: t, q, q_dot, quasi-velocities, parameters.
     GiNaC::lst state_symbols() const;
 };
 

@@ -11,6 +11,7 @@
 #include <initializer_list>
 #include <map>
 #include <sstream>
+#include <tuple>
 #include <utility>
 
 #include <fmt/format.h>
@@ -408,7 +409,8 @@ private:
         const toml::node* node = root_.get("carrier");
         if (!node) return;
         const toml::table& t = as_table(*node, "carrier");
-        check_keys(t, {"motion", "angular_velocity", "pole_velocity"}, "in [carrier]");
+        check_keys(t, {"motion", "angular_velocity", "pole_velocity", "mass", "inertia", "center", "initial"},
+                   "in [carrier]");
         Carrier c;
         c.pos = at(t);
         c.motion_pos = c.pos;
@@ -426,7 +428,45 @@ private:
         c.angular_velocity = w ? read_vec3(*w, "carrier.angular_velocity") : zero_vec3(c.pos);
         const toml::node* v = t.get("pole_velocity");
         c.pole_velocity = v ? read_vec3(*v, "carrier.pole_velocity") : zero_vec3(c.pos);
+        const bool free = c.motion == "free";
+        // The mass distribution and initial quasi-velocities mean something only for a free carrier.
+        for (const char* key : {"mass", "inertia", "center", "initial"}) {
+            if (const toml::node* n = t.get(key); n && !free)
+                fail(at(*n), fmt::format("'carrier.{}' is given only for a free carrier (motion = \"free\"); a "
+                                         "prescribed carrier's motion does not depend on its mass",
+                                         key));
+        }
+        if (free) {
+            c.mass = read_expr(require(t, "mass", "a free [carrier]"), "carrier.mass");
+            c.inertia = read_inertia(require(t, "inertia", "a free [carrier]"), "carrier.inertia");
+            const toml::node* center = t.get("center");
+            c.center = center ? read_vec3(*center, "carrier.center") : zero_vec3(c.pos);
+            if (const toml::node* initial = t.get("initial")) {
+                for (const auto& [key, value] : entries(as_table(*initial, "carrier.initial")))
+                    c.initial.push_back(
+                        {std::string(key->str()), read_number(*value, "carrier.initial." + std::string(key->str())),
+                         at(*key)});
+            }
+        }
         s.carrier = std::move(c);
+    }
+
+    // Three principal moments, or a 3×3 matrix as 9 entries or 3 rows of 3.
+    std::vector<Expr> read_inertia(const toml::node& n, const std::string& path) const {
+        const toml::array* a = n.as_array();
+        if (!a) fail(at(n), fmt::format("'{}': expected 3 principal moments or a 3×3 array, got {}", path, type_name(n)));
+        std::vector<Expr> out;
+        if (a->size() == 3 && a->get(0)->is_array()) {
+            for (std::size_t i = 0; i < 3; ++i) {
+                const Vec3 row = read_vec3(*a->get(i), fmt::format("{}[{}]", path, i));
+                out.insert(out.end(), row.begin(), row.end());
+            }
+        } else if (a->size() == 3 || a->size() == 9) {
+            for (std::size_t i = 0; i < a->size(); ++i) out.push_back(read_expr(*a->get(i), fmt::format("{}[{}]", path, i)));
+        } else {
+            fail(at(n), fmt::format("'{}': expected 3 principal moments or a 3×3 array, got {} entries", path, a->size()));
+        }
+        return out;
     }
 
     void read_bodies(Scene& s) const {
@@ -444,7 +484,7 @@ private:
             if (!element.is_table())
                 fail(at(element), fmt::format("'{}': expected a table, got {}", path, type_name(element)));
             const toml::table& t = *element.as_table();
-            check_keys(t, {"name", "mass", "position"}, "in [[body]]");
+            check_keys(t, {"name", "mass", "position", "inertia", "orientation"}, "in [[body]]");
             Body b;
             b.pos = at(t);
             const toml::node& name = require(t, "name", "[[body]]");
@@ -461,8 +501,38 @@ private:
             if (const auto m = literal_number(b.mass.text); m && *m <= 0.0)
                 fail(b.mass.pos, fmt::format("'{}.mass': a mass must be positive, got {}", path, b.mass.text));
             b.position = read_vec3(require(t, "position", "[[body]]"), path + ".position");
+            if (const toml::node* inertia = t.get("inertia")) {
+                b.inertia = read_inertia(*inertia, path + ".inertia");
+                b.inertia_pos = at(*inertia);
+            }
+            if (const toml::node* orientation = t.get("orientation")) {
+                if (b.inertia.empty())
+                    fail(at(*orientation), fmt::format("'{}.orientation' needs '{}.inertia': a particle has no "
+                                                       "orientation",
+                                                       path, path));
+                b.orientation = read_orientation(*orientation, path + ".orientation");
+                b.orientation_pos = at(*orientation);
+            }
             s.bodies.push_back(std::move(b));
         }
+    }
+
+    // ["z:phi", "x:theta", ...]: an axis letter, a colon, an angle expression.
+    std::vector<Rotation> read_orientation(const toml::node& n, const std::string& path) const {
+        const toml::array* a = n.as_array();
+        if (!a || a->empty())
+            fail(at(n), fmt::format("'{}': expected an array of rotations such as \"z:phi\"", path));
+        std::vector<Rotation> out;
+        for (std::size_t i = 0; i < a->size(); ++i) {
+            const Expr e = read_expr(*a->get(i), fmt::format("{}[{}]", path, i));
+            const std::size_t colon = e.text.find(':');
+            const std::string axis = colon == std::string::npos ? "" : e.text.substr(0, colon);
+            if (axis != "x" && axis != "y" && axis != "z")
+                fail(e.pos, fmt::format("'{}[{}]': expected \"x:angle\", \"y:angle\" or \"z:angle\", got \"{}\"", path,
+                                        i, e.text));
+            out.push_back({axis[0], Expr{e.text.substr(colon + 1), e.pos.shifted(int(colon + 1))}});
+        }
+        return out;
     }
 
     void read_lagrangian(Scene& s) const {
@@ -482,8 +552,21 @@ private:
         const toml::node* node = root_.get("forces");
         if (!node) return;
         const toml::table& t = as_table(*node, "forces");
-        check_keys(t, {"potential", "generalized"}, "in [forces]");
+        check_keys(t, {"potential", "generalized", "resultant", "moment"}, "in [forces]");
         if (const toml::node* v = t.get("potential")) s.forces.potential = read_expr(*v, "forces.potential");
+        const bool free = s.carrier && s.carrier->motion == "free";
+        for (const auto& [key, target, where] :
+             {std::tuple{"resultant", &s.forces.resultant, &s.forces.resultant_pos},
+              std::tuple{"moment", &s.forces.moment, &s.forces.moment_pos}}) {
+            const toml::node* n = t.get(key);
+            if (!n) continue;
+            if (!free)
+                fail(at(*n), fmt::format("'forces.{}' acts on a free carrier's system; this scene has no [carrier] "
+                                         "with motion = \"free\" (use [forces] potential or generalized)",
+                                         key));
+            *target = read_vec3(*n, std::string("forces.") + key);
+            *where = at(*n);
+        }
         if (const toml::node* g = t.get("generalized")) {
             for (const auto& [key, value] : entries(as_table(*g, "forces.generalized"))) {
                 const std::string name(key->str());

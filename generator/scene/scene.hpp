@@ -39,21 +39,45 @@ struct Coordinate {
     SourcePos pos;
 };
 
-// The carrier body's frame o x'y'z'. Absent: the bodies move in an inertial frame.
-struct Carrier {
-    std::string motion = "prescribed";  // "prescribed" | "free" (the latter refused by the model for now)
-    SourcePos motion_pos;
-    Vec3 angular_velocity;  // ω in carrier axes, functions of t and parameters
-    Vec3 pole_velocity;     // v_o in carrier axes
-    SourcePos pos;          // the [carrier] table
+struct InitialValue {
+    std::string name;
+    double value = 0.0;
+    SourcePos pos;  // the key
 };
 
-// A carried particle, position r'(q, t) in carrier axes.
+// The carrier body's frame o x'y'z'. Absent: the bodies move in an inertial frame.
+struct Carrier {
+    std::string motion = "prescribed";  // "prescribed" | "free"
+    SourcePos motion_pos;
+    // Prescribed: functions of t and parameters. Free: each component a new name (an unknown
+    // quasi-velocity) or "0" (held at zero by the constraints).
+    Vec3 angular_velocity;  // ω in carrier axes
+    Vec3 pole_velocity;     // v_o in carrier axes
+    // A free carrier's own mass distribution: mass, inertia about o (3 principal moments or
+    // 9 entries, row-major; empty when not given), mass centre in carrier axes.
+    std::optional<Expr> mass;
+    std::vector<Expr> inertia;
+    Vec3 center;
+    std::vector<InitialValue> initial;  // [carrier.initial]: the quasi-velocities at t = 0
+    SourcePos pos;                      // the [carrier] table
+};
+
+// An elementary rotation of a body's orientation, "z:phi": about the current z axis by phi.
+struct Rotation {
+    char axis = 'z';
+    Expr angle;
+};
+
+// A carried body: a particle at r'(q, t) in carrier axes or, with `inertia`, a rigid body
+// whose mass centre is there and whose axes are turned by `orientation` from the carrier's.
 struct Body {
     std::string name;
     Expr mass;
     Vec3 position;
+    std::vector<Expr> inertia;           // about the mass centre, body axes: 3 or 9 entries; empty: a particle
+    std::vector<Rotation> orientation;   // applied left to right; empty: parallel to the carrier
     SourcePos pos;  // the [[body]] table
+    SourcePos inertia_pos, orientation_pos;
 };
 
 // A Lagrangian given directly: L = T - V.
@@ -72,6 +96,10 @@ struct GeneralizedForce {
 struct Forces {
     std::optional<Expr> potential;            // V(q, t)
     std::vector<GeneralizedForce> generalized;  // Q_s, in file order
+    // Only with a free carrier: the external force on the whole system and its moment about
+    // o, in carrier axes (the seed's V and m⁰).
+    std::optional<Vec3> resultant, moment;
+    SourcePos resultant_pos, moment_pos;
 };
 
 // The inertial effects of relative motion that the equations keep.
