@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include <sys/personality.h>
@@ -20,6 +21,7 @@
 #include "codegen/derivation_printer.hpp"
 #include "codegen/kernel_ir.hpp"
 #include "mechanics/equilibria.hpp"
+#include "mechanics/hamiltonian.hpp"
 #include "mechanics/lagrange.hpp"
 #include "model/model.hpp"
 #include "scene/scene.hpp"
@@ -69,20 +71,23 @@ private:
 struct Pipeline {
     model::Model model;
     mechanics::Equations equations;
+    std::optional<mechanics::CanonicalEquations> canonical;  // the Hamiltonian formulation, when asked for
 };
 
-Pipeline front_end(const std::string& scene_path, StageClock* clock = nullptr) {
+Pipeline front_end(const std::string& scene_path, bool hamiltonian, StageClock* clock = nullptr) {
     const scene::Scene scene = scene::parse_scene_file(scene_path);
-    Pipeline p{model::build_model(scene), {}};
+    Pipeline p{model::build_model(scene), {}, std::nullopt};
     if (clock) clock->lap("parse");
     p.equations = mechanics::derive(p.model);
+    if (hamiltonian || p.model.hamiltonian) p.canonical = mechanics::canonical_equations(p.model, p.equations);
     if (clock) clock->lap("derive");
     return p;
 }
 
 std::string kernel_header(const Pipeline& p, StageClock* clock = nullptr) {
     codegen::LoweringTimes lowering;
-    const codegen::KernelIR ir = codegen::lower(p.model, p.equations, &lowering);
+    const codegen::KernelIR ir = p.canonical ? codegen::lower(p.model, p.canonical->form, &lowering)
+                                             : codegen::lower(p.model, p.equations, &lowering);
     if (clock) {
         clock->lap("lower");
         clock->add("cse_mass_forcing", lowering.mass_and_forcing);
@@ -207,22 +212,31 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
 
     std::string scene_path, format = "text", output, out_dir = ".";
+    bool hamiltonian = false;
+    auto add_hamiltonian_flag = [&](CLI::App* cmd) {
+        cmd->add_flag("--hamiltonian", hamiltonian,
+                      "Hamilton's equations in (q, p) instead of Lagrange's in (q, q̇) (as [formulation] kind = "
+                      "\"hamiltonian\")");
+    };
 
     auto* derive = app.add_subcommand("derive", "print the derivation (text, LaTeX or JSON)");
     derive->add_option("scene", scene_path, "scene file (TOML)")->required();
     derive->add_option("--format", format, "text | latex | json")->check(CLI::IsMember({"text", "latex", "json"}));
     derive->add_option("-o,--output", output, "write to FILE instead of standard output");
+    add_hamiltonian_flag(derive);
 
     bool timings = false;
     auto* generate = app.add_subcommand("generate", "emit the C++ kernel header <name>.hpp");
     generate->add_option("scene", scene_path, "scene file (TOML)")->required();
     generate->add_option("-o,--output-dir", out_dir, "directory for the header (default: .)");
     generate->add_flag("--timings", timings, "print the time of each stage on stderr (`timing <stage> <seconds>`)");
+    add_hamiltonian_flag(generate);
 
     SimulateOptions sim;
     auto* simulate = app.add_subcommand("simulate", "generate, compile, integrate; write CSV and a summary");
     simulate->add_option("scene", scene_path, "scene file (TOML)")->required();
     add_simulate_options(simulate, sim);
+    add_hamiltonian_flag(simulate);
 
     auto* equilibria = app.add_subcommand("equilibria", "relative equilibria of a steady carrier and their stability");
     equilibria->add_option("scene", scene_path, "scene file (TOML)")->required();
@@ -232,15 +246,17 @@ int main(int argc, char** argv) {
     run->add_option("scene", scene_path, "scene file (TOML)")->required();
     run->add_option("-d,--dir", out_dir, "directory for the header and the CSV (default: .)");
     add_simulate_options(run, sim);
+    add_hamiltonian_flag(run);
 
     CLI11_PARSE(app, argc, argv);
 
     try {
         StageClock clock;
-        const Pipeline p = front_end(scene_path, timings ? &clock : nullptr);
+        const Pipeline p = front_end(scene_path, hamiltonian, timings ? &clock : nullptr);
+        const mechanics::CanonicalEquations* canonical = p.canonical ? &*p.canonical : nullptr;
         if (derive->parsed()) {
             std::ostringstream text;
-            codegen::print_derivation(p.model, p.equations, derivation_format(format), text);
+            codegen::print_derivation(p.model, p.equations, derivation_format(format), text, canonical);
             if (output.empty()) std::cout << text.str();
             else cli::write_file_atomically(output, text.str());
         } else if (generate->parsed()) {
@@ -254,7 +270,7 @@ int main(int argc, char** argv) {
         } else if (equilibria->parsed()) {
             print_equilibria(p.model, mechanics::relative_equilibria(p.model, p.equations), format, std::cout);
         } else if (run->parsed()) {
-            codegen::print_derivation(p.model, p.equations, codegen::DerivationFormat::text, std::cout);
+            codegen::print_derivation(p.model, p.equations, codegen::DerivationFormat::text, std::cout, canonical);
             const std::string header = kernel_header(p);
             const fs::path header_path = fs::path(out_dir) / (p.model.name + ".hpp");
             cli::write_file_atomically(header_path, header);

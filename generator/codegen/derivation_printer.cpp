@@ -311,14 +311,79 @@ void print_json(const model::Model& model, const mechanics::Equations& eqs, std:
     out << "}\n}\n";
 }
 
+void print_canonical_text(const model::Model& model, const mechanics::CanonicalEquations& c, std::ostream& out) {
+    out << "\nCanonical equations (Hamilton), p = ∂L/∂q̇, H = Σ p q̇ − L\n";
+    for (std::size_t s = 0; s < c.p.size(); ++s)
+        out << "  " << c.p[s].get_name() << " = " << text(display_form(c.momentum[s])) << ",   "
+            << model.coordinates[s].name << "_dot = " << text(display_form(c.velocity[s])) << "\n";
+    out << "  H = " << text(display_form(c.H)) << "\n";
+    for (std::size_t s = 0; s < c.p.size(); ++s)
+        out << "  d" << model.coordinates[s].name << "/dt = ∂H/∂" << c.p[s].get_name() << " = "
+            << text(display_form(c.q_rate[s])) << "\n";
+    for (std::size_t s = 0; s < c.p.size(); ++s)
+        out << "  d" << c.p[s].get_name() << "/dt = −∂H/∂" << model.coordinates[s].name << " + Q = "
+            << text(display_form(c.p_rate[s])) << "\n";
+    out << "  H is " << (c.conserved ? "conserved (the Jacobi integral)" : "not proven conserved") << "\n";
+}
+
+void print_canonical_latex(const model::Model& model, const mechanics::CanonicalEquations& c, std::ostream& out) {
+    out << "\\subsection*{Canonical equations}\n\\begin{align*}\n";
+    for (std::size_t s = 0; s < c.p.size(); ++s)
+        out << c.p[s].get_name() << " &= " << latex(display_form(c.momentum[s])) << "\\\\\n";
+    out << "H &= " << latex(display_form(c.H)) << "\\\\\n";
+    for (std::size_t s = 0; s < c.p.size(); ++s)
+        out << "\\dot{" << latex(model.coordinates[s].q) << "} &= " << latex(display_form(c.q_rate[s])) << "\\\\\n";
+    for (std::size_t s = 0; s < c.p.size(); ++s)
+        out << "\\dot p_{" << latex_escape(model.coordinates[s].name) << "} &= " << latex(display_form(c.p_rate[s]))
+            << (s + 1 < c.p.size() ? "\\\\\n" : "\n");
+    out << "\\end{align*}\n";
+}
+
+void print_canonical_json(const mechanics::CanonicalEquations& c, std::ostream& out) {
+    out << "  \"canonical\": {\"momenta\": {";
+    for (std::size_t s = 0; s < c.p.size(); ++s)
+        out << (s ? ", " : "") << json_string(c.p[s].get_name()) << ": " << json_ex(c.momentum[s]);
+    out << "}, \"H\": " << json_ex(c.H) << ", \"q_rates\": [";
+    for (std::size_t s = 0; s < c.p.size(); ++s) out << (s ? ", " : "") << json_ex(c.q_rate[s]);
+    out << "], \"p_rates\": [";
+    for (std::size_t s = 0; s < c.p.size(); ++s) out << (s ? ", " : "") << json_ex(c.p_rate[s]);
+    out << "], \"conserved\": " << (c.conserved ? "true" : "false") << "}\n";
+}
+
 }  // namespace
 
 void print_derivation(const model::Model& model, const mechanics::Equations& eqs, DerivationFormat format,
-                      std::ostream& out) {
+                      std::ostream& out, const mechanics::CanonicalEquations* canonical) {
     switch (format) {
-        case DerivationFormat::text: return print_text(model, eqs, out);
-        case DerivationFormat::latex: return print_latex(model, eqs, out);
-        case DerivationFormat::json: return print_json(model, eqs, out);
+        case DerivationFormat::text:
+            print_text(model, eqs, out);
+            if (canonical) print_canonical_text(model, *canonical, out);
+            return;
+        case DerivationFormat::latex: {
+            std::ostringstream body;
+            print_latex(model, eqs, body);
+            std::string doc = body.str();
+            if (canonical) {
+                std::ostringstream extra;
+                print_canonical_latex(model, *canonical, extra);
+                doc.insert(doc.rfind("\\end{document}"), extra.str());
+            }
+            out << doc;
+            return;
+        }
+        case DerivationFormat::json: {
+            std::ostringstream body;
+            print_json(model, eqs, body);
+            std::string doc = body.str();
+            if (canonical) {
+                std::ostringstream extra;
+                print_canonical_json(*canonical, extra);
+                const std::size_t end = doc.rfind("\n}");
+                doc.insert(end, ",\n" + extra.str().substr(0, extra.str().size() - 1));
+            }
+            out << doc;
+            return;
+        }
     }
 }
 

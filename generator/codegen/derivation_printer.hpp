@@ -9,6 +9,7 @@
 #include <ostream>
 #include <string>
 
+#include "mechanics/hamiltonian.hpp"
 #include "mechanics/lagrange.hpp"
 #include "model/model.hpp"
 
@@ -16,8 +17,10 @@ namespace eomc::codegen {
 
 enum class DerivationFormat { text, latex, json };
 
+// With `canonical`, the Hamiltonian formulation follows the Lagrangian derivation (JSON: a
+// "canonical" member).
 void print_derivation(const model::Model& model, const mechanics::Equations& eqs, DerivationFormat format,
-                      std::ostream& out);
+                      std::ostream& out, const mechanics::CanonicalEquations* canonical = nullptr);
 
 // Expanded when that makes it smaller or not much larger (what a reader wants to see);
 // otherwise as derived.

@@ -99,7 +99,7 @@ KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form,
     if (ir.explicit_solution) {
         std::vector<ex> rates(N);
         for (const auto& [index, rate] : form.explicit_rates) rates[index] = rate;
-        const std::vector<ex> acc = solve_explicitly(form.mass_matrix, form.forcing);
+        const std::vector<ex> acc = nu == 0 ? std::vector<ex>{} : solve_explicitly(form.mass_matrix, form.forcing);
         for (std::size_t k = 0; k < nu; ++k) rates[form.velocity_offset + k] = acc[k];
         ir.rhs_explicit = eliminate_common_subexpressions(rates, prefix);
         std::vector<ex> J;

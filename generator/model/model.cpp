@@ -190,6 +190,7 @@ Model build_model(const scene::Scene& scene) {
     model.summary = scene.summary;
     model.source = scene.path;
     model.simulate = scene.simulate;
+    model.hamiltonian = scene.formulation == "hamiltonian";
 
     SymbolTable symbols;
     model.t = symbols.declare("t", SymbolKind::time);

@@ -93,6 +93,7 @@ struct Model {
     SourcePos kinetic_pos;                       // where T comes from (for errors about M)
 
     scene::Simulate simulate;
+    bool hamiltonian = false;                    // [formulation] kind = "hamiltonian"
 
     bool keeps(Effect e) const { return keep[static_cast<int>(e)]; }
     bool free_carrier() const { return carrier && carrier->free; }

@@ -108,7 +108,7 @@ public:
     Scene read() {
         Scene s;
         check_keys(root_, {"scene", "parameters", "coordinates", "carrier", "body", "lagrangian", "forces",
-                           "effects", "simulate"},
+                           "effects", "simulate", "formulation"},
                    "at the top level");
         read_scene(s);
         read_parameters(s);
@@ -120,6 +120,7 @@ public:
         read_forces(s);
         read_effects(s);
         read_simulate(s);
+        read_formulation(s);
         check_structure();
         return s;
     }
@@ -533,6 +534,23 @@ private:
             out.push_back({axis[0], Expr{e.text.substr(colon + 1), e.pos.shifted(int(colon + 1))}});
         }
         return out;
+    }
+
+    void read_formulation(Scene& s) const {
+        const toml::node* node = root_.get("formulation");
+        if (!node) return;
+        const toml::table& t = as_table(*node, "formulation");
+        check_keys(t, {"kind"}, "in [formulation]");
+        const toml::node& kind = require(t, "kind", "[formulation]");
+        s.formulation = read_string(kind, "formulation.kind");
+        s.formulation_pos = at(kind);
+        const std::vector<std::string> names(formulation_names.begin(), formulation_names.end());
+        if (std::find(names.begin(), names.end(), s.formulation) == names.end()) {
+            const std::string near = nearest_name(s.formulation, names);
+            fail(at(kind), fmt::format("unknown formulation '{}'; {}", s.formulation,
+                                       near.empty() ? std::string("expected 'lagrangian' or 'hamiltonian'")
+                                                    : fmt::format("did you mean '{}'?", near)));
+        }
     }
 
     void read_lagrangian(Scene& s) const {

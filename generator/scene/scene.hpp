@@ -128,6 +128,9 @@ struct Simulate {
     SourcePos integrator_pos;
 };
 
+// Which equations the kernel integrates: Lagrange's (state q, q̇) or Hamilton's (state q, p).
+inline constexpr std::array<std::string_view, 2> formulation_names{"lagrangian", "hamiltonian"};
+
 struct Scene {
     std::string path;     // the file it came from ("" for a string)
     std::string name;     // [a-z][a-z0-9_]*
@@ -141,6 +144,8 @@ struct Scene {
     Forces forces;
     Effects effects;
     Simulate simulate;
+    std::string formulation = "lagrangian";  // one of formulation_names ([formulation] kind)
+    SourcePos formulation_pos;
 };
 
 // Throws eomc::InputError (file:line:column) on anything malformed.
