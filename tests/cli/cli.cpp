@@ -103,7 +103,9 @@ BOOST_AUTO_TEST_CASE(bad_scenes_are_refused_with_their_place) {
                        "may not appear in the position");
     expect_input_error(replaced(tube, R"("Omega", "0"])", R"("Omega*(", "0"])"), "9:27", "cannot parse");
     expect_input_error(replaced(tube, "m = 0.5", "m = -0.5"), "12:9", "must be positive");
-    expect_input_error(replaced(tube, "[carrier]\n", "[carrier]\nmotion = \"free\"\n"), "9:10", "not yet supported");
+    expect_input_error(replaced(tube, "[carrier]\n", "[carrier]\nmotion = \"free\"\n"), "8:1", "missing required key 'mass'");
+    expect_input_error(replaced(tube, "[carrier]\n", "[carrier]\nmotion = \"free\"\nmass = \"m\"\ninertia = [\"1\", \"1\", \"1\"]\n"),
+                       "12:27", "clashes with a name already declared");
     expect_input_error(replaced(tube, "[[body]]", "[[bodyy]]"), "10:3", "bodyy");
 }
 

@@ -342,13 +342,22 @@ BOOST_AUTO_TEST_CASE(expression_positions_inside_other_string_kinds) {
     BOOST_TEST(s.lagrangian->potential.pos.shifted(2).column == 3);  // the 'q'
 }
 
-BOOST_AUTO_TEST_CASE(free_carrier_motion_is_accepted_here) {
-    const Scene s = parse_scene_string(
-        "[scene]\nname = \"f\"\n[coordinates]\nq = {}\n[carrier]\nmotion = \"free\"\n[[body]]\nname = \"b\"\nmass = 1\n"
-        "position = [\"q\", 0, 0]\n",
-        "t.toml");
+BOOST_AUTO_TEST_CASE(free_carrier_needs_its_mass_and_takes_inertia_as_moments_or_matrix) {
+    const std::string head = "[scene]\nname = \"f\"\n[coordinates]\nq = {}\n[carrier]\nmotion = \"free\"\n";
+    const std::string body = "[[body]]\nname = \"b\"\nmass = 1\nposition = [\"q\", 0, 0]\n";
+    expect_error(head + body, 5, 1, "missing required key 'mass'");
+    const Scene s = parse_scene_string(head + "mass = \"2\"\ninertia = [[1, 0, 0], [0, 2, 0], [0, 0, 3]]\n"
+                                              "angular_velocity = [\"0\", \"w\", \"0\"]\n[carrier.initial]\nw = 1.5\n" + body,
+                                       "t.toml");
     BOOST_TEST(s.carrier->motion == "free");
     check_pos(s.carrier->motion_pos, 6, 10);
+    BOOST_TEST(s.carrier->inertia.size() == 9u);
+    BOOST_TEST(s.carrier->inertia[8].text == "3");
+    BOOST_REQUIRE(s.carrier->initial.size() == 1u);
+    BOOST_TEST(s.carrier->initial[0].value == 1.5);
+    // A prescribed carrier has no mass to give.
+    expect_error("[scene]\nname = \"f\"\n[coordinates]\nq = {}\n[carrier]\nmass = \"2\"\n" + body, 6, 8,
+                 "only for a free carrier");
 }
 
 BOOST_AUTO_TEST_CASE(rk4_with_integer_settings) {
