@@ -41,7 +41,9 @@
 #include <cstddef>
 #include <limits>
 #include <stdexcept>
+#include <type_traits>
 
+#include "eomc/runtime/coefficients.hpp"
 #include "eomc/runtime/state.hpp"
 
 namespace eomc::runtime {
@@ -53,36 +55,38 @@ struct SplittingOptions {
   bool fsal = true;
 };
 
-// Composition coefficients gamma_i (sum 1), in long double, converted once to the scalar.
+// Composition coefficients gamma_i (sum 1), as decimal literals rounded once to the scalar
+// (coefficients.hpp: long double for double and long double, all digits for float128).
 struct VerletCoefficients {
   static constexpr int order = 2;
-  static constexpr std::array<long double, 1> gamma{1.0L};
+  static constexpr std::array<detail::Coefficient, 1> gamma{EOMC_COEFFICIENT(1.0)};
 };
 
 // [Y90] solution A, also [GNI] V.(3.11) "p6 s7" (digits from the 36-digit evaluation of [Y90]'s
 // equations; w0 = 1 - 2 (w1 + w2 + w3)).
 struct Yoshida6Coefficients {
   static constexpr int order = 6;
-  static constexpr long double w1 = -1.17767998417887100694641568096431573L;
-  static constexpr long double w2 = 0.235573213359358133684793182978534602L;
-  static constexpr long double w3 = 0.784513610477557263819497633866349876L;
-  static constexpr long double w0 = 1.31518632068391121888424972823886251L;
-  static constexpr std::array<long double, 7> gamma{w3, w2, w1, w0, w1, w2, w3};
+  static constexpr detail::Coefficient w1 = EOMC_COEFFICIENT(-1.17767998417887100694641568096431573);
+  static constexpr detail::Coefficient w2 = EOMC_COEFFICIENT(0.235573213359358133684793182978534602);
+  static constexpr detail::Coefficient w3 = EOMC_COEFFICIENT(0.784513610477557263819497633866349876);
+  static constexpr detail::Coefficient w0 = EOMC_COEFFICIENT(1.31518632068391121888424972823886251);
+  static constexpr std::array<detail::Coefficient, 7> gamma{w3, w2, w1, w0, w1, w2, w3};
 };
 
-// [KL97] s = 15, order 8, as printed in [GNI] V.(3.12) "p8 s15" (gamma_i = gamma_{16-i}).
+// [KL97] s = 15, order 8, as printed in [GNI] V.(3.12) "p8 s15" (gamma_i = gamma_{16-i}; 26 digits,
+// which bounds a float128 run's accuracy at about 1e-26).
 struct KahanLi8Coefficients {
   static constexpr int order = 8;
-  static constexpr long double g1 = 0.74167036435061295344822780L;
-  static constexpr long double g2 = -0.40910082580003159399730010L;
-  static constexpr long double g3 = 0.19075471029623837995387626L;
-  static constexpr long double g4 = -0.57386247111608226665638773L;
-  static constexpr long double g5 = 0.29906418130365592384446354L;
-  static constexpr long double g6 = 0.33462491824529818378495798L;
-  static constexpr long double g7 = 0.31529309239676659663205666L;
-  static constexpr long double g8 = -0.79688793935291635401978884L;
-  static constexpr std::array<long double, 15> gamma{g1, g2, g3, g4, g5, g6, g7, g8,
-                                                     g7, g6, g5, g4, g3, g2, g1};
+  static constexpr detail::Coefficient g1 = EOMC_COEFFICIENT(0.74167036435061295344822780);
+  static constexpr detail::Coefficient g2 = EOMC_COEFFICIENT(-0.40910082580003159399730010);
+  static constexpr detail::Coefficient g3 = EOMC_COEFFICIENT(0.19075471029623837995387626);
+  static constexpr detail::Coefficient g4 = EOMC_COEFFICIENT(-0.57386247111608226665638773);
+  static constexpr detail::Coefficient g5 = EOMC_COEFFICIENT(0.29906418130365592384446354);
+  static constexpr detail::Coefficient g6 = EOMC_COEFFICIENT(0.33462491824529818378495798);
+  static constexpr detail::Coefficient g7 = EOMC_COEFFICIENT(0.31529309239676659663205666);
+  static constexpr detail::Coefficient g8 = EOMC_COEFFICIENT(-0.79688793935291635401978884);
+  static constexpr std::array<detail::Coefficient, 15> gamma{g1, g2, g3, g4, g5, g6, g7, g8,
+                                                             g7, g6, g5, g4, g3, g2, g1};
 };
 
 template <class S, class Coefficients>
@@ -94,15 +98,18 @@ class Composition {
   static constexpr std::size_t stages = Coefficients::gamma.size();
 
   explicit Composition(SplittingOptions options = {}) : opt_(options) {
+    // Kicks and nodes are formed in long double and rounded once, or in S when S is wider.
+    using W = std::conditional_t<detail::wider_than_long_double<S>, S, long double>;
     const auto& g = Coefficients::gamma;
-    long double c = 0.0L;
+    W c = W(0);
     for (std::size_t i = 0; i < stages; ++i) {
-      kick_[i] = S((i == 0 ? 0.0L : g[i - 1]) / 2.0L + g[i] / 2.0L);
-      drift_[i] = S(g[i]);
-      c += g[i];
+      const W gi = detail::coefficient<W>(g[i]);
+      kick_[i] = S((i == 0 ? W(0) : detail::coefficient<W>(g[i - 1])) / W(2) + gi / W(2));
+      drift_[i] = S(gi);
+      c += gi;
       node_[i] = S(c);
     }
-    kick_[stages] = S(g[stages - 1] / 2.0L);
+    kick_[stages] = S(detail::coefficient<W>(g[stages - 1]) / W(2));
   }
 
   // Advances x = (q, v) from t to t + h in place; acc(t, q, a) writes the n accelerations.
