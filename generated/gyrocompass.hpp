@@ -81,7 +81,7 @@ struct Gyrocompass {
         const S w1 = sin(psi);
         const S w2 = cos(psi);
         const S w3 = sin(phi);
-        out[0] = -Omega*w3*(C*psi_dot - A*Omega*w0*w2*w2 - A*Omega*w0*w1*w1 + C*Omega*w0);
+        out[0] = Omega*w3*(A*Omega*w0*w2*w2 - C*psi_dot - C*Omega*w0 + A*Omega*w0*w1*w1);
         out[1] = C*Omega*phi_dot*w3;
     }
 
@@ -141,7 +141,7 @@ struct Gyrocompass {
         out[5] = S(0);
         out[6] = S(0);
         out[7] = S(1);
-        out[8] = Omega*w0*w9*(A*Omega*w2*w4 + C*Omega*w6 - C*Omega*w2 - A*Omega*w4*w6 + A*Omega*w2*w8 - C*psi_dot*w1 - A*Omega*w6*w8);
+        out[8] = -Omega*w0*w9*(-C*Omega*w6 + C*Omega*w2 - A*Omega*w2*w8 + C*psi_dot*w1 + A*Omega*w6*w8 + A*Omega*w4*w6 - A*Omega*w2*w4);
         out[9] = S(0);
         out[10] = S(0);
         out[11] = -C*Omega*w0*w5*w9;

@@ -93,13 +93,6 @@ ex collected_lhs(const model::Model& model, const ex& lhs) {
 // The applied side of a carrier balance: the load, plus the reaction when the component is held.
 ex carrier_rhs(const mechanics::CarrierEquation& c) { return c.held ? c.applied + c.reaction : c.applied; }
 
-// Names of the velocities u, the rows and columns of M.
-std::vector<std::string> velocity_names(const model::Model& model) {
-    std::vector<std::string> names;
-    for (const auto& c : model.coordinates) names.push_back(c.name);
-    for (const auto& v : model.quasi_velocities) names.push_back(v.name);
-    return names;
-}
 
 std::string vector_text(const model::Vec3& v) {
     return fmt::format("({}, {}, {})", text(v[0]), text(v[1]), text(v[2]));
@@ -127,10 +120,12 @@ void print_text(const model::Model& model, const mechanics::Equations& eqs, std:
     }
     for (const auto& p : model.particles) {
         out << "  body " << p.name << ": m = " << text(p.mass) << ", r' = " << vector_text(p.position) << "\n";
-        if (p.rigid)
-            out << "    rigid: inertia about its mass centre " << text(p.inertia) << ", orientation R = " << text(p.rotation)
+        if (p.rigid) {
+            const mechanics::BodyRotation rotation = mechanics::body_rotation(model, p);
+            out << "    rigid: inertia about its mass centre " << text(p.inertia) << ", orientation R = " << text(rotation.R)
                 << ",\n    angular velocity relative to the carrier (body axes) "
-                << vector_text(p.relative_angular_velocity) << "\n";
+                << vector_text(rotation.relative_angular_velocity) << "\n";
+        }
     }
 
     out << "\nKinetic energy\n";
@@ -177,7 +172,7 @@ void print_text(const model::Model& model, const mechanics::Equations& eqs, std:
                 << text(collected_lhs(model, c.lhs)) << " = " << text(display_form(carrier_rhs(c))) << "\n";
     }
 
-    const std::vector<std::string> u = velocity_names(model);
+    const std::vector<std::string> u = model.velocity_names();
     out << "\nEquations of motion M u̇ = f" << (model.free_carrier() ? ", u = (q̇, quasi-velocities)" : ", u = q̇")
         << "\n";
     for (std::size_t i = 0; i < u.size(); ++i) {
@@ -265,7 +260,7 @@ std::string json_ex(const ex& e) { return json_string(text(e)); }
 
 void print_json(const model::Model& model, const mechanics::Equations& eqs, std::ostream& out) {
     const std::size_t n = model.coordinates.size();
-    const std::vector<std::string> u = velocity_names(model);
+    const std::vector<std::string> u = model.velocity_names();
     out << "{\n  \"scene\": " << json_string(model.name) << ",\n  \"coordinates\": [";
     for (std::size_t i = 0; i < n; ++i) out << (i ? ", " : "") << json_string(model.coordinates[i].name);
     out << "],\n  \"parameters\": {";

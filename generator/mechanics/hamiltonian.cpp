@@ -113,14 +113,14 @@ CanonicalEquations canonical_equations(const model::Model& model, const Equation
     for (const auto& c : model.coordinates) form.state.push_back({c.name, c.q, c.initial});
     form.velocity_offset = 2 * n;  // no velocity block: every rate is explicit
     form.mass_matrix = GiNaC::matrix(1, 1);
+    // p(0) from the scene's q(0), q̇(0), evaluated at the default parameters and t = 0.
+    GiNaC::exmap initial{{model.t, 0}};
+    for (const auto& c : model.coordinates) {
+        initial[c.q] = GiNaC::numeric(c.initial);
+        initial[c.q_dot] = GiNaC::numeric(c.rate);
+    }
+    for (const auto& prm : model.parameters) initial[prm.symbol] = GiNaC::numeric(prm.value);
     for (std::size_t s = 0; s < n; ++s) {
-        // p(0) from the scene's q(0), q̇(0), evaluated at the default parameters and t = 0.
-        GiNaC::exmap initial{{model.t, 0}};
-        for (const auto& c : model.coordinates) {
-            initial[c.q] = GiNaC::numeric(c.initial);
-            initial[c.q_dot] = GiNaC::numeric(c.rate);
-        }
-        for (const auto& prm : model.parameters) initial[prm.symbol] = GiNaC::numeric(prm.value);
         const ex p0 = out.momentum[s].subs(initial).evalf();
         if (!GiNaC::is_a<GiNaC::numeric>(p0))
             throw InputError(where, fmt::format("the initial momentum p_{} does not evaluate to a number",

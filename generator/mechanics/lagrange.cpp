@@ -23,6 +23,39 @@ ex total_derivative(const model::Model& model, const ex& F) {
     return d;
 }
 
+namespace {
+
+// Elementary rotation about a body axis by `angle`: carrier components = R · body components.
+GiNaC::matrix elementary_rotation(char axis, const ex& angle) {
+    const ex c = GiNaC::cos(angle), s = GiNaC::sin(angle);
+    switch (axis) {
+        case 'x': return GiNaC::matrix(3, 3, GiNaC::lst{1, 0, 0, 0, c, -s, 0, s, c});
+        case 'y': return GiNaC::matrix(3, 3, GiNaC::lst{c, 0, s, 0, 1, 0, -s, 0, c});
+        default: return GiNaC::matrix(3, 3, GiNaC::lst{c, -s, 0, s, c, 0, 0, 0, 1});
+    }
+}
+
+}  // namespace
+
+// The relative angular velocity chain-wise, Σ_k (R_{k+1} … R_m)ᵀ θ̇_k e_k: each angle's rate
+// about its own axis, carried into the final body axes (no simplification of RᵀṘ needed).
+BodyRotation body_rotation(const model::Model& model, const model::Particle& body) {
+    BodyRotation out{GiNaC::ex_to<GiNaC::matrix>(GiNaC::unit_matrix(3)), {0, 0, 0}};
+    std::vector<GiNaC::matrix> R;
+    for (const auto& [axis, angle] : body.orientation) {
+        R.push_back(elementary_rotation(axis, angle));
+        out.R = out.R.mul(R.back());
+    }
+    for (std::size_t k = 0; k < R.size(); ++k) {
+        const auto& [axis, angle] = body.orientation[k];
+        const ex rate = total_derivative(model, angle);  // the angle depends on q and t only
+        Vec3 term{axis == 'x' ? rate : 0, axis == 'y' ? rate : 0, axis == 'z' ? rate : 0};
+        for (std::size_t j = k + 1; j < R.size(); ++j) term = transpose_times(R[j], term);
+        out.relative_angular_velocity = out.relative_angular_velocity + term;
+    }
+    return out;
+}
+
 ex euler_operator(const model::Model& model, const ex& F, std::size_t s) {
     const auto& c = model.coordinates.at(s);
     return total_derivative(model, derivative(F, c.q_dot)) - derivative(F, c.q);
@@ -73,8 +106,9 @@ EnergySplit rotational_energy(const model::Model& model, const Vec3& omega) {
     EnergySplit e{0, 0, 0};
     for (const auto& p : model.particles) {
         if (!p.rigid) continue;
-        const Vec3 carried = transpose_times(p.rotation, omega);
-        const Vec3& rel = p.relative_angular_velocity;
+        const BodyRotation rotation = body_rotation(model, p);
+        const Vec3 carried = transpose_times(rotation.R, omega);
+        const Vec3& rel = rotation.relative_angular_velocity;
         const Vec3 I_rel = times(p.inertia, rel);
         e.T_e += dot(carried, times(p.inertia, carried)) / 2;
         e.T_m += dot(carried, I_rel);
@@ -83,35 +117,38 @@ EnergySplit rotational_energy(const model::Model& model, const Vec3& omega) {
     return e;
 }
 
-// The rigid bodies' share of each effect in equation s. ε_s(T_r) is the relative effect and
-// ε_s(T_e) = −∂T_e/∂q_s the centrifugal one; ε_s(T_m) splits into the part from the change of
-// ω (euler: d/dt acting on ω) and the rest (coriolis, linear in q̇ and ω). To tell them apart
-// ω is a placeholder W while differentiating, then W → ω and Ẇ → ω̇.
+// The rigid bodies' share of each effect, one entry per equation s. ε_s(T_r) is the relative
+// effect and ε_s(T_e) = −∂T_e/∂q_s the centrifugal one; ε_s(T_m) splits into the part from the
+// change of ω (euler: d/dt acting on ω) and the rest (coriolis, linear in q̇ and ω). To tell them
+// apart ω is a placeholder W while differentiating, then W → ω and Ẇ → ω̇.
 struct RotationalEffects {
     ex relative = 0, euler = 0, centrifugal = 0, coriolis = 0;
 };
 
-RotationalEffects rotational_effects(const model::Model& model, const CarrierMotion& carrier, std::size_t s) {
-    RotationalEffects r;
-    if (!has_rigid_bodies(model)) return r;
+std::vector<RotationalEffects> rotational_effects(const model::Model& model, const CarrierMotion& carrier) {
+    std::vector<RotationalEffects> effects(model.coordinates.size());
+    if (!has_rigid_bodies(model)) return effects;
     const EnergySplit actual = rotational_energy(model, carrier.omega);
-    r.relative = euler_operator(model, actual.T_r, s);
-    if (!model.carrier) return r;
-    r.centrifugal = euler_operator(model, actual.T_e, s);
     const GiNaC::symbol W[3] = {GiNaC::symbol("W_1"), GiNaC::symbol("W_2"), GiNaC::symbol("W_3")};
     const GiNaC::symbol W_dot[3] = {GiNaC::symbol("W_dot_1"), GiNaC::symbol("W_dot_2"), GiNaC::symbol("W_dot_3")};
     const ex T_m = rotational_energy(model, {W[0], W[1], W[2]}).T_m;
-    const ex A = derivative(T_m, model.coordinates[s].q_dot);
     GiNaC::exmap back;
-    ex euler = 0;
     for (int i = 0; i < 3; ++i) {
-        euler += W_dot[i] * derivative(A, W[i]);
         back[W[i]] = carrier.omega[std::size_t(i)];
         back[W_dot[i]] = carrier.omega_dot[std::size_t(i)];
     }
-    r.euler = euler.subs(back);
-    r.coriolis = (total_derivative(model, A) - derivative(T_m, model.coordinates[s].q)).subs(back);
-    return r;
+    for (std::size_t s = 0; s < effects.size(); ++s) {
+        RotationalEffects& r = effects[s];
+        r.relative = euler_operator(model, actual.T_r, s);
+        if (!model.carrier) continue;
+        r.centrifugal = euler_operator(model, actual.T_e, s);
+        const ex A = derivative(T_m, model.coordinates[s].q_dot);
+        ex euler = 0;
+        for (int i = 0; i < 3; ++i) euler += W_dot[i] * derivative(A, W[i]);
+        r.euler = euler.subs(back);
+        r.coriolis = (total_derivative(model, A) - derivative(T_m, model.coordinates[s].q)).subs(back);
+    }
+    return effects;
 }
 
 std::vector<ParticleKinematics> particle_kinematics(const model::Model& model) {
@@ -232,13 +269,6 @@ bool proven_conserved(const model::Model& model, const Equations& eqs, const ex&
     return true;
 }
 
-// The names of the velocities, in the order of M's rows.
-std::vector<std::string> velocity_names(const model::Model& model) {
-    std::vector<std::string> names;
-    for (const auto& c : model.coordinates) names.push_back(c.name);
-    for (const auto& v : model.quasi_velocities) names.push_back(v.name);
-    return names;
-}
 
 // M must be regular for the equations to be solvable for u̇. Checked numerically at
 // several random states with the default parameters; singular at all of them means
@@ -259,7 +289,7 @@ void require_regular_mass_matrix(const model::Model& model, const GiNaC::matrix&
         if (scale > 0 && lambda(k) > 1e-12 * scale) return;  // regular here, so regular as a function
         null_direction = eig.eigenvectors().col(k);
     }
-    const std::vector<std::string> all = velocity_names(model);
+    const std::vector<std::string> all = model.velocity_names();
     std::string names;
     for (std::size_t i = 0; i < n; ++i) {
         if (null_direction.size() == 0 || std::abs(null_direction(Eigen::Index(i))) > 1e-6) {
@@ -368,6 +398,7 @@ Equations derive(const model::Model& model) {
     const EnergySplit rotation = rotational_energy(model, carrier.omega);
     const ex T_rotation = rotation.T_e + rotation.T_m + rotation.T_r;
 
+    const std::vector<RotationalEffects> rotational = rotational_effects(model, carrier);
     std::vector<ex> rigid_relative(n, 0);  // the rotation's relative effect, kept apart for M
     for (std::size_t s = 0; s < n; ++s) {
         Equation eq;
@@ -382,7 +413,7 @@ Equations derive(const model::Model& model) {
                                          : derivative(eqs.T, model.coordinates[s].q_dot);
         eq.rhs = model.generalized_forces[s] + euler_operator(model, eqs.V, s);  // ε_s(V) = −∂V/∂q_s for V(q)
         if (eqs.from_particles) {
-            const RotationalEffects rot = rotational_effects(model, carrier, s);
+            const RotationalEffects& rot = rotational[s];
             rigid_relative[s] = rot.relative;
             eq.lhs = 0;
             for (Effect effect : model::all_effects) {

@@ -78,6 +78,14 @@ GiNaC::ex euler_operator(const model::Model& model, const GiNaC::ex& F, std::siz
 // free carrier's quasi-velocities).
 GiNaC::ex total_derivative(const model::Model& model, const GiNaC::ex& F);
 
+// A rigid body's orientation relative to the carrier, R = R_1 R_2 … R_m (carrier components =
+// R · body components), and its angular velocity relative to the carrier in body axes.
+struct BodyRotation {
+    GiNaC::matrix R;
+    model::Vec3 relative_angular_velocity;
+};
+BodyRotation body_rotation(const model::Model& model, const model::Particle& body);
+
 // Kinetic energy parts of carried particles (FORMULAS §1); zero carrier motion when the
 // model has no carrier.
 struct EnergySplit {

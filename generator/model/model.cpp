@@ -32,6 +32,13 @@ GiNaC::lst Model::state_symbols() const {
     return out;
 }
 
+std::vector<std::string> Model::velocity_names() const {
+    std::vector<std::string> names;
+    for (const auto& c : coordinates) names.push_back(c.name);
+    for (const auto& v : quasi_velocities) names.push_back(v.name);
+    return names;
+}
+
 namespace {
 
 constexpr unsigned time_and_parameters = SymbolKind::time | SymbolKind::parameter;
@@ -74,53 +81,6 @@ GiNaC::matrix parse_inertia(const SymbolTable& symbols, const std::vector<scene:
                 throw InputError(pos, fmt::format("{} is not symmetric: entry ({},{}) differs from ({},{})", what, i + 1,
                                                   j + 1, j + 1, i + 1));
     return I;
-}
-
-// Elementary rotation about a body axis by `angle`: carrier components = R · body components.
-GiNaC::matrix elementary_rotation(char axis, const ex& angle) {
-    const ex c = GiNaC::cos(angle), s = GiNaC::sin(angle);
-    switch (axis) {
-        case 'x': return GiNaC::matrix(3, 3, GiNaC::lst{1, 0, 0, 0, c, -s, 0, s, c});
-        case 'y': return GiNaC::matrix(3, 3, GiNaC::lst{c, 0, s, 0, 1, 0, -s, 0, c});
-        default: return GiNaC::matrix(3, 3, GiNaC::lst{c, -s, 0, s, c, 0, 0, 0, 1});
-    }
-}
-
-Vec3 unit_axis(char axis) {
-    return {axis == 'x' ? 1 : 0, axis == 'y' ? 1 : 0, axis == 'z' ? 1 : 0};
-}
-
-// A rigid body's orientation R = R_1 R_2 … R_m relative to the carrier and its angular
-// velocity relative to the carrier in body axes, Σ_k (R_{k+1} … R_m)ᵀ θ̇_k e_k: each rate
-// about its own axis, carried into the final body axes (no simplification of RᵀṘ needed).
-void orient(Particle& body, const std::vector<scene::Rotation>& rotations, const SymbolTable& symbols,
-            const Model& model) {
-    std::vector<GiNaC::matrix> R;
-    std::vector<ex> rates;
-    for (const auto& r : rotations) {
-        const ex angle = symbols.parse(r.angle, configuration, fmt::format("an orientation angle of body '{}'", body.name));
-        R.push_back(elementary_rotation(r.axis, angle));
-        ex rate = angle.diff(model.t);
-        for (const auto& c : model.coordinates) rate += angle.diff(c.q) * c.q_dot;
-        rates.push_back(rate);
-    }
-    GiNaC::matrix total = GiNaC::ex_to<GiNaC::matrix>(GiNaC::unit_matrix(3));
-    for (const auto& r : R) total = total.mul(r);
-    body.rotation = total;
-    Vec3 w{0, 0, 0};
-    for (std::size_t k = 0; k < R.size(); ++k) {
-        const Vec3 e = unit_axis(rotations[k].axis);
-        Vec3 term{rates[k] * e[0], rates[k] * e[1], rates[k] * e[2]};
-        for (std::size_t j = k + 1; j < R.size(); ++j) {
-            const GiNaC::matrix& Rj = R[j];
-            Vec3 next{0, 0, 0};
-            for (unsigned a = 0; a < 3; ++a)
-                for (unsigned b = 0; b < 3; ++b) next[a] += Rj(b, a) * term[b];
-            term = next;
-        }
-        for (int a = 0; a < 3; ++a) w[a] += term[a];
-    }
-    body.relative_angular_velocity = w;
 }
 
 // A free carrier: each component of v_o and ω is a new name (an unknown quasi-velocity) or
@@ -220,12 +180,17 @@ Model build_model(const scene::Scene& scene) {
         }
     }
     for (const auto& b : scene.bodies) {
-        Particle body{b.name, parse_mass(symbols, b, model),
-                      parse_vector(symbols, b.position, configuration, fmt::format("the position of body '{}'", b.name))};
+        Particle body;
+        body.name = b.name;
+        body.mass = parse_mass(symbols, b, model);
+        body.position = parse_vector(symbols, b.position, configuration, fmt::format("the position of body '{}'", b.name));
         if (!b.inertia.empty()) {
             body.rigid = true;
             body.inertia = parse_inertia(symbols, b.inertia, b.inertia_pos, fmt::format("the inertia of body '{}'", b.name));
-            orient(body, b.orientation, symbols, model);
+            for (const auto& r : b.orientation)
+                body.orientation.emplace_back(
+                    r.axis, symbols.parse(r.angle, configuration,
+                                          fmt::format("an orientation angle of body '{}'", b.name)));
         }
         model.particles.push_back(std::move(body));
     }

@@ -11,6 +11,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <ginac/ginac.h>
@@ -40,15 +41,16 @@ struct Coordinate {
 };
 
 // A carried body: a particle at r'(q, t) or, with an inertia, a rigid body with its mass
-// centre there, turned by `rotation` (body axes → carrier axes) from the carrier.
+// centre there, turned by `orientation` from the carrier.
 struct Particle {
     std::string name;
     GiNaC::ex mass;
     Vec3 position;  // r'(q, t) in carrier axes
     bool rigid = false;
     GiNaC::matrix inertia = GiNaC::matrix(3, 3);   // about the mass centre, body axes
-    GiNaC::matrix rotation = GiNaC::ex_to<GiNaC::matrix>(GiNaC::unit_matrix(3));  // carrier = rotation · body components
-    Vec3 relative_angular_velocity{0, 0, 0};       // of the body relative to the carrier, body axes
+    // Elementary rotations (axis 'x' | 'y' | 'z', angle(q, t)) turning the carrier's axes into
+    // the body's, applied left to right; empty: parallel to the carrier.
+    std::vector<std::pair<char, GiNaC::ex>> orientation;
 };
 
 // An unknown velocity of a free carrier: one component of v_o or of ω (seed §1.1).
@@ -97,6 +99,8 @@ struct Model {
 
     bool keeps(Effect e) const { return keep[static_cast<int>(e)]; }
     bool free_carrier() const { return carrier && carrier->free; }
+    // The velocities u in the order of M's rows: the coordinates', then the quasi-velocities.
+    std::vector<std::string> velocity_names() const;
     // All symbols that are inputs of the equations: t, q, q_dot, quasi-velocities, parameters.
     GiNaC::lst state_symbols() const;
 };

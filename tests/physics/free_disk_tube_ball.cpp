@@ -80,8 +80,11 @@ BOOST_AUTO_TEST_CASE(momenta_energy_and_reactions) {
     BOOST_TEST(x[e1] == 0.0);
     BOOST_TEST(x[e3] == 0.0);
     // The pole moves along the carrier's y' axis, which the rotation about y' leaves fixed in
-    // space: inertial displacement (0, v0 t, 0), with v0 constant (rounding of 5 / h steps only).
-    BOOST_TEST(std::abs(x[py] - x0[v0] * 5.0) <= 1e-9);
-    BOOST_TEST(std::abs(x[px]) <= 1e-12);
-    BOOST_TEST(std::abs(x[pz]) <= 1e-12);
+    // space: inertial displacement (0, v0 t, 0). Its rate v0 (e0² + e2²)/|e|² is v0 to rounding,
+    // so only the update's rounding accumulates: ≤ 4 ε |y| per step (as in local_bound).
+    const S y_end = x0[v0] * 5.0;
+    BOOST_TEST(std::abs(x[py] - y_end) <= S(steps.size()) * 4 * std::numeric_limits<S>::epsilon() * y_end);
+    // R(e) v_o has no x or z part while e1 = e3 = 0: those rates are exact zeros.
+    BOOST_TEST(x[px] == 0.0);
+    BOOST_TEST(x[pz] == 0.0);
 }
