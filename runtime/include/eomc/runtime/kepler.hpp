@@ -230,7 +230,7 @@ inline const std::array<EllipticTableEntry, elliptic_table_last + 1>& elliptic_t
     std::array<EllipticTableEntry, elliptic_table_last + 1> t{};
     for (int k = 0; k <= elliptic_table_last; ++k) {
       const long double x = static_cast<long double>(k) / elliptic_table_scale;
-      t[static_cast<std::size_t>(k)] = {std::sin(x), std::cos(x), x_minus_sin(x), one_minus_cos(x)};
+      t[static_cast<std::size_t>(k)] = {std::sin(x), std::cos(x), kepler_detail::x_minus_sin(x), kepler_detail::one_minus_cos(x)};
     }
     return t;
   }();
@@ -313,8 +313,8 @@ W eccentric_from_mean_iterate(W M, W e) {
   W previous = W(-1);
   constexpr int max_iterations = 50;
   for (int it = 1; it <= max_iterations; ++it) {
-    const W f = ome * E + e * x_minus_sin(E) - M;
-    const W fp = ome + e * one_minus_cos(E);
+    const W f = ome * E + e * kepler_detail::x_minus_sin(E) - M;
+    const W fp = ome + e * kepler_detail::one_minus_cos(E);
     const W fpp = e * sin(E);
     W step = -f / (fp - f * fpp / (W(2) * fp));
     W En = E + step;
@@ -352,8 +352,8 @@ W hyperbolic_from_mean_iterate(W M, W e) {
   W previous = W(-1);
   constexpr int max_iterations = 100;
   for (int it = 1; it <= max_iterations; ++it) {
-    const W f = em1 * H + e * sinh_minus_x(H) - M;
-    const W fp = em1 + e * cosh_minus_one(H);
+    const W f = em1 * H + e * kepler_detail::sinh_minus_x(H) - M;
+    const W fp = em1 + e * kepler_detail::cosh_minus_one(H);
     const W step = -f / fp;
     const W Hn = H + step;
     const W size = abs(step);
@@ -367,7 +367,7 @@ W hyperbolic_from_mean_iterate(W M, W e) {
 
 template <class S>
 void check_finite(const char* where, const char* what, const S& x) {
-  if (!finite(x)) throw KeplerError::invalid(where, what, x);
+  if (!kepler_detail::finite(x)) throw KeplerError::invalid(where, what, x);
 }
 
 }  // namespace kepler_detail
@@ -588,7 +588,7 @@ struct UniversalKepler {
 // alpha = 1/a = 2/r0 - v0^2/mu (any sign: ellipse, parabola, hyperbola) and mu.
 // F(chi) = r0 U1 + sigma U2 + U3 - sqrt(mu) dt is increasing (F' = r > 0), so the root is
 // bracketed (from 0 and by doubling) and found by Halley's method [Battin 4.6: F'' = sigma U0 +
-// (1 - alpha r0) U1], falling back to bisection when a step leaves the bracket. On ellipses whole
+// (1 - alpha r0) U1], falling back to bisection when a step leaves the bracket or converges slowly. On ellipses whole
 // periods are taken out of dt first (f and g are periodic in chi with period 2 pi/sqrt(alpha)),
 // which keeps z = alpha chi^2 <= pi^2.
 template <class S>
@@ -642,14 +642,27 @@ UniversalKepler<S> solve_universal_kepler(S dt, S r0, S r0_dot_v0, S alpha, S mu
   S chi = S(0);
   int iterations = 0;
   if (dtr != S(0)) {
-    // The root has the sign of dt (F(0) = -sqrt(mu) dt, F increasing). Work with s = sign(dt):
-    // `inner` has s F < 0, `outer` s F >= 0 (or F not finite: far past the root).
+    // The root has the sign of dt (F(0) = -sqrt(mu) dt, F increasing). With s = sign(dt), `inner`
+    // has s F < 0 and `outer` s F >= 0 (or F not finite: far past the root).
     const S s = dtr > S(0) ? S(1) : S(-1);
-    // Starter [Vallado Alg. 8]: chi = sqrt(mu) alpha dt on ellipses not too close to a parabola;
-    // otherwise the small-chi estimate sqrt(mu) dt / r0, which doubling corrects upwards.
-    S chi0 = alpha * r0 > S(1) / S(8) ? sqmu * alpha * dtr : target / r0;
-    if (!(chi0 * s > S(0)) || !kd::finite(chi0)) chi0 = target / r0;
-    S inner = S(0), outer = chi0;
+    // Starters [Vallado Alg. 8], in double (only their size matters): sqrt(mu) alpha dt on
+    // ellipses (after the reduction |dt| <= T/2, so this is at most pi/sqrt(alpha), the right
+    // scale), the logarithmic estimate on hyperbolas, sqrt(mu) dt/r0 otherwise. Bracketing and the
+    // safeguards below make convergence independent of their quality.
+    const double alpha_d = static_cast<double>(alpha), dt_d = static_cast<double>(dtr);
+    const double mu_d = static_cast<double>(mu), r0_d = static_cast<double>(r0), s_d = static_cast<double>(s);
+    double chi0 = static_cast<double>(target / r0);
+    if (alpha_d > 0.0) {
+      chi0 = std::sqrt(mu_d) * alpha_d * dt_d;
+    } else if (alpha_d < 0.0) {
+      const double a = 1.0 / alpha_d;
+      const double arg = -2.0 * mu_d * alpha_d * dt_d /
+                         (static_cast<double>(r0_dot_v0) + s_d * std::sqrt(-mu_d * a) * (1.0 - r0_d * alpha_d));
+      const double c = s_d * std::sqrt(-a) * std::log(arg);
+      if (std::isfinite(c) && c * s_d > 0.0) chi0 = c;
+    }
+    if (!(chi0 * s_d > 0.0) || !std::isfinite(chi0)) chi0 = static_cast<double>(target / r0);
+    S inner = S(0), outer = S(chi0);
     constexpr int max_doublings = 4000;
     int doublings = 0;
     for (;;) {
@@ -659,32 +672,31 @@ UniversalKepler<S> solve_universal_kepler(S dt, S r0, S r0_dot_v0, S alpha, S mu
       outer *= S(2);
       if (++doublings > max_doublings) throw KeplerError::no_convergence(where, doublings, outer);
     }
-    // Halley from the outer end: past the root F is convex for hyperbolas (e^chi growth), which is
-    // where a poor starter would otherwise be slow.
-    chi = (inner + outer) / S(2);
-    if (const Eval v = eval(outer); v.ok) chi = outer;
-    constexpr int max_iterations = 300;
-    S last_step = S(0);
+    // Halley's method kept inside the bracket, with the safeguard of Numerical Recipes' rtsafe:
+    // bisect when the step would leave the bracket or is not at most half the step before last
+    // (the slow approach to a root from far out on an exponential or a cubic).
+    chi = outer;
+    S step = abs(outer - inner), step_before = step;
+    constexpr int max_iterations = 400;
     for (;;) {
-      if (++iterations > max_iterations) throw KeplerError::no_convergence(where, max_iterations, last_step);
+      if (++iterations > max_iterations) throw KeplerError::no_convergence(where, max_iterations, step);
       const Eval v = eval(chi);
       if (v.ok && v.F == S(0)) break;
       if (!v.ok || v.F * s > S(0))
         outer = chi;
       else
         inner = chi;
-      S next;
-      bool use_bisection = !v.ok;
-      if (!use_bisection) {
+      S next = (inner + outer) / S(2);
+      if (v.ok) {
         const S denom = v.Fp - v.F * v.Fpp / (S(2) * v.Fp);
-        next = chi - (denom > S(0) ? v.F / denom : v.F / v.Fp);
+        const S halley = chi - (denom > S(0) ? v.F / denom : v.F / v.Fp);
         const S lo = inner < outer ? inner : outer, hi = inner < outer ? outer : inner;
-        use_bisection = !(next > lo && next < hi);
+        if (halley > lo && halley < hi && S(2) * abs(halley - chi) <= step_before) next = halley;
       }
-      if (use_bisection) next = (inner + outer) / S(2);
-      last_step = abs(next - chi);
+      step_before = step;
+      step = abs(next - chi);
       chi = next;
-      if (last_step <= S(2) * kd::eps<S>() * abs(chi)) break;
+      if (step <= S(2) * kd::eps<S>() * abs(chi)) break;
       if (abs(outer - inner) <= S(4) * kd::eps<S>() * abs(chi)) break;
     }
   }
@@ -706,7 +718,12 @@ UniversalKepler<S> solve_universal_kepler(S dt, S r0, S r0_dot_v0, S alpha, S mu
 template <class S>
 std::array<S, 6> propagate_kepler(const std::array<S, 6>& x0, S dt, S mu) {
   using std::sqrt;
+  namespace kd = kepler_detail;
+  constexpr const char* where = "propagate_kepler";
+  for (const S& c : x0) kd::check_finite(where, "state component not finite", c);
+  if (!(mu > S(0)) || !kd::finite(mu)) throw KeplerError::invalid(where, "mu not positive and finite", mu);
   const S r0 = sqrt(x0[0] * x0[0] + x0[1] * x0[1] + x0[2] * x0[2]);
+  if (!(r0 > S(0))) throw KeplerError::invalid(where, "|r0| not positive", r0);
   const S v2 = x0[3] * x0[3] + x0[4] * x0[4] + x0[5] * x0[5];
   const S rv = x0[0] * x0[3] + x0[1] * x0[4] + x0[2] * x0[5];
   const S alpha = S(2) / r0 - v2 / mu;

@@ -77,7 +77,7 @@ S dot(const Vec3<S>& a, const Vec3<S>& b) {
 template <class S>
 S norm(const Vec3<S>& a) {
   using std::sqrt;
-  return sqrt(dot(a, a));
+  return sqrt(elements_detail::dot(a, a));
 }
 
 // Angle from direction u to direction w, counterclockwise about the unit normal n:
@@ -85,7 +85,7 @@ S norm(const Vec3<S>& a) {
 template <class S>
 S angle_about(const Vec3<S>& u, const Vec3<S>& w, const Vec3<S>& n) {
   using std::atan2;
-  return atan2(dot(cross(u, w), n), dot(u, w));
+  return atan2(elements_detail::dot(elements_detail::cross(u, w), n), elements_detail::dot(u, w));
 }
 
 // (-pi, pi] -> [0, 2 pi).
