@@ -115,12 +115,12 @@ BOOST_AUTO_TEST_CASE(elliptic_double_residual_in_ulps_of_M) {
 }
 
 // Long double (the generic Halley iteration, in the scalar itself), against a __float128 residual.
-// Without a wider type the last iterate carries the round-off of f: about (c + 2) u M with u the
-// unit round-off and c <= 2 for x - sin x, divided by f'(E) >= M/E, i.e. up to 4 u E, which is
-// 4 ulp(E) at the bottom of a binade: 4.5 ulp in the worst case, 1.85 measured here. The test
-// holds the long-double path to the target of 2 ulp on this grid.
+// Without a wider type the last iterate carries the round-off of f: at most (c + 2) u M with u the
+// unit round-off and c <= 2 for x - sin x (one rounding of the product (1 - e) E or e sin E, the
+// others on same-sign terms summing to M), divided by f'(E) >= M/E: (c + 2) u E < (c + 2) ulp(E),
+// plus half an ulp for the iterate itself: 4.5 ulps at worst (1.85 measured on this grid).
 #ifdef EOMC_HAVE_QUADMATH
-BOOST_AUTO_TEST_CASE(elliptic_long_double_within_two_ulp) {
+BOOST_AUTO_TEST_CASE(elliptic_long_double_within_a_few_ulp) {
   using Q = kt::Quad;
   double worst = 0;
   std::vector<double> es;
@@ -141,7 +141,7 @@ BOOST_AUTO_TEST_CASE(elliptic_long_double_within_two_ulp) {
       }
     }
   BOOST_TEST_MESSAGE("elliptic long double: max err " << worst << " ulp");
-  BOOST_TEST(worst <= 2.0);
+  BOOST_TEST(worst <= 4.5);
 }
 #endif
 
@@ -199,7 +199,8 @@ BOOST_AUTO_TEST_CASE(elliptic_reduction_keeps_the_revolution) {
 // Hyperbolic e sinh H - H = M over e from 1 + 1e-12 to 1000 and |M| from 1e-12 to 1e8, in double
 // (iterated in long double: the same 0.55-ulp bound as the elliptic solver, the terms of
 // (e - 1) H + e (sinh H - H) being of one sign and sinhl good to an ulp of long double) and in
-// long double (iterated in itself: 2 ulps, as for the elliptic long-double case).
+// long double (iterated in itself: the 4.5-ulp bound of the elliptic long-double case, with
+// f'(H) H >= M by convexity).
 BOOST_AUTO_TEST_CASE(hyperbolic_residual_over_a_wide_range) {
   std::vector<double> es{1 + 1e-12, 1 + 1e-8, 1 + 1e-4, 1.01, 1.1, 1.5, 2.4, 5, 30, 1000};
   std::vector<double> Ms;
@@ -228,7 +229,7 @@ BOOST_AUTO_TEST_CASE(hyperbolic_residual_over_a_wide_range) {
       worst_ld = std::max(worst_ld, static_cast<double>(abs(r) / (d * kt::Quad(kt::ulp(H)))));
     }
   BOOST_TEST_MESSAGE("hyperbolic long double: max err " << worst_ld << " ulp");
-  BOOST_TEST(worst_ld <= 2.0);
+  BOOST_TEST(worst_ld <= 4.5);
 #endif
 }
 

@@ -302,7 +302,10 @@ inline bool eccentric_from_mean_fast(double M, double e, double& E_out) {
 // E for M in (0, pi], e in (0, 1), by Halley's iteration in W on the cancellation-free
 // f(E) = (1 - e) E + e (E - sin E) - M, f' = (1 - e) + e (1 - cos E), f'' = e sin E, from Markley's
 // starter. Stops at round-off: a step below 4 eps E, or one that no longer shrinks (by half) while
-// already below 1024 eps E (the iteration is then wandering in the noise of f).
+// already below 1024 eps E (the iteration is then wandering in the noise of f). Accuracy: f is
+// evaluated to (c + 2) u M (u the unit round-off, c <= 2 the error of x - sin x in units of u) and
+// f'(E) E >= M, so the result is within (c + 2) u E + half an ulp of the root: under 4.5 ulps in the
+// worst case, about 2 measured (tests/runtime_kepler, long double and __float128).
 template <class W>
 W eccentric_from_mean_iterate(W M, W e) {
   using std::abs;
@@ -313,7 +316,9 @@ W eccentric_from_mean_iterate(W M, W e) {
   W previous = W(-1);
   constexpr int max_iterations = 50;
   for (int it = 1; it <= max_iterations; ++it) {
-    const W f = ome * E + e * kepler_detail::x_minus_sin(E) - M;
+    // For e < 1/2, M <= E <= M/(1 - e) <= 2M makes E - M exact (Sterbenz), and only e sin E is
+    // rounded; for e >= 1/2, 1 - e is exact and the split form avoids the cancellation.
+    const W f = e < W(0.5) ? (E - M) - e * sin(E) : ome * E + e * kepler_detail::x_minus_sin(E) - M;
     const W fp = ome + e * kepler_detail::one_minus_cos(E);
     const W fpp = e * sin(E);
     W step = -f / (fp - f * fpp / (W(2) * fp));

@@ -179,7 +179,8 @@ CartesianState<S> cartesian_from_classical(const ClassicalElements<S>& el, S mu)
 
 // [Vallado Alg. 9] with atan2 forms throughout: i = atan2(|h_xy|, h_z), raan = atan2(h_x, -h_y),
 // argp = angle from the node n = z x h to e about h, nu = angle from e to r about h; a from the
-// energy, e = |v x h/mu - r/|r||, M from nu through E or H. Special cases: see the header comment.
+// energy, e = |v x h/mu - r/|r||, M from nu through E (ellipses) or from e sinh H = r.v/sqrt(-mu a)
+// (hyperbolas). Special cases: see the header comment.
 template <class S>
 ClassicalElements<S> classical_from_cartesian(const CartesianState<S>& x, S mu) {
   using std::atan2;
@@ -217,9 +218,17 @@ ClassicalElements<S> classical_from_cartesian(const CartesianState<S>& x, S mu) 
   el.i = atan2(nxy, h[2]);
   el.raan = equatorial ? S(0) : ed::wrap_positive(atan2(h[0], -h[1]));
   el.argp = circular ? S(0) : ed::wrap_positive(ed::angle_about(node, peri, hu));
-  const S nu = ed::angle_about(peri, r, hu);
-  el.mean_anomaly = e < S(1) ? ed::wrap_positive(mean_from_eccentric(eccentric_from_true(nu, e), e))
-                             : mean_from_hyperbolic(hyperbolic_from_true(nu, e), e);
+  if (e < S(1)) {
+    // Through nu measured from the computed periapsis direction, so that errors of that direction
+    // (eps/e on near-circular orbits) cancel between argp and M.
+    const S nu = ed::angle_about(peri, r, hu);
+    el.mean_anomaly = ed::wrap_positive(mean_from_eccentric(eccentric_from_true(nu, e), e));
+  } else {
+    // e sinh H = (r . v)/sqrt(-mu a) straight from the state: through nu, H would inherit the
+    // amplification d H/d nu = (e cosh H - 1)/sqrt(e^2 - 1) of the asymptotic branches.
+    using std::asinh;
+    el.mean_anomaly = mean_from_hyperbolic(asinh(ed::dot(r, v) / (e * sqrt(-mu * el.a))), e);
+  }
   return el;
 }
 
