@@ -315,4 +315,17 @@ BOOST_AUTO_TEST_CASE(bad_input_throws_clear_errors) {
   expect_kepler_error([] { rt::mean_from_true(0.5, -1.0); }, K::invalid_input, "negative");
   // long double goes through the same checks.
   expect_kepler_error([] { rt::eccentric_from_mean(1.0L, 1.5L); }, K::invalid_input, "e: 1.5");
+  // Non-convergence is reported by the same exception type, with the iteration count and the last
+  // step (the iterations are safeguarded and converge on every input the tests can construct, so
+  // the factory is checked directly).
+  const rt::KeplerError err = rt::KeplerError::no_convergence("solve_universal_kepler", 400, 1e-3);
+  BOOST_TEST((err.kind() == K::no_convergence));
+  BOOST_TEST(std::string(err.what()) == "solve_universal_kepler: no convergence after 400 iterations (last step 0.001)");
+  // Huge hyperbolic mean anomalies: the cubic starter overflows and the bound switches to
+  // asinh((M + H)/e); the result still satisfies the equation to its rounding (f' H ~ M H).
+  for (double e : {1 + 1e-15, 2.0, 1e10}) {
+    const double H = rt::hyperbolic_from_mean(1e300, e);
+    const W r = W(e) * std::sinh(W(H)) - W(H) - W(1e300);
+    BOOST_TEST(static_cast<double>(std::fabs(r) / 1e300) <= H * eps, "e = " << e);
+  }
 }
