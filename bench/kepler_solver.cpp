@@ -58,7 +58,7 @@ double newton_peer(double M, double e) {
   return E;
 }
 
-// As published: starter (eqs. 18-20) and the fifth-order correction (eqs. 29-31), M in [0, pi]
+// As published: the cubic starter and the fifth-order correction, M in [0, pi]
 // by symmetry, every quantity formed as written.
 double markley_peer(double M_in, double e) {
   constexpr double pi = std::numbers::pi;

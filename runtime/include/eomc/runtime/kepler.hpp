@@ -10,12 +10,12 @@
 //
 // References:
 //   [Markley] F. L. Markley, Kepler equation solver, Celest. Mech. Dyn. Astron. 63 (1995) 101-111:
-//     the cubic starter (its eq. 20 with alpha of eq. 18-19) and the fifth-order correction.
+//     the cubic starter and the fifth-order correction.
 //   [Vallado] D. A. Vallado, Fundamentals of Astrodynamics and Applications, 4th ed. (2013):
-//     Sect. 2.2-2.3 (Kepler's equation, anomalies), Algorithm 8 (universal variables, f and g,
+//     Ch. 2 (Kepler's equation, anomalies), Algorithm 8 (KEPLER: universal variables, f and g,
 //     starters for chi), Examples 2-1, 2-2, 2-4 (used by the tests).
 //   [Battin] R. H. Battin, An Introduction to the Mathematics and Methods of Astrodynamics,
-//     rev. ed. (1999), Sect. 4.5-4.6: the universal functions U0..U3 and their derivatives.
+//     rev. ed. (1999), Ch. 4: the universal functions U0..U3 and their derivatives.
 //   [Danby] J. M. A. Danby, Fundamentals of Celestial Mechanics, 2nd ed. (1988), Sect. 6.9:
 //     Stumpff functions c_k(z) and their series.
 //
@@ -68,13 +68,13 @@ class KeplerError : public std::runtime_error {
 
   KeplerError(Kind kind, const std::string& message) : std::runtime_error(message), kind_(kind) {}
 
-  // "eccentric_from_mean: eccentricity outside [0, 1): e = 1.5"
+  // "eccentric_from_mean: eccentricity outside [0, 1): e: 1.5"
   template <class S>
   static KeplerError invalid(const char* where, const char* what, S value) {
     return {Kind::invalid_input,
             std::string(where) + ": " + what + ": " + IntegrationError::format(value)};
   }
-  // "solve_universal_kepler: no convergence after 300 iterations (last step 1e-3)"
+  // "solve_universal_kepler: no convergence after 400 iterations (last step 0.001)"
   template <class S>
   static KeplerError no_convergence(const char* where, int iterations, S last_step) {
     return {Kind::no_convergence, std::string(where) + ": no convergence after " +
@@ -181,14 +181,6 @@ S cosh_minus_one(S x) {
   return S(2) * h * h;
 }
 
-// Markley's cubic starter for E - e sin E = M, M in [0, pi], e in [0, 1) [Markley, eqs. 18-20]:
-//   alpha = (3 pi^2 + 1.6 pi (pi - M)/(1 + e))/(pi^2 - 6),  d = 3 (1 - e) + alpha e,
-//   q = 2 alpha d (1 - e) - M^2,  r = 3 alpha d (d - 1 + e) M + M^3,
-//   w = (|r| + sqrt(q^3 + r^2))^(2/3),  E1 = (2 r w/(w^2 + w q + q^2) + M)/d,
-// arranged with two divisions fewer (constants folded, the last two divisions merged) and the cube
-// root from cube_root_approx. Measured over a dense (e, M) grid: |E1 - E| <= 4.7e-4,
-// |E1 - E| / E <= 2.8e-4 (4.4e-4 and 2.8e-4 with std::cbrt). Always double: its accuracy is that of
-// the approximation, not of the arithmetic.
 // Cube root of a positive normal double to 2.1e-5 relative (measured over 1e-30..1e30): the
 // exponent divided by 3 with the bits as an integer (the classic initial guess, error ~3%), then one
 // Halley step y (y^3 + 2x)/(2y^3 + x), cubically convergent. The starter needs no more, and this is
@@ -200,6 +192,14 @@ inline double cube_root_approx(double x) {
   const double y3 = y * y * y;
   return y * (y3 + 2.0 * x) / (2.0 * y3 + x);
 }
+// Markley's cubic starter for E - e sin E = M, M in [0, pi], e in [0, 1) [Markley]:
+//   alpha = (3 pi^2 + 1.6 pi (pi - M)/(1 + e))/(pi^2 - 6),  d = 3 (1 - e) + alpha e,
+//   q = 2 alpha d (1 - e) - M^2,  r = 3 alpha d (d - 1 + e) M + M^3,
+//   w = (|r| + sqrt(q^3 + r^2))^(2/3),  E1 = (2 r w/(w^2 + w q + q^2) + M)/d,
+// arranged with two divisions fewer (constants folded, the last two divisions merged) and the cube
+// root from cube_root_approx. Measured over a dense (e, M) grid: |E1 - E| <= 4.7e-4,
+// |E1 - E| / E <= 2.8e-4 (4.4e-4 and 2.8e-4 with std::cbrt). Always double: its accuracy is that of
+// the approximation, not of the arithmetic.
 inline double markley_starter(double M, double e) {
   constexpr double pi = std::numbers::pi;
   constexpr double k1 = 3.0 * pi * pi / (pi * pi - 6.0), k2 = 1.6 * pi / (pi * pi - 6.0);
@@ -443,12 +443,13 @@ S eccentric_from_mean(S M, std::type_identity_t<S> e) {
   return reduced ? M + (E - Mr) : E;
 }
 
-// M = E - e sin E, as (1 - e) E + e (E - sin E) for |E| < 2 (no cancellation as e -> 1).
+// M = E - e sin E, as (1 - e) E + e (E - sin E) for e >= 1/2 and |E| < 2 (no cancellation as
+// e -> 1); as written otherwise, where e sin E <= E/2 or |E| >= 2 > 2 e |sin E| leaves one bit.
 template <class S>
 S mean_from_eccentric(S E, std::type_identity_t<S> e) {
   using std::abs;
   using std::sin;
-  if (abs(E) < S(2)) return (S(1) - e) * E + e * kepler_detail::x_minus_sin(E);
+  if (e >= S(0.5) && abs(E) < S(2)) return (S(1) - e) * E + e * kepler_detail::x_minus_sin(E);
   return E - e * sin(E);
 }
 
@@ -479,7 +480,7 @@ S mean_from_hyperbolic(S H, std::type_identity_t<S> e) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// True anomaly. Half-angle atan2 forms [Vallado, eqs. 2-9, 2-35], well conditioned for all angles
+// True anomaly. Half-angle atan2 forms [Vallado, Ch. 2], well conditioned for all angles
 // and all e (tan(nu/2) forms blow up at nu = pi). Angles outside (-pi, pi] keep their revolution.
 
 namespace kepler_detail {
@@ -551,20 +552,20 @@ S true_from_hyperbolic(S H, std::type_identity_t<S> e) {
 // anomaly in these units) is invalid input; propagate parabolic orbits with propagate_kepler.
 template <class S>
 S true_from_mean(S M, std::type_identity_t<S> e) {
-  if (e < S(1)) return true_from_eccentric(eccentric_from_mean(M, e), e);
-  if (e > S(1)) return true_from_hyperbolic(hyperbolic_from_mean(M, e), e);
+  if (e < S(1)) return runtime::true_from_eccentric(runtime::eccentric_from_mean(M, e), e);
+  if (e > S(1)) return runtime::true_from_hyperbolic(runtime::hyperbolic_from_mean(M, e), e);
   throw KeplerError::invalid("true_from_mean", "parabolic (or NaN) eccentricity: e", e);
 }
 template <class S>
 S mean_from_true(S nu, std::type_identity_t<S> e) {
   if (!(e >= S(0))) throw KeplerError::invalid("mean_from_true", "negative or NaN eccentricity: e", e);
-  if (e < S(1)) return mean_from_eccentric(eccentric_from_true(nu, e), e);
-  if (e > S(1)) return mean_from_hyperbolic(hyperbolic_from_true(nu, e), e);
+  if (e < S(1)) return runtime::mean_from_eccentric(runtime::eccentric_from_true(nu, e), e);
+  if (e > S(1)) return runtime::mean_from_hyperbolic(runtime::hyperbolic_from_true(nu, e), e);
   throw KeplerError::invalid("mean_from_true", "parabolic eccentricity: e", e);
 }
 
 // ---------------------------------------------------------------------------------------------
-// Universal variables [Battin 4.5-4.6; Vallado Algorithm 8; Danby 6.9].
+// Universal variables [Battin Ch. 4; Vallado Algorithm 8; Danby Sect. 6.9].
 
 template <class S>
 struct Stumpff {
@@ -614,7 +615,7 @@ struct UniversalKepler {
 // (U1 = chi (1 - z c3), U0 = 1 - z c2), for chi, given dt, r0 = |r0|, r0_dot_v0 = r0 . v0,
 // alpha = 1/a = 2/r0 - v0^2/mu (any sign: ellipse, parabola, hyperbola) and mu.
 // F(chi) = r0 U1 + sigma U2 + U3 - sqrt(mu) dt is increasing (F' = r > 0), so the root is
-// bracketed (from 0 and by doubling) and found by Halley's method [Battin 4.6: F'' = sigma U0 +
+// bracketed (from 0 and by doubling) and found by Halley's method [Battin Ch. 4: F'' = sigma U0 +
 // (1 - alpha r0) U1], falling back to bisection when a step leaves the bracket or converges slowly. On ellipses whole
 // periods are taken out of dt first (f and g are periodic in chi with period 2 pi/sqrt(alpha)),
 // which keeps z = alpha chi^2 <= pi^2.
@@ -652,7 +653,7 @@ UniversalKepler<S> solve_universal_kepler(S dt, S r0, S r0_dot_v0, S alpha, S mu
   const S target = sqmu * dtr;
   auto eval = [&](S chi) {
     const S z = alpha * chi * chi;
-    const Stumpff<S> c = stumpff(z);
+    const Stumpff<S> c = runtime::stumpff(z);
     Eval v;
     v.u0 = S(1) - z * c.c2;
     v.u1 = chi * (S(1) - z * c.c3);
@@ -754,7 +755,7 @@ std::array<S, 6> propagate_kepler(const std::array<S, 6>& x0, S dt, S mu) {
   const S v2 = x0[3] * x0[3] + x0[4] * x0[4] + x0[5] * x0[5];
   const S rv = x0[0] * x0[3] + x0[1] * x0[4] + x0[2] * x0[5];
   const S alpha = S(2) / r0 - v2 / mu;
-  const UniversalKepler<S> k = solve_universal_kepler(dt, r0, rv, alpha, mu);
+  const UniversalKepler<S> k = runtime::solve_universal_kepler(dt, r0, rv, alpha, mu);
   std::array<S, 6> x;
   for (int i = 0; i < 3; ++i) {
     x[static_cast<std::size_t>(i)] = k.f * x0[static_cast<std::size_t>(i)] + k.g * x0[static_cast<std::size_t>(i + 3)];

@@ -8,11 +8,11 @@
 //   Delaunay       (l, g, h, L, G, H)                    ellipses only
 //
 // References: [Vallado] Fundamentals of Astrodynamics and Applications, 4th ed., Algorithms 9
-// (RV2COE) and 10 (COE2RV), Sect. 2.5 (special cases); [WIO] M. J. H. Walker, B. Ireland, J. Owens,
-// A set of modified equinoctial orbit elements, Celest. Mech. 36 (1985) 409-419 (and its 1986
-// erratum), with the equinoctial frame f = (1 - k^2 + h^2, 2hk, -2k)/s^2,
+// (RV2COE) and 10 (COE2RV) and their special cases; [WIO] M. J. H. Walker, B. Ireland, J. Owens,
+// A set of modified equinoctial orbit elements, Celest. Mech. 36 (1985) 409-419, with the
+// equinoctial frame f = (1 - k^2 + h^2, 2hk, -2k)/s^2,
 // g = (2hk, 1 + k^2 - h^2, 2h)/s^2, s^2 = 1 + h^2 + k^2; [Brouwer-Clemence] Methods of Celestial
-// Mechanics (1961), Ch. XI: Delaunay L = sqrt(mu a), G = L sqrt(1 - e^2), H = G cos i.
+// Mechanics (1961): Delaunay L = sqrt(mu a), G = L sqrt(1 - e^2), H = G cos i.
 // The FORMULAS.md conventions (seed ch. 2) are the ones used here.
 //
 // Angles: raan, argp in [0, 2 pi); i in [0, pi]; mean_anomaly in [0, 2 pi) on ellipses and
@@ -119,7 +119,7 @@ void perifocal(S a, S e, S M, S mu, S& x, S& y, S& vx, S& vy) {
   using std::sqrt;
   namespace kd = kepler_detail;
   if (e < S(1)) {
-    const S E = eccentric_from_mean(M, e);
+    const S E = runtime::eccentric_from_mean(M, e);
     const S sE = sin(E), cE = cos(E), hE = kd::one_minus_cos(E);
     const S eta = sqrt((S(1) - e) * (S(1) + e));
     const S r = a * ((S(1) - e) + e * hE);
@@ -129,7 +129,7 @@ void perifocal(S a, S e, S M, S mu, S& x, S& y, S& vx, S& vy) {
     vx = -vf * sE;
     vy = vf * eta * cE;
   } else {
-    const S H = hyperbolic_from_mean(M, e);
+    const S H = runtime::hyperbolic_from_mean(M, e);
     const S sH = sinh(H), cH = cosh(H), hH = kd::cosh_minus_one(H);
     const S eta = sqrt((e - S(1)) * (e + S(1)));
     const S r = -a * ((e - S(1)) + e * hH);
@@ -222,12 +222,12 @@ ClassicalElements<S> classical_from_cartesian(const CartesianState<S>& x, S mu) 
     // Through nu measured from the computed periapsis direction, so that errors of that direction
     // (eps/e on near-circular orbits) cancel between argp and M.
     const S nu = ed::angle_about(peri, r, hu);
-    el.mean_anomaly = ed::wrap_positive(mean_from_eccentric(eccentric_from_true(nu, e), e));
+    el.mean_anomaly = ed::wrap_positive(runtime::mean_from_eccentric(runtime::eccentric_from_true(nu, e), e));
   } else {
     // e sinh H = (r . v)/sqrt(-mu a) straight from the state: through nu, H would inherit the
     // amplification d H/d nu = (e cosh H - 1)/sqrt(e^2 - 1) of the asymptotic branches.
     using std::asinh;
-    el.mean_anomaly = mean_from_hyperbolic(asinh(ed::dot(r, v) / (e * sqrt(-mu * el.a))), e);
+    el.mean_anomaly = runtime::mean_from_hyperbolic(asinh(ed::dot(r, v) / (e * sqrt(-mu * el.a))), e);
   }
   return el;
 }
@@ -322,7 +322,7 @@ EquinoctialElements<S> equinoctial_from_classical(const ClassicalElements<S>& el
   q.h = t * cos(el.raan);
   q.k = t * sin(el.raan);
   S rev;
-  q.L = ed::wrap_positive(kepler_detail::reduce_angle(lp + true_from_mean(el.mean_anomaly, el.e), rev));
+  q.L = ed::wrap_positive(kepler_detail::reduce_angle(lp + runtime::true_from_mean(el.mean_anomaly, el.e), rev));
   return q;
 }
 
@@ -346,13 +346,13 @@ ClassicalElements<S> classical_from_equinoctial(const EquinoctialElements<S>& q)
   S rev;
   el.argp = ed::wrap_positive(kepler_detail::reduce_angle(lp - el.raan, rev));
   const S nu = kepler_detail::reduce_angle(q.L - lp, rev);
-  el.mean_anomaly = e < S(1) ? ed::wrap_positive(mean_from_true(nu, e)) : mean_from_true(nu, e);
+  el.mean_anomaly = e < S(1) ? ed::wrap_positive(runtime::mean_from_true(nu, e)) : runtime::mean_from_true(nu, e);
   return el;
 }
 
 // ---------------------------------------------------------------------------------------------
 // Delaunay variables (ellipses): l = M, g = argp, h = raan, L = sqrt(mu a), G = L sqrt(1 - e^2),
-// H = G cos i (FORMULAS.md section 2; Brouwer-Clemence Ch. XI).
+// H = G cos i (FORMULAS.md section 2; Brouwer-Clemence).
 
 template <class S>
 DelaunayElements<S> delaunay_from_classical(const ClassicalElements<S>& el, S mu) {
