@@ -107,6 +107,7 @@ class float128 {
   friend float128 ldexp(float128 a, int e) { return ldexpq(a.v_, e); }
   friend float128 frexp(float128 a, int* e) { return frexpq(a.v_, e); }
   friend float128 copysign(float128 a, float128 b) { return copysignq(a.v_, b.v_); }
+  friend float128 nextafter(float128 a, float128 b) { return nextafterq(a.v_, b.v_); }
   friend constexpr float128 fmin(float128 a, float128 b) { return b < a ? b : a; }
   friend constexpr float128 fmax(float128 a, float128 b) { return a < b ? b : a; }
 

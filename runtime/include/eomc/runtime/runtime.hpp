@@ -8,6 +8,8 @@
 #include "eomc/runtime/errors.hpp"
 #include "eomc/runtime/gauss_legendre.hpp"
 #include "eomc/runtime/integrate.hpp"
+#include "eomc/runtime/kepler.hpp"
+#include "eomc/runtime/orbital_elements.hpp"
 #include "eomc/runtime/rk4.hpp"
 #include "eomc/runtime/splitting.hpp"
 #include "eomc/runtime/state.hpp"
