@@ -116,6 +116,19 @@ Model build_model(const scene::Scene& scene) {
             symbols.parse(q.value, phase, fmt::format("the generalized force on '{}'", q.coordinate));
     }
 
+    if (scene.reference) {
+        // In state order, whatever the file order.
+        auto parse_reference = [&](const std::string& state) {
+            for (const auto& v : scene.reference->values)
+                if (v.state == state)
+                    return symbols.parse(v.value, time_and_parameters,
+                                         fmt::format("the reference value of '{}'", state));
+            throw InputError(scene.reference->pos, fmt::format("[reference] gives no value for '{}'", state));
+        };
+        for (const auto& c : model.coordinates) model.reference.push_back(parse_reference(c.name));
+        for (const auto& c : model.coordinates) model.reference.push_back(parse_reference(c.name + "_dot"));
+    }
+
     if (scene.effects.given) {
         model.keep.fill(false);
         for (const auto& e : scene.effects.keep)

@@ -71,6 +71,9 @@ struct Model {
     SourcePos kinetic_pos;                       // where T comes from (for errors about M)
 
     scene::Simulate simulate;
+    // [reference]: the exact state at time t (functions of t and the parameters), one expression
+    // per state variable in state order (q_1..q_n, q_1_dot..q_n_dot); empty when the scene gives none.
+    std::vector<GiNaC::ex> reference;
 
     bool keeps(Effect e) const { return keep[static_cast<int>(e)]; }
     // All symbols that are inputs of the equations: t, q, q_dot, parameters.

@@ -100,6 +100,19 @@ struct Simulate {
     SourcePos integrator_pos;
 };
 
+// A closed-form solution, for judging integrators (`eomc bench`): the exact state at time t as
+// expressions of t and the parameters, one per state variable (q and q_dot for every coordinate).
+struct ReferenceValue {
+    std::string state;  // a coordinate "q" or its rate "q_dot"
+    Expr value;
+    SourcePos pos;      // the key
+};
+
+struct Reference {
+    std::vector<ReferenceValue> values;  // file order; every state variable exactly once
+    SourcePos pos;                       // the [reference] table
+};
+
 struct Scene {
     std::string path;     // the file it came from ("" for a string)
     std::string name;     // [a-z][a-z0-9_]*
@@ -113,6 +126,7 @@ struct Scene {
     Forces forces;
     Effects effects;
     Simulate simulate;
+    std::optional<Reference> reference;
 };
 
 // Throws eomc::InputError (file:line:column) on anything malformed.
