@@ -292,7 +292,7 @@ int main(int argc, char** argv) {
                       "(default: all)");
     bench->add_option("--t-end", bo.t_end, "end time (default: [simulate] t_end)")->check(CLI::PositiveNumber);
     bench->add_option("--tolerances", bo.tolerances, "comma-separated rtol = atol of the adaptive methods "
-                                                     "(default: 1e-3 .. 1e-14 in half decades)");
+                                                     "(default: 1e-3 .. 1e-15 in half decades)");
     bench->add_option("--steps", bo.steps, "comma-separated step counts of the fixed-step methods "
                                            "(default: 16 .. 2^20 in half octaves, until round-off)");
     bench->add_option("--min-time", bo.min_time, "seconds the timed repetitions of a run add up to at least (default 0.02)")
