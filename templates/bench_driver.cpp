@@ -30,6 +30,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -266,7 +267,22 @@ Outcome ours_splitting(double t_end, double steps, bool observe) {
 
 // --- Boost.Odeint --------------------------------------------------------------------------------
 
+// odeint's state: std::vector, the container our runtime steps, so that the comparison is of the
+// integrators; -DEOMC_BENCH_ODEINT_ARRAY (`eomc bench --odeint-state array`) gives odeint a
+// std::array of the kernel's size instead, its fastest form for a small fixed-size system.
+#ifdef EOMC_BENCH_ODEINT_ARRAY
+using OState = std::array<double, n_state>;
+#else
 using OState = std::vector<double>;
+#endif
+
+template <class OS = OState>
+OS odeint_state(const State& x) {
+  OS out{};
+  if constexpr (std::is_same_v<OS, State>) out.resize(x.size());
+  std::copy(x.begin(), x.end(), out.begin());
+  return out;
+}
 
 // Forwards try_step to a controlled stepper and counts the failed attempts, so that odeint's own
 // integrate_adaptive drives it (it takes the stepper by value: this holds a pointer).
@@ -299,7 +315,7 @@ Outcome odeint_adaptive(Make make, int error_order, double t_end, double tol, bo
   Outcome o;
   auto controlled = make(tol);
   CountRejections<decltype(controlled)> counted{&controlled, &o.rejected};
-  OState x = initial_state();
+  OState x = odeint_state(initial_state());
   const double dt = first_step(t_end, tol, error_order, o.evals);
   DriftMeter drift;
   OdeintRhs<OState> sys{&o.evals};
@@ -314,7 +330,7 @@ Outcome odeint_adaptive(Make make, int error_order, double t_end, double tol, bo
   // The observer sees the start of every step and the end: accepted steps = calls - 1. Without it,
   // the count is the same run's (the integration is deterministic).
   o.steps = observed > 0 ? observed - 1 : 0;
-  o.x = x;
+  o.x.assign(x.begin(), x.end());
   o.drift = drift.max();
   return o;
 }

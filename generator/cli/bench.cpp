@@ -274,6 +274,7 @@ BenchResult bench(const BenchRequest& request) {
     build.files = {{"bench_driver.cpp", codegen::bench_driver_template()},
                    {"kernel.hpp", request.header_text},
                    {"bench_config.hpp", bench_config_source(request)}};
+    if (request.odeint_array) build.flags = {"-DEOMC_BENCH_ODEINT_ARRAY"};
     build.libraries = {"-lquadmath"};
     build.what = "the benchmark driver";
     const fs::path driver = cached_path(build, request.cache_dir);

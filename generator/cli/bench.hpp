@@ -35,6 +35,7 @@ struct BenchRequest {
     std::vector<std::string> methods;  // a subset of bench_method_names; empty: all of them
     std::vector<double> tolerances;    // rtol = atol of the adaptive methods; empty: 1e-3 .. 1e-15
     std::vector<double> steps;         // step counts of the fixed-step methods; empty: 16 .. 2^20
+    bool odeint_array = false;         // odeint on std::array<double, n_state> instead of std::vector
     double min_time = 0.02;            // each run is repeated until the repetitions add up to this ...
     int repeats = 3;                   // ... and at least this often; the median is reported
     std::string out_dir = ".";

@@ -194,7 +194,7 @@ std::vector<double> number_list(const std::string& text, const char* option) {
 
 struct BenchOptions {
     std::optional<double> t_end;
-    std::string methods, tolerances, steps, cache_dir;
+    std::string methods, tolerances, steps, cache_dir, odeint_state = "vector";
     double min_time = 0.02;
     int repeats = 3;
 };
@@ -298,6 +298,9 @@ int main(int argc, char** argv) {
     bench->add_option("--min-time", bo.min_time, "seconds the timed repetitions of a run add up to at least (default 0.02)")
         ->check(CLI::NonNegativeNumber);
     bench->add_option("--repeats", bo.repeats, "fewest timed repetitions of a run (default 3)")->check(CLI::PositiveNumber);
+    bench->add_option("--odeint-state", bo.odeint_state,
+                      "vector (default: the container eomc's runtime steps) | array (std::array of the kernel's size)")
+        ->check(CLI::IsMember({"vector", "array"}));
     bench->add_option("--cache-dir", bo.cache_dir, "where compiled programs are kept (default ~/.cache/eomc)");
 
     CLI11_PARSE(app, argc, argv);
@@ -331,6 +334,7 @@ int main(int argc, char** argv) {
             r.methods = comma_list(bo.methods);
             r.tolerances = number_list(bo.tolerances, "--tolerances");
             r.steps = number_list(bo.steps, "--steps");
+            r.odeint_array = bo.odeint_state == "array";
             r.min_time = bo.min_time;
             r.repeats = bo.repeats;
             r.out_dir = out_dir;
