@@ -10,6 +10,8 @@ packages=(
   libeigen3-dev                             # the run-time LDLT solve of M q̈ = f
   libtomlplusplus-dev libcli11-dev libfmt-dev
   libboost-test-dev                         # the test suite
+  libboost-dev                              # Boost.Odeint, the peer `eomc bench` compares with (header-only)
+  gnuplot-nox                               # the work-precision plot of `eomc bench` (optional at run time)
   texlive-latex-base                        # the test that compiles `eomc derive --format latex`
   python3                                   # the test that parses `eomc derive --format json`
 )

@@ -1,29 +1,14 @@
 #include "cli/kernel_loader.hpp"
 
 #include <dlfcn.h>
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <cctype>
-#include <cerrno>
 #include <chrono>
-#include <cstdint>
-#include <cstdlib>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
-#include <system_error>
 #include <utility>
 
 #include <fmt/format.h>
-
-#include "eomc/runtime/version.hpp"
-
-extern char** environ;
 
 namespace eomc::cli {
 
@@ -117,135 +102,16 @@ bool is_identifier(const std::string& s) {
     return true;
 }
 
-// The compiler can be overridden at run time (an installed eomc on a machine whose compiler
-// lives elsewhere); it is part of the cache key either way.
-std::string compiler() {
-    if (const char* cxx = std::getenv("EOMC_CXX"); cxx && *cxx) return cxx;
-    return EOMC_KERNEL_CXX;
-}
-
-// No -ffast-math and no FMA contraction: a simulation gives the same numbers wherever the
-// kernel is compiled (DESIGN, habit 11). Hidden visibility keeps the kernel's template
-// instantiations out of the dynamic symbol table; only the adapter's C functions are exported.
-std::vector<std::string> compile_flags() {
-    return {"-std=c++20", "-O2",       "-fPIC", "-shared", "-ffp-contract=off", "-fvisibility=hidden",
-            "-I",         EOMC_KERNEL_RUNTIME_INCLUDE,      "-I",      EOMC_KERNEL_EIGEN_INCLUDE};
-}
-
-// FNV-1a, 64 bits: a fixed function (std::hash may differ between runs and builds), good
-// enough for a cache whose entries are all produced by this program.
-std::uint64_t fnv1a(const std::string& bytes, std::uint64_t h = 0xcbf29ce484222325ull) {
-    for (unsigned char c : bytes) {
-        h ^= c;
-        h *= 0x100000001b3ull;
-    }
-    return h;
-}
-
-std::string read_file(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-void write_file(const fs::path& path, const std::string& text) {
-    std::ofstream out(path, std::ios::binary);
-    out << text;
-    out.close();
-    if (!out) throw std::runtime_error("cannot write " + path.string());
-}
-
-// A fresh private directory, removed with everything in it when the object goes away.
-class TempDir {
-public:
-    TempDir() {
-        std::string tmpl = (fs::temp_directory_path() / "eomc-kernel-XXXXXX").string();
-        if (!::mkdtemp(tmpl.data()))
-            throw std::runtime_error(fmt::format("cannot create a temporary directory {}: {}", tmpl, std::strerror(errno)));
-        path_ = tmpl;
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path_, ec);
-    }
-    TempDir(const TempDir&) = delete;
-    TempDir& operator=(const TempDir&) = delete;
-    const fs::path& path() const { return path_; }
-
-private:
-    fs::path path_;
-};
-
-// Runs argv (searched on PATH when argv[0] has no slash) with stdout and stderr going to `log`;
-// returns the wait status.
-int run_process(const std::vector<std::string>& argv, const fs::path& log) {
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_adddup2(&actions, 1, 2);
-    std::vector<char*> args;
-    for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-    args.push_back(nullptr);
-    pid_t pid = 0;
-    const int rc = ::posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), environ);
-    posix_spawn_file_actions_destroy(&actions);
-    if (rc != 0) throw std::runtime_error(fmt::format("cannot run the C++ compiler '{}': {}", argv[0], std::strerror(rc)));
-    int status = 0;
-    while (::waitpid(pid, &status, 0) < 0)
-        if (errno != EINTR) throw std::runtime_error(fmt::format("waiting for the C++ compiler: {}", std::strerror(errno)));
-    return status;
-}
-
-std::string describe_status(int status) {
-    if (WIFEXITED(status)) return fmt::format("exited with status {}", WEXITSTATUS(status));
-    if (WIFSIGNALED(status)) return fmt::format("was killed by signal {}", WTERMSIG(status));
-    return fmt::format("failed (wait status {})", status);
-}
-
-// Compiles header + adapter into `target`. The output goes to a unique temporary name in the
-// cache directory and is renamed into place only when complete: rename() is atomic within a
-// directory, so a concurrent run sees either no library or a whole one, and a crash leaves at
-// most a stray hidden temporary, never a truncated <key>.so. Two runs racing on the same key
-// both compile and the last rename wins; the contents are the same.
-void compile_into(const fs::path& target, const std::string& header_text, const std::string& adapter) {
-    TempDir dir;
-    write_file(dir.path() / "kernel.hpp", header_text);
-    write_file(dir.path() / "adapter.cpp", adapter);
-
-    std::string tmpl = (target.parent_path() / ("." + target.filename().string() + ".XXXXXX")).string();
-    const int fd = ::mkstemp(tmpl.data());
-    if (fd < 0) throw std::runtime_error(fmt::format("cannot create {}: {}", tmpl, std::strerror(errno)));
-    ::close(fd);
-    const fs::path partial = tmpl;
-
-    std::vector<std::string> argv{compiler()};
-    for (auto& f : compile_flags()) argv.push_back(std::move(f));
-    argv.insert(argv.end(), {"-o", partial.string(), (dir.path() / "adapter.cpp").string()});
-    const fs::path log = dir.path() / "compiler.log";
-    int status = 0;
-    try {
-        status = run_process(argv, log);
-    } catch (...) {
-        std::error_code ignored;
-        fs::remove(partial, ignored);
-        throw;
-    }
-    if (!(WIFEXITED(status) && WEXITSTATUS(status) == 0)) {
-        std::error_code ec;
-        fs::remove(partial, ec);
-        std::string output = read_file(log);
-        constexpr std::size_t max_output = 64 * 1024;  // template errors can run to megabytes
-        if (output.size() > max_output) output = output.substr(0, max_output) + "\n[... compiler output truncated]\n";
-        throw std::runtime_error(fmt::format("compiling the generated kernel failed: {} {}:\n{}", argv[0],
-                                             describe_status(status), output));
-    }
-    std::error_code ec;
-    fs::rename(partial, target, ec);
-    if (ec) {
-        fs::remove(partial, ec);
-        throw std::runtime_error(fmt::format("cannot move the compiled kernel to {}: {}", target.string(), ec.message()));
-    }
+// The adapter and the kernel, built into a shared object with only the adapter's C functions
+// exported (hidden visibility keeps the kernel's template instantiations out of the dynamic
+// symbol table).
+CompileRequest kernel_request(const std::string& header_text, const std::string& struct_name) {
+    CompileRequest r;
+    r.files = {{"adapter.cpp", adapter_source(struct_name)}, {"kernel.hpp", header_text}};
+    r.flags = {"-fPIC", "-shared", "-fvisibility=hidden"};
+    r.suffix = ".so";
+    r.what = "the generated kernel";
+    return r;
 }
 
 template <class F>
@@ -261,13 +127,6 @@ std::vector<std::string> names(const char* const* array, int n) {
 
 }  // namespace
 
-std::string default_cache_dir() {
-    // XDG Base Directory: $XDG_CACHE_HOME counts only when set to an absolute path.
-    if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg == '/') return (fs::path(xdg) / "eomc").string();
-    if (const char* home = std::getenv("HOME"); home && *home) return (fs::path(home) / ".cache" / "eomc").string();
-    return (fs::temp_directory_path() / "eomc-cache").string();
-}
-
 std::string adapter_source(const std::string& struct_name) {
     if (!is_identifier(struct_name))
         throw std::runtime_error(fmt::format("'{}' is not a C++ identifier (expected the kernel's struct name)", struct_name));
@@ -275,28 +134,14 @@ std::string adapter_source(const std::string& struct_name) {
 }
 
 std::string cache_key(const std::string& header_text, const std::string& struct_name) {
-    // Everything that determines the bytes of the library, each part NUL-terminated so that
-    // moving text from one part to the next changes the key.
-    std::string key = "eomc kernel cache 1";
-    key += '\0';
-    key += compiler();
-    key += '\0';
-    for (const auto& f : compile_flags()) key += f + '\0';
-    key += "runtime " + std::to_string(EOMC_RUNTIME_VERSION) + '\0';
-    key += adapter_source(struct_name) + '\0';
-    key += header_text;
-    return fmt::format("{:016x}", fnv1a(key));
+    return cache_key(kernel_request(header_text, struct_name));
 }
 
 KernelLibrary KernelLibrary::load(const std::string& header_text, const std::string& struct_name,
                                   const std::string& cache_dir) {
     const auto start = std::chrono::steady_clock::now();
-    const fs::path dir = cache_dir.empty() ? default_cache_dir() : cache_dir;
-    std::error_code ec;
-    fs::create_directories(dir, ec);
-    if (ec) throw std::runtime_error(fmt::format("cannot create the kernel cache {}: {}", dir.string(), ec.message()));
-    const std::string adapter = adapter_source(struct_name);
-    const fs::path path = dir / (cache_key(header_text, struct_name) + ".so");
+    const CompileRequest request = kernel_request(header_text, struct_name);
+    const fs::path path = cached_path(request, cache_dir);
 
     KernelLibrary lib;
     lib.path_ = path.string();
@@ -304,7 +149,7 @@ KernelLibrary KernelLibrary::load(const std::string& header_text, const std::str
     lib.cache_hit_ = lib.handle_ != nullptr;
     if (!lib.handle_) {
         // Missing, or present but unloadable (damaged by hand, a foreign file): build it afresh.
-        compile_into(path, header_text, adapter);
+        compile(request, path);
         lib.handle_ = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
         if (!lib.handle_) throw std::runtime_error(fmt::format("cannot load the compiled kernel: {}", ::dlerror()));
     }

@@ -9,10 +9,9 @@
 #include <string>
 #include <vector>
 
-namespace eomc::cli {
+#include "cli/toolchain.hpp"
 
-// $XDG_CACHE_HOME/eomc, else ~/.cache/eomc, else <tmp>/eomc-cache.
-std::string default_cache_dir();
+namespace eomc::cli {
 
 // One compiled kernel, loaded. Move-only; unloads the library when destroyed, so nothing
 // obtained from it (parameter blocks included) may outlive it.

@@ -15,6 +15,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "cli/bench.hpp"
 #include "cli/output_file.hpp"
 #include "cli/simulate.hpp"
 #include "codegen/cpp_emitter.hpp"
@@ -84,10 +85,12 @@ Pipeline front_end(const std::string& scene_path, bool hamiltonian, StageClock* 
     return p;
 }
 
-std::string kernel_header(const Pipeline& p, StageClock* clock = nullptr) {
+// The emitted header; `ir` (when given) receives the kernel IR it was printed from.
+std::string kernel_header(const Pipeline& p, StageClock* clock = nullptr, codegen::KernelIR* ir_out = nullptr) {
     codegen::LoweringTimes lowering;
     const codegen::KernelIR ir = p.canonical ? codegen::lower(p.model, p.canonical->form, &lowering)
                                              : codegen::lower(p.model, p.equations, &lowering);
+    if (ir_out) *ir_out = ir;
     if (clock) {
         clock->lap("lower");
         clock->add("cse_mass_forcing", lowering.mass_and_forcing);
@@ -164,6 +167,51 @@ cli::SimulationRequest simulation_request(const Pipeline& p, const std::string& 
     r.summary_format = o.summary;
     r.cache_dir = o.cache_dir;
     return r;
+}
+
+// A comma-separated list (--methods dop853,gl8); blanks around items are dropped.
+std::vector<std::string> comma_list(const std::string& text) {
+    std::vector<std::string> out;
+    std::stringstream in(text);
+    for (std::string item; std::getline(in, item, ',');) {
+        const auto first = item.find_first_not_of(" \t"), last = item.find_last_not_of(" \t");
+        if (first != std::string::npos) out.push_back(item.substr(first, last - first + 1));
+    }
+    return out;
+}
+
+// A comma-separated list of numbers (--tolerances 1e-6,1e-9), checked for shape here.
+std::vector<double> number_list(const std::string& text, const char* option) {
+    std::vector<double> out;
+    for (const auto& item : comma_list(text)) {
+        std::size_t used = 0;
+        double v = 0;
+        try {
+            v = std::stod(item, &used);
+        } catch (const std::exception&) {
+            used = 0;
+        }
+        if (used != item.size()) throw InputError(SourcePos{option}, fmt::format("'{}' is not a number", item));
+        out.push_back(v);
+    }
+    return out;
+}
+
+struct BenchOptions {
+    std::optional<double> t_end;
+    std::string methods, tolerances, steps, cache_dir, odeint_state = "vector";
+    double min_time = 0.02;
+    int repeats = 3;
+};
+
+// The equations depend on t explicitly (a driven carrier, a time-dependent force).
+bool depends_on_time(const Pipeline& p) {
+    for (const auto& f : p.equations.forcing)
+        if (f.has(p.model.t)) return true;
+    for (unsigned i = 0; i < p.equations.mass_matrix.rows(); ++i)
+        for (unsigned j = 0; j < p.equations.mass_matrix.cols(); ++j)
+            if (p.equations.mass_matrix(i, j).has(p.model.t)) return true;
+    return false;
 }
 
 // `eomc equilibria`: each relative equilibrium with its eigenvalues and verdict.
@@ -248,6 +296,28 @@ int main(int argc, char** argv) {
     add_simulate_options(run, sim);
     add_hamiltonian_flag(run);
 
+    BenchOptions bo;
+    auto* bench = app.add_subcommand(
+        "bench", "work-precision sweeps of every integrator, ours and Boost.Odeint's, on one scene: CSV, plot, table");
+    bench->add_option("scene", scene_path, "scene file (TOML)")->required();
+    bench->add_option("-o,--output-dir", out_dir, "directory for work_precision.csv and work_precision.png (default: .)");
+    bench->add_option("--methods", bo.methods,
+                      "comma-separated subset of rk4, dopri5, dop853, gl4, gl6, gl8, verlet, yoshida6, kahanli8, "
+                      "runge_kutta_dopri5, runge_kutta_fehlberg78, bulirsch_stoer, symplectic_rkn_sb3a_mclachlan "
+                      "(default: all)");
+    bench->add_option("--t-end", bo.t_end, "end time (default: [simulate] t_end)")->check(CLI::PositiveNumber);
+    bench->add_option("--tolerances", bo.tolerances, "comma-separated rtol = atol of the adaptive methods "
+                                                     "(default: 1e-3 .. 1e-15 in half decades)");
+    bench->add_option("--steps", bo.steps, "comma-separated step counts of the fixed-step methods "
+                                           "(default: 16 .. 2^20 in half octaves, until round-off)");
+    bench->add_option("--min-time", bo.min_time, "seconds the timed repetitions of a run add up to at least (default 0.02)")
+        ->check(CLI::NonNegativeNumber);
+    bench->add_option("--repeats", bo.repeats, "fewest timed repetitions of a run (default 3)")->check(CLI::PositiveNumber);
+    bench->add_option("--odeint-state", bo.odeint_state,
+                      "vector (default: the container eomc's runtime steps) | array (std::array of the kernel's size)")
+        ->check(CLI::IsMember({"vector", "array"}));
+    bench->add_option("--cache-dir", bo.cache_dir, "where compiled programs are kept (default ~/.cache/eomc)");
+
     CLI11_PARSE(app, argc, argv);
 
     try {
@@ -267,6 +337,25 @@ int main(int argc, char** argv) {
         } else if (simulate->parsed()) {
             const auto result = cli::simulate(simulation_request(p, kernel_header(p), sim));
             cli::print_summary(result, sim.summary, std::cout);
+        } else if (bench->parsed()) {
+            codegen::KernelIR ir;
+            cli::BenchRequest r;
+            r.header_text = kernel_header(p, nullptr, &ir);
+            r.struct_name = p.model.struct_name;
+            r.scene_name = p.model.name;
+            r.scene_path = scene_path;
+            if (!p.model.reference.empty()) r.reference_body = codegen::emit_reference_body(ir, p.model.reference);
+            r.autonomous = !depends_on_time(p);
+            r.t_end = bo.t_end.value_or(p.model.simulate.t_end);
+            r.methods = comma_list(bo.methods);
+            r.tolerances = number_list(bo.tolerances, "--tolerances");
+            r.steps = number_list(bo.steps, "--steps");
+            r.odeint_array = bo.odeint_state == "array";
+            r.min_time = bo.min_time;
+            r.repeats = bo.repeats;
+            r.out_dir = out_dir;
+            r.cache_dir = bo.cache_dir;
+            cli::print_bench_table(cli::bench(r), std::cout);
         } else if (equilibria->parsed()) {
             print_equilibria(p.model, mechanics::relative_equilibria(p.model, p.equations), format, std::cout);
         } else if (run->parsed()) {

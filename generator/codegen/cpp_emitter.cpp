@@ -223,6 +223,7 @@ std::string indent(const std::string& text, int spaces) {
 // How one function's inputs reach its expressions.
 struct Inputs {
     bool acceleration_array = false;  // acc[k] holds q̈ (the Jacobian terms)
+    bool state_array = true;          // x[k] holds the state (false: the reference, a function of t alone)
 };
 
 // The body of one function: bindings of the inputs it uses, `using std::…` for the
@@ -239,6 +240,7 @@ std::string function_body(const KernelIR& ir, const LocalNames& names, const Blo
     bool uses_x = false, uses_p = false, uses_acc = false;
     for (std::size_t i = 0; i < ir.state.size(); ++i) {
         if (!used.count(ir.state[i].symbol)) continue;
+        if (!inputs.state_array) throw std::runtime_error("a state variable appears where the state is not an input");
         bindings += fmt::format("const S {} = x[{}];\n", names[ir.state[i].symbol], i);
         printed_names.emplace(ir.state[i].symbol, names[ir.state[i].symbol]);
         uses_x = true;
@@ -267,7 +269,7 @@ std::string function_body(const KernelIR& ir, const LocalNames& names, const Blo
 
     std::string head;
     if (!used.count(ir.t)) head += "(void)t;\n";
-    if (!uses_x) head += "(void)x;\n";
+    if (inputs.state_array && !uses_x) head += "(void)x;\n";
     if (inputs.acceleration_array && !uses_acc) head += "(void)acc;\n";
     if (!uses_p) head += "(void)p;\n";
     for (const auto& f : printer.functions_used()) head += fmt::format("using std::{};\n", f);
@@ -471,6 +473,17 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
     };
     for (const auto& [key, value] : fields) text = replace_all(text, key, value);
     return text;
+}
+
+std::string emit_reference_body(const KernelIR& ir, const std::vector<GiNaC::ex>& reference) {
+    if (reference.size() != ir.state.size())
+        throw std::runtime_error(fmt::format("the reference has {} values for {} state variables", reference.size(),
+                                             ir.state.size()));
+    Block block;
+    block.outputs = reference;
+    Inputs inputs;
+    inputs.state_array = false;
+    return function_body(ir, LocalNames(ir), block, indexed("out", reference.size()), inputs);
 }
 
 }  // namespace eomc::codegen

@@ -3,6 +3,7 @@
 
 #include <map>
 #include <string>
+#include <vector>
 
 #include <ginac/ginac.h>
 
@@ -42,5 +43,10 @@ struct EmitOptions {
 
 // The whole header. Same IR, same bytes.
 std::string emit_header(const KernelIR& ir, const EmitOptions& options);
+
+// The body of `template <class S> void f(S t, S* out, const Parameters& p)` writing a closed-form
+// reference solution (model::Model::reference, one expression of t and the parameters per state
+// variable, in state order) into out[0..n_state), with the header's names for the parameters.
+std::string emit_reference_body(const KernelIR& ir, const std::vector<GiNaC::ex>& reference);
 
 }  // namespace eomc::codegen

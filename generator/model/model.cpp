@@ -220,6 +220,28 @@ Model build_model(const scene::Scene& scene) {
             symbols.parse(q.value, phase, fmt::format("the generalized force on '{}'", q.coordinate));
     }
 
+    if (scene.reference) {
+        // The reference is the Lagrangian state (q, q_dot); kernels of other states would be judged
+        // against values of different variables.
+        if (model.hamiltonian)
+            throw InputError(scene.reference->pos,
+                             "[reference] gives q and q_dot, but [formulation] kind = \"hamiltonian\" integrates (q, p)");
+        if (model.free_carrier())
+            throw InputError(scene.reference->pos,
+                             "[reference] is not available with a free carrier (its state also holds the carrier's "
+                             "velocities and attitude)");
+        // In state order, whatever the file order.
+        auto parse_reference = [&](const std::string& state) {
+            for (const auto& v : scene.reference->values)
+                if (v.state == state)
+                    return symbols.parse(v.value, time_and_parameters,
+                                         fmt::format("the reference value of '{}'", state));
+            throw InputError(scene.reference->pos, fmt::format("[reference] gives no value for '{}'", state));
+        };
+        for (const auto& c : model.coordinates) model.reference.push_back(parse_reference(c.name));
+        for (const auto& c : model.coordinates) model.reference.push_back(parse_reference(c.name + "_dot"));
+    }
+
     if (scene.effects.given) {
         model.keep.fill(false);
         for (const auto& e : scene.effects.keep)

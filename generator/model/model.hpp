@@ -96,6 +96,9 @@ struct Model {
 
     scene::Simulate simulate;
     bool hamiltonian = false;                    // [formulation] kind = "hamiltonian"
+    // [reference]: the exact state at time t (functions of t and the parameters), one expression
+    // per state variable in state order (q_1..q_n, q_1_dot..q_n_dot); empty when the scene gives none.
+    std::vector<GiNaC::ex> reference;
 
     bool keeps(Effect e) const { return keep[static_cast<int>(e)]; }
     bool free_carrier() const { return carrier && carrier->free; }

@@ -108,7 +108,7 @@ public:
     Scene read() {
         Scene s;
         check_keys(root_, {"scene", "parameters", "coordinates", "carrier", "body", "lagrangian", "forces",
-                           "effects", "simulate", "formulation"},
+                           "effects", "simulate", "formulation", "reference"},
                    "at the top level");
         read_scene(s);
         read_parameters(s);
@@ -121,6 +121,7 @@ public:
         read_effects(s);
         read_simulate(s);
         read_formulation(s);
+        read_reference(s);
         check_structure();
         return s;
     }
@@ -646,6 +647,36 @@ private:
         if (const toml::node* v = t.get("rtol")) sim.rtol = read_positive(*v, "simulate.rtol");
         if (const toml::node* v = t.get("atol")) sim.atol = read_positive(*v, "simulate.atol");
         if (const toml::node* v = t.get("step")) sim.step = read_positive(*v, "simulate.step");
+    }
+
+    // [reference]: state name = expression, for every state variable (q and q_dot of each coordinate).
+    void read_reference(Scene& s) const {
+        const toml::node* node = root_.get("reference");
+        if (!node) return;
+        const toml::table& t = as_table(*node, "reference");
+        std::vector<std::string> states;
+        for (const Coordinate& c : s.coordinates) states.push_back(c.name);
+        for (const Coordinate& c : s.coordinates) states.push_back(c.name + "_dot");
+        Reference r;
+        r.pos = at(t);
+        for (const auto& [key, value] : entries(t)) {
+            const std::string name(key->str());
+            if (std::find(states.begin(), states.end(), name) == states.end()) {
+                const std::string near = nearest_name(name, states);
+                fail(at(*key), fmt::format("'reference.{}': {} is not a state variable; {}", name, name,
+                                           near.empty() ? fmt::format("expected one of {}", fmt::join(states, ", "))
+                                                        : fmt::format("did you mean '{}'?", near)));
+            }
+            r.values.push_back(ReferenceValue{name, read_expr(*value, "reference." + name), at(*key)});
+        }
+        for (const std::string& name : states) {
+            const bool given = std::any_of(r.values.begin(), r.values.end(),
+                                           [&](const ReferenceValue& v) { return v.state == name; });
+            if (!given)
+                fail(r.pos, fmt::format("[reference] gives no value for '{}'; a reference gives the whole state ({})",
+                                        name, fmt::join(states, ", ")));
+        }
+        s.reference = std::move(r);
     }
 };
 

@@ -130,6 +130,18 @@ struct Simulate {
 
 // Which equations the kernel integrates: Lagrange's (state q, q̇) or Hamilton's (state q, p).
 inline constexpr std::array<std::string_view, 2> formulation_names{"lagrangian", "hamiltonian"};
+// A closed-form solution, for judging integrators (`eomc bench`): the exact state at time t as
+// expressions of t and the parameters, one per state variable (q and q_dot for every coordinate).
+struct ReferenceValue {
+    std::string state;  // a coordinate "q" or its rate "q_dot"
+    Expr value;
+    SourcePos pos;      // the key
+};
+
+struct Reference {
+    std::vector<ReferenceValue> values;  // file order; every state variable exactly once
+    SourcePos pos;                       // the [reference] table
+};
 
 struct Scene {
     std::string path;     // the file it came from ("" for a string)
@@ -146,6 +158,7 @@ struct Scene {
     Simulate simulate;
     std::string formulation = "lagrangian";  // one of formulation_names ([formulation] kind)
     SourcePos formulation_pos;
+    std::optional<Reference> reference;
 };
 
 // Throws eomc::InputError (file:line:column) on anything malformed.

@@ -611,3 +611,26 @@ BOOST_AUTO_TEST_CASE(documentation_examples_parse) {
     BOOST_TEST(blocks > 0);
     BOOST_TEST(scenes > 0);
 }
+
+// --- [reference] ---------------------------------------------------------------------------
+
+BOOST_AUTO_TEST_CASE(reference_section) {
+    const std::string head = "[scene]\nname = \"x\"\n[parameters]\nw = 2\n[coordinates]\nq = { initial = 1 }\n"
+                             "[lagrangian]\nT = \"q_dot^2/2\"\nV = \"w^2*q^2/2\"\n";  // 9 lines
+    const Scene s = parse_scene_string(head + "[reference]\nq_dot = \"-w*sin(w*t)\"\nq = \"cos(w*t)\"\n", "t.toml");
+    BOOST_TEST_REQUIRE(s.reference.has_value());
+    BOOST_TEST_REQUIRE(s.reference->values.size() == 2u);
+    BOOST_TEST(s.reference->values[0].state == "q_dot");  // file order
+    BOOST_TEST(s.reference->values[1].state == "q");
+    BOOST_TEST(s.reference->values[1].value.text == "cos(w*t)");
+    check_pos(s.reference->values[1].value.pos, 12, 6);
+    check_pos(s.reference->values[1].pos, 12, 1);
+    BOOST_TEST(!parse_scene_string(head).reference.has_value());
+
+    expect_error(head + "[reference]\nq = \"1\"\nqdot = \"0\"\n", 12, 1,
+                 "'reference.qdot': qdot is not a state variable; did you mean 'q_dot'?");
+    expect_error(head + "[reference]\nq = \"1\"\n", 10, 1,
+                 "[reference] gives no value for 'q_dot'; a reference gives the whole state (q, q_dot)");
+    expect_error(head + "[reference]\nq = \"1\"\nq_dot = [0]\n", 12, 9, "'reference.q_dot': expected an expression");
+    expect_error("reference = 1\n" + head, 1, 13, "'reference': expected a table, got an integer");
+}

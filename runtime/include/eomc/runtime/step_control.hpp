@@ -96,19 +96,23 @@ class StepAdjuster {
     using std::abs;
     using std::pow;
     S fac = s_.fac_max;
+    S root = S(0);  // err^-(1/(q+1)), when err > 0
     if (err > S(0)) {
-      fac = s_.safety * inverse_power(err);
+      root = root_power(err);
+      fac = s_.safety * (s_.beta == S(0) ? root : pow(err, -expo_));
       if (s_.beta > S(0)) fac *= pow(err_prev_, s_.beta);
       fac = clamp(fac);
     }
     if (s_.predictive) {
-      const S err_kept = err > S(1e-2) ? err : S(1e-2);  // RADAU5's floor: no prediction from a lucky step
+      // (err_acc / err^2)^(1/(q+1)) = root^2 * err_acc^(1/(q+1)); the last factor is kept from the
+      // previous step, so a step costs one root, not two.
       if (h_acc_ > S(0) && err > S(0) && h != S(0)) {
-        const S pred = clamp(s_.safety * (abs(h) / h_acc_) * root_power(err * err / err_acc_));
+        const S pred = clamp(s_.safety * (abs(h) / h_acc_) * root * root * acc_root_);
         if (pred < fac) fac = pred;
       }
       h_acc_ = abs(h);
-      err_acc_ = err_kept;
+      // RADAU5 floors err_acc at 1e-2: no prediction from a lucky step.
+      acc_root_ = err > S(1e-2) ? S(1) / root : S(1) / root_power(S(1e-2));
     }
     if (rejected_last_ && fac > S(1)) fac = S(1);
     err_prev_ = err > err_floor ? err : err_floor;
@@ -129,7 +133,7 @@ class StepAdjuster {
     err_prev_ = err_floor;
     rejected_last_ = false;
     h_acc_ = S(0);
-    err_acc_ = S(1);
+    acc_root_ = S(1);
   }
 
   const Settings& settings() const { return s_; }
@@ -165,7 +169,8 @@ class StepAdjuster {
   int root_;                       // q + 1
   S err_prev_ = err_floor;
   bool rejected_last_ = false;
-  S h_acc_ = S(0), err_acc_ = S(1);  // last accepted step and its (floored) error, for `predictive`
+  // The last accepted step and err_acc^(1/(q+1)) of its (floored) error, for `predictive`.
+  S h_acc_ = S(0), acc_root_ = S(1);
 };
 
 // Starting step size [HNW, Sect. II.4, "Starting Step Size"], with the RMS norm weighted by

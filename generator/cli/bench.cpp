@@ -1,0 +1,363 @@
+#include "cli/bench.hpp"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <limits>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "cli/output_file.hpp"
+#include "cli/toolchain.hpp"
+#include "codegen/templates.hpp"
+#include "support/diagnostic.hpp"
+
+namespace eomc::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::vector<std::string> method_names() { return {bench_method_names.begin(), bench_method_names.end()}; }
+
+std::string join(const std::vector<std::string>& items, const char* separator = ", ") {
+    std::string out;
+    for (const auto& s : items) {
+        if (!out.empty()) out += separator;
+        out += s;
+    }
+    return out;
+}
+
+// Everything that can be checked before compiling, so that a typo costs no compile.
+void validate(const BenchRequest& r) {
+    const std::vector<std::string> known = method_names();
+    for (const auto& m : r.methods) {
+        if (std::find(known.begin(), known.end(), m) != known.end()) continue;
+        const std::string near = nearest_name(m, known);
+        throw InputError(SourcePos{"--methods"}, fmt::format("unknown method '{}'{} (expected one of {})", m,
+                                                             near.empty() ? "" : "; did you mean '" + near + "'?",
+                                                             join(known)));
+    }
+    if (!(std::isfinite(r.t_end) && r.t_end > 0.0))
+        throw InputError(SourcePos{"--t-end"}, fmt::format("the end time must be positive and finite, not {}", r.t_end));
+    for (double tol : r.tolerances)
+        if (!(tol > 0.0 && tol < 1.0))
+            throw InputError(SourcePos{"--tolerances"}, fmt::format("a tolerance must lie in (0, 1), not {}", tol));
+    for (double n : r.steps)
+        if (!(n >= 1.0 && n <= 1e9 && n == std::floor(n)))
+            throw InputError(SourcePos{"--steps"}, fmt::format("a step count must be a whole number from 1 to 1e9, not {}", n));
+    if (!(r.min_time >= 0.0 && std::isfinite(r.min_time)))
+        throw InputError(SourcePos{"--min-time"}, fmt::format("--min-time must be >= 0, not {}", r.min_time));
+    if (r.repeats < 1) throw InputError(SourcePos{"--repeats"}, fmt::format("--repeats must be >= 1, not {}", r.repeats));
+}
+
+std::string cpp_string(const std::string& s) {
+    std::string out = "\"";
+    for (char c : s) {
+        if (c == '"' || c == '\\') out += '\\';
+        out += c;
+    }
+    return out + "\"";
+}
+
+std::string indent(const std::string& text, int spaces) {
+    std::string out, pad(static_cast<std::size_t>(spaces), ' ');
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) out += (line.empty() ? "" : pad + line) + "\n";
+    return out;
+}
+
+std::string number_list(const std::vector<double>& values) {
+    std::string out;
+    for (double v : values) {
+        if (!out.empty()) out += ',';
+        out += fmt::format("{:.17g}", v);
+    }
+    return out;
+}
+
+std::vector<std::string> split(const std::string& line, char separator) {
+    std::vector<std::string> out;
+    std::size_t start = 0;
+    for (;;) {
+        const std::size_t at = line.find(separator, start);
+        out.push_back(line.substr(start, at == std::string::npos ? std::string::npos : at - start));
+        if (at == std::string::npos) return out;
+        start = at + 1;
+    }
+}
+
+double parse_double(const std::string& s) {
+    if (s.empty()) return std::numeric_limits<double>::quiet_NaN();
+    std::size_t used = 0;
+    const double v = std::stod(s, &used);
+    if (used != s.size()) throw std::runtime_error("not a number: " + s);
+    return v;
+}
+
+BenchRow parse_row(const std::string& line) {
+    const std::vector<std::string> f = split(line, ',');
+    if (f.size() != 11) throw std::runtime_error("the benchmark driver wrote a malformed row: " + line);
+    BenchRow r;
+    r.method = f[0];
+    r.library = f[1];
+    r.kind = f[2];
+    r.setting = parse_double(f[3]);
+    r.error = parse_double(f[4]);
+    r.drift = parse_double(f[5]);
+    r.rhs_evals = std::stoull(f[6]);
+    r.steps = std::stoull(f[7]);
+    r.rejected = std::stoull(f[8]);
+    r.seconds = parse_double(f[9]);
+    r.repetitions = std::stoi(f[10]);
+    return r;
+}
+
+std::string read_text(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+// --- the plot ------------------------------------------------------------------------------
+
+// $EOMC_GNUPLOT (a path or a name on PATH; tests point it at nothing) or gnuplot on PATH.
+std::string find_gnuplot() {
+    const char* configured = std::getenv("EOMC_GNUPLOT");
+    const std::string name = configured && *configured ? configured : "gnuplot";
+    if (name.find('/') != std::string::npos) return ::access(name.c_str(), X_OK) == 0 ? name : "";
+    const char* path = std::getenv("PATH");
+    for (const std::string& dir : split(path ? path : "", ':')) {
+        const fs::path candidate = fs::path(dir.empty() ? "." : dir) / name;
+        if (::access(candidate.c_str(), X_OK) == 0 && !fs::is_directory(candidate)) return candidate.string();
+    }
+    return "";
+}
+
+std::string gnuplot_quoted(const std::string& s) {
+    std::string out = "'";
+    for (char c : s) out += c == '\'' ? std::string("''") : std::string(1, c);
+    return out + "'";
+}
+
+// Text for an enhanced-mode label: '_' and '^' would start sub- and superscripts.
+std::string gnuplot_text(const std::string& s) {
+    std::string out;
+    for (char c : s) {
+        if (c == '_' || c == '^' || c == '@' || c == '&' || c == '~' || c == '{' || c == '}') out += '\\';
+        out += c;
+    }
+    return out;
+}
+
+// Two panels, log-log, one curve per method against the median wall time of a run: the error of
+// the final state, and the largest relative drift of the invariants. Ours solid, odeint dashed.
+std::string gnuplot_script(const BenchRequest& request, const BenchResult& result, const std::string& terminal,
+                           const fs::path& output) {
+    static const char* colors[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",
+                                   "#bcbd22", "#17becf", "#ff7f0e", "#393b79", "#637939", "#843c39"};
+    std::vector<std::string> methods;
+    for (const auto& r : result.rows)
+        if (std::find(methods.begin(), methods.end(), r.method) == methods.end()) methods.push_back(r.method);
+
+    std::string s = fmt::format("set terminal {} size 1600,700 font ',10'\nset output {}\n", terminal,
+                                gnuplot_quoted(output.string()));
+    bool any_drift = false;
+    for (std::size_t m = 0; m < methods.size(); ++m) {
+        std::vector<const BenchRow*> rows;
+        for (const auto& r : result.rows)
+            if (r.method == methods[m]) rows.push_back(&r);
+        std::sort(rows.begin(), rows.end(), [](const BenchRow* a, const BenchRow* b) { return a->seconds < b->seconds; });
+        s += fmt::format("$m{} << EOD\n", m);
+        for (const BenchRow* r : rows) {
+            // Zeros have no place on a log scale: NaN leaves the point out.
+            const auto positive = [](double v) { return v > 0.0 && std::isfinite(v) ? fmt::format("{:.6g}", v) : "NaN"; };
+            s += fmt::format("{} {} {}\n", positive(r->seconds), positive(r->error), positive(r->drift));
+            any_drift = any_drift || (r->drift > 0.0 && std::isfinite(r->drift));
+        }
+        s += "EOD\n";
+    }
+    s += fmt::format("set multiplot layout 1,2 title {}\n",
+                     gnuplot_quoted(gnuplot_text(
+                         fmt::format("{}: work-precision over t = 0 .. {:.6g}", request.scene_name, request.t_end))));
+    s += "set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\nset grid\nset key bottom left font ',9'\n"
+         "set xlabel 'wall time per run (s, median)'\n";
+    auto plot = [&](const char* ylabel, int column) {
+        std::string p = fmt::format("set ylabel '{}'\nplot ", ylabel);
+        for (std::size_t m = 0; m < methods.size(); ++m) {
+            const std::string& library =
+                std::find_if(result.rows.begin(), result.rows.end(), [&](const BenchRow& r) { return r.method == methods[m]; })
+                    ->library;
+            p += fmt::format("{}$m{} using 1:{} with linespoints lw 1.5 pt {} dt {} lc rgb '{}' title '{}{}'",
+                             m ? ", \\\n     " : "", m, column, m % 13 + 1, library == "eomc" ? 1 : 2,
+                             colors[m % 13], gnuplot_text(methods[m]), library == "eomc" ? "" : " (odeint)");
+        }
+        return p + "\n";
+    };
+    if (!methods.empty()) {
+        s += plot("error of the final state (max norm)", 2);
+        if (any_drift) {
+            s += plot("max relative drift of the invariants", 3);
+        } else {
+            s += "unset logscale\nunset key\nunset xlabel\nunset ylabel\nset format x ''\nset format y ''\n"
+                 "set label 1 'no invariants' at graph 0.5, 0.5 center\nplot [0:1] [0:1] NaN notitle\n";
+        }
+    }
+    s += "unset multiplot\n";
+    return s;
+}
+
+// Writes out_dir/work_precision.png through gnuplot (pngcairo, else png). Returns "" on success,
+// else the reason there is no plot.
+std::string plot(const BenchRequest& request, const BenchResult& result, const fs::path& png) {
+    const std::string gnuplot = find_gnuplot();
+    if (gnuplot.empty())
+        return "gnuplot was not found (install gnuplot-nox); " + png.string() + " was not written";
+    TempDir dir("eomc-plot-");
+    const fs::path partial = png.parent_path() / fmt::format(".{}.{}.tmp", png.filename().string(), ::getpid());
+    std::string log;
+    for (const char* terminal : {"pngcairo", "png"}) {
+        const fs::path script = dir.path() / "plot.gp";
+        std::ofstream(script) << gnuplot_script(request, result, terminal, partial);
+        const int status = run_process({gnuplot, script.string()}, dir.path() / "gnuplot.log", true);
+        if (WIFEXITED(status) && WEXITSTATUS(status) == 0 && fs::exists(partial)) {
+            std::error_code ec;
+            fs::rename(partial, png, ec);
+            if (!ec) return "";
+            log = ec.message();
+            break;
+        }
+        log = read_text(dir.path() / "gnuplot.log");
+    }
+    std::error_code ignored;
+    fs::remove(partial, ignored);
+    return fmt::format("gnuplot failed, {} was not written:\n{}", png.string(), log);
+}
+
+}  // namespace
+
+std::string bench_config_source(const BenchRequest& request) {
+    const bool has_reference = !request.reference_body.empty();
+    return fmt::format(
+        "// Generated by eomc for `eomc bench` on {}. Do not edit.\n"
+        "#pragma once\n\n#include \"kernel.hpp\"\n\nnamespace eomc::bench {{\n\n"
+        "using Model = eomc::models::{};\n"
+        "inline constexpr bool autonomous = {};\n"
+        "inline constexpr bool has_reference = {};\n"
+        "inline constexpr const char* reference_source = {};\n\n"
+        "// The exact state at time t (the scene's [reference]).\n"
+        "template <class S>\nvoid reference(S t, S* out, const Model::Parameters& p) {{\n{}}}\n\n"
+        "}}  // namespace eomc::bench\n",
+        request.scene_path.empty() ? request.scene_name : request.scene_path, request.struct_name,
+        request.autonomous ? "true" : "false", has_reference ? "true" : "false",
+        cpp_string(has_reference ? "[reference] of " + (request.scene_path.empty() ? request.scene_name : request.scene_path)
+                                 : "none"),
+        indent(has_reference ? request.reference_body : "(void)t;\n(void)out;\n(void)p;", 4));
+}
+
+BenchResult bench(const BenchRequest& request) {
+    validate(request);
+    BenchResult result;
+
+    CompileRequest build;
+    build.files = {{"bench_driver.cpp", codegen::bench_driver_template()},
+                   {"kernel.hpp", request.header_text},
+                   {"bench_config.hpp", bench_config_source(request)}};
+    if (request.odeint_array) build.flags = {"-DEOMC_BENCH_ODEINT_ARRAY"};
+    build.libraries = {"-lquadmath"};
+    build.what = "the benchmark driver";
+    const fs::path driver = cached_path(build, request.cache_dir);
+    result.driver_path = driver.string();
+    result.cache_hit = fs::exists(driver);
+    if (!result.cache_hit) {
+        std::cerr << "compiling the benchmark driver for " << request.scene_name
+                  << " (once per kernel; it is cached as " << driver.string() << ")\n";
+        compile(build, driver);
+    }
+
+    std::vector<std::string> argv{driver.string(), "--t-end", fmt::format("{:.17g}", request.t_end)};
+    if (!request.methods.empty()) argv.insert(argv.end(), {"--methods", join(request.methods, ",")});
+    if (!request.tolerances.empty()) argv.insert(argv.end(), {"--tolerances", number_list(request.tolerances)});
+    if (!request.steps.empty()) argv.insert(argv.end(), {"--steps", number_list(request.steps)});
+    argv.insert(argv.end(), {"--min-time", fmt::format("{:.17g}", request.min_time == 0.0 ? 1e-9 : request.min_time),
+                             "--repeats", std::to_string(request.repeats)});
+    TempDir work("eomc-bench-");
+    const fs::path output = work.path() / "driver.csv";
+    const int status = run_process(argv, output, false);
+    if (!(WIFEXITED(status) && WEXITSTATUS(status) == 0))
+        throw std::runtime_error(fmt::format("the benchmark driver {} {}", driver.string(), describe_status(status)));
+
+    std::string csv = std::string(bench_csv_header) + "\n";
+    bool header_seen = false;
+    std::istringstream lines(read_text(output));
+    for (std::string line; std::getline(lines, line);) {
+        if (line.rfind("# ", 0) == 0) {
+            result.notes.push_back(line.substr(2));
+        } else if (!header_seen) {
+            if (line != bench_csv_header)
+                throw std::runtime_error("the benchmark driver wrote an unexpected header: " + line);
+            header_seen = true;
+        } else if (!line.empty()) {
+            result.rows.push_back(parse_row(line));
+            csv += line + "\n";
+        }
+    }
+    if (!header_seen) throw std::runtime_error("the benchmark driver wrote no CSV header");
+
+    const fs::path dir = request.out_dir.empty() ? fs::path(".") : fs::path(request.out_dir);
+    const fs::path csv_path = dir / "work_precision.csv", png_path = dir / "work_precision.png";
+    write_file_atomically(csv_path, csv);
+    result.csv_path = csv_path.string();
+    const std::string no_plot = plot(request, result, png_path);
+    if (no_plot.empty()) {
+        result.png_path = png_path.string();
+    } else {
+        std::cerr << "eomc: warning: " << no_plot << "\n";
+        result.notes.push_back(no_plot.substr(0, no_plot.find('\n')));
+    }
+    return result;
+}
+
+void print_bench_table(const BenchResult& result, std::ostream& out) {
+    std::vector<std::string> methods;
+    for (const auto& r : result.rows)
+        if (std::find(methods.begin(), methods.end(), r.method) == methods.end()) methods.push_back(r.method);
+    const double targets[] = {1e-6, 1e-9, 1e-12};
+    std::string s = fmt::format("{:<30} {:<7} {:>4}  {:>10}", "method", "library", "runs", "best error");
+    for (double t : targets) s += fmt::format("  {:>18}", fmt::format("to {:.0e}: ms, rhs", t));
+    s += fmt::format("  {:>12}\n", "drift (best)");
+    for (const auto& m : methods) {
+        std::vector<const BenchRow*> rows;
+        for (const auto& r : result.rows)
+            if (r.method == m) rows.push_back(&r);
+        const BenchRow* best = *std::min_element(rows.begin(), rows.end(),
+                                                 [](const BenchRow* a, const BenchRow* b) { return a->error < b->error; });
+        s += fmt::format("{:<30} {:<7} {:>4}  {:>10.2e}", m, rows.front()->library, rows.size(), best->error);
+        for (double t : targets) {
+            // The cheapest run (wall time) whose error is at most t.
+            const BenchRow* cheapest = nullptr;
+            for (const BenchRow* r : rows)
+                if (r->error <= t && (!cheapest || r->seconds < cheapest->seconds)) cheapest = r;
+            s += cheapest ? fmt::format("  {:>18}", fmt::format("{:.3g} {:>7}", cheapest->seconds * 1e3, cheapest->rhs_evals))
+                          : fmt::format("  {:>18}", "-");
+        }
+        s += std::isnan(best->drift) ? fmt::format("  {:>12}\n", "-") : fmt::format("  {:>12.2e}\n", best->drift);
+    }
+    for (const auto& n : result.notes) s += "note: " + n + "\n";
+    s += "csv: " + result.csv_path + "\n";
+    if (!result.png_path.empty()) s += "plot: " + result.png_path + "\n";
+    out << s;
+}
+
+}  // namespace eomc::cli

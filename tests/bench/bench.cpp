@@ -1,0 +1,356 @@
+// eomc bench: the driver's rows (every method, on a hand-written separable kernel), and the
+// command as a user meets it: the CSV with its documented columns, errors that fall as the
+// tolerance tightens and stay within bounds derived from the method, odeint's rows beside ours,
+// the plot, the closed-form and the float128 reference agreeing, bad input refused with exit 2
+// and nothing written. No test depends on timings.
+#define BOOST_TEST_MODULE bench
+#include <boost/test/unit_test.hpp>
+
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string header =
+    "method,library,kind,setting,error,max_invariant_drift,rhs_evals,steps,rejected,wall_seconds,repetitions";
+
+struct Result {
+    int status = -1;
+    std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+fs::path scratch(const std::string& name) {
+    const fs::path dir = fs::path(EOMC_BINARY_DIR) / "bench-scratch" / name;
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+// Compiled drivers are kept here across runs of the suite (keyed by content, so never stale).
+std::string cache_dir() { return (fs::path(EOMC_BINARY_DIR) / "bench-cache").string(); }
+
+Result run(const std::string& command, const fs::path& dir, const std::string& env = "") {
+    const std::string line = env + " " + command + " > '" + (dir / "stdout").string() + "' 2> '" + (dir / "stderr").string() + "'";
+    const int raw = std::system(line.c_str());
+    Result r;
+    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    r.out = slurp(dir / "stdout");
+    r.err = slurp(dir / "stderr");
+    fs::remove(dir / "stdout");
+    fs::remove(dir / "stderr");
+    return r;
+}
+
+struct Row {
+    std::string method, library, kind;
+    double setting = 0, error = 0, drift = 0, seconds = 0;
+    long evals = 0, steps = 0, rejected = 0, repetitions = 0;
+};
+
+std::vector<std::string> split(const std::string& s, char c) {
+    std::vector<std::string> out;
+    std::stringstream in(s);
+    for (std::string item; std::getline(in, item, c);) out.push_back(item);
+    if (!s.empty() && s.back() == c) out.emplace_back();
+    return out;
+}
+
+// Rows of a CSV in the driver's format (notes, lines starting with '#', skipped); the header is checked.
+std::vector<Row> parse_csv(const std::string& text) {
+    std::vector<Row> rows;
+    std::stringstream in(text);
+    bool seen_header = false;
+    for (std::string line; std::getline(in, line);) {
+        if (line.empty() || line[0] == '#') continue;
+        if (!seen_header) {
+            BOOST_TEST(line == header);
+            seen_header = true;
+            continue;
+        }
+        const auto f = split(line, ',');
+        BOOST_REQUIRE_MESSAGE(f.size() == 11u, "row with " << f.size() << " fields: " << line);
+        Row r;
+        r.method = f[0];
+        r.library = f[1];
+        r.kind = f[2];
+        r.setting = std::stod(f[3]);
+        r.error = std::stod(f[4]);
+        r.drift = f[5].empty() ? NAN : std::stod(f[5]);
+        r.evals = std::stol(f[6]);
+        r.steps = std::stol(f[7]);
+        r.rejected = std::stol(f[8]);
+        r.seconds = std::stod(f[9]);
+        r.repetitions = std::stol(f[10]);
+        rows.push_back(r);
+    }
+    BOOST_TEST(seen_header);
+    return rows;
+}
+
+std::map<std::string, std::vector<Row>> by_method(const std::vector<Row>& rows) {
+    std::map<std::string, std::vector<Row>> m;
+    for (const auto& r : rows) m[r.method].push_back(r);
+    return m;
+}
+
+// Each tighter tolerance (rows in sweep order, tolerances decreasing) gives a smaller error.
+void check_errors_fall(const std::string& method, const std::vector<Row>& rows) {
+    for (std::size_t i = 1; i < rows.size(); ++i) {
+        BOOST_TEST(rows[i].setting < rows[i - 1].setting);
+        BOOST_TEST(rows[i].error < rows[i - 1].error, method << ": error " << rows[i].error << " at tol " << rows[i].setting
+                                                             << " not below " << rows[i - 1].error << " at "
+                                                             << rows[i - 1].setting);
+    }
+}
+
+double observed_order(const std::vector<Row>& rows) {
+    BOOST_REQUIRE(rows.size() == 2u);
+    return std::log(rows[0].error / rows[1].error) / std::log(rows[1].setting / rows[0].setting);
+}
+
+const char* oscillator_scene = R"toml([scene]
+name = "bench_oscillator"
+summary = "q'' = -w^2 q, closed form"
+[parameters]
+w = 2.0
+[coordinates]
+q = { initial = 1.0 }
+[lagrangian]
+T = "q_dot^2/2"
+V = "w^2*q^2/2"
+[simulate]
+t_end = 3.0
+)toml";
+
+const char* oscillator_reference = R"toml([reference]
+q = "cos(w*t)"
+q_dot = "-w*sin(w*t)"
+)toml";
+
+fs::path write_scene(const fs::path& dir, const std::string& text) {
+    const fs::path p = dir / "scene.toml";
+    std::ofstream(p) << text;
+    return p;
+}
+
+std::string eomc_bench(const fs::path& scene, const fs::path& out, const std::string& options) {
+    return std::string(EOMC_EXECUTABLE) + " bench '" + scene.string() + "' -o '" + out.string() + "' --cache-dir '" +
+           cache_dir() + "' --min-time 0 --repeats 1 " + options;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// The driver on the hand-written circular Kepler orbit (tests/bench/driver): one period, exact
+// solution (cos t, sin t, -sin t, cos t).
+// ---------------------------------------------------------------------------------------------
+BOOST_AUTO_TEST_CASE(driver_runs_every_method) {
+    const fs::path dir = scratch("driver");
+    const Result r = run(std::string(BENCH_DRIVER_CHECK) +
+                             " --t-end 6.283185307179586 --tolerances 1e-5,1e-8,1e-11 --steps 128,256 "
+                             "--min-time 1e-9 --repeats 2",
+                         dir);
+    BOOST_TEST_REQUIRE(r.status == 0, r.err);
+    BOOST_TEST(r.out.find("# reference: closed form (tests/bench/driver/bench_config.hpp)") != std::string::npos);
+    const auto rows = by_method(parse_csv(r.out));
+    const std::set<std::string> expected{"rk4", "dopri5", "dop853", "gl4", "gl6", "gl8", "verlet", "yoshida6", "kahanli8",
+                                         "runge_kutta_dopri5", "runge_kutta_fehlberg78", "bulirsch_stoer",
+                                         "symplectic_rkn_sb3a_mclachlan"};
+    for (const auto& m : expected) BOOST_TEST(rows.count(m) == 1u, "no rows for " << m);
+    BOOST_TEST(rows.size() == expected.size());
+
+    for (const auto& [method, list] : rows) {
+        BOOST_TEST_CONTEXT(method) {
+            BOOST_TEST(list.front().library == (method.find('_') == std::string::npos ? "eomc" : "odeint"));
+            for (const Row& row : list) {
+                BOOST_TEST(row.repetitions >= 2);
+                BOOST_TEST(row.seconds > 0.0);
+                BOOST_TEST(std::isfinite(row.drift));  // the kernel has two invariants
+            }
+            if (list.front().kind == "tolerance") {
+                BOOST_TEST(list.size() == 3u);
+                check_errors_fall(method, list);
+            } else {
+                BOOST_TEST(list.size() == 2u);
+                for (const Row& row : list) BOOST_TEST(row.steps == static_cast<long>(row.setting));
+            }
+        }
+    }
+
+    // The counting wrapper sees exactly the calls each method makes per step: RK4 4; splitting
+    // methods s per step plus one start-up call (first same as last: Verlet s = 1, Yoshida 7,
+    // Kahan-Li 15); McLachlan's SB3A 6 per step (no FSAL in odeint); DOP853 without dense output
+    // 12 per accepted and 11 per rejected attempt plus f(t0) and the starting-step probe; Fehlberg
+    // 7(8) 13 per attempt plus the same two (odeint starts from the step our runtime would choose);
+    // odeint's Dormand-Prince 6 per attempt plus those two and its own first f(t0).
+    const auto per_step = [&](const char* m, long per, long extra) {
+        for (const Row& row : rows.at(m)) BOOST_TEST(row.evals == per * row.steps + extra, m << " at " << row.setting);
+    };
+    per_step("rk4", 4, 0);
+    per_step("verlet", 1, 1);
+    per_step("yoshida6", 7, 1);
+    per_step("kahanli8", 15, 1);
+    per_step("symplectic_rkn_sb3a_mclachlan", 6, 0);
+    for (const Row& row : rows.at("dop853")) BOOST_TEST(row.evals == 2 + 12 * row.steps + 11 * row.rejected);
+    for (const Row& row : rows.at("runge_kutta_fehlberg78")) BOOST_TEST(row.evals == 2 + 13 * (row.steps + row.rejected));
+    for (const Row& row : rows.at("runge_kutta_dopri5")) BOOST_TEST(row.evals == 3 + 6 * (row.steps + row.rejected));
+
+    // Orders from 128 to 256 steps, where these methods are in their asymptotic regime (errors
+    // 1e-5 .. 1e-13, far above round-off): within 0.3 of the theory (the next term of the error
+    // expansion shifts the ratio by O(h), h = 2 pi / 128 = 0.05).
+    const std::map<std::string, double> orders{{"rk4", 4}, {"gl4", 4}, {"gl6", 6}, {"verlet", 2},
+                                               {"yoshida6", 6}, {"symplectic_rkn_sb3a_mclachlan", 4}};
+    for (const auto& [m, p] : orders) {
+        const double q = observed_order(rows.at(m));
+        BOOST_TEST(std::abs(q - p) <= 0.3, m << ": observed order " << q << ", expected " << p);
+    }
+
+    // Adaptive error bound. On the circular orbit a local error d changes the energy by <= (|v| +
+    // 1/r^2) d = 2 d, the semi-major axis by 2 a^2 dE = 4 d, the mean motion by 1.5 * 4 d = 6 d,
+    // hence the phase at the end by 6 d T = 38 d and the state (speed 1) by as much; plus d itself.
+    // Each accepted step's local error is held to the tolerance weight sc <= atol + rtol * 1 = 2 tol
+    // per component. Bound: 39 * 2 tol * accepted steps.
+    for (const char* m : {"dopri5", "dop853"})
+        for (const Row& row : rows.at(m))
+            BOOST_TEST(row.error <= 78.0 * row.setting * static_cast<double>(row.steps),
+                       m << " tol " << row.setting << ": error " << row.error);
+}
+
+// ---------------------------------------------------------------------------------------------
+// eomc bench on a generated kernel (harmonic oscillator, closed form): CSV, table, plot.
+// ---------------------------------------------------------------------------------------------
+BOOST_AUTO_TEST_CASE(bench_writes_csv_table_and_plot) {
+    const fs::path dir = scratch("oscillator");
+    const fs::path scene = write_scene(dir, std::string(oscillator_scene) + oscillator_reference);
+    const fs::path out = dir / "out";
+    const Result r = run(eomc_bench(scene, out,
+                                    "--methods dop853,dopri5,rk4,gl6,verlet,runge_kutta_dopri5,runge_kutta_fehlberg78,"
+                                    "bulirsch_stoer --tolerances 1e-4,1e-7,1e-10 --steps 64,256"),
+                         dir);
+    BOOST_TEST_REQUIRE(r.status == 0, r.err);
+    const std::string csv = slurp(out / "work_precision.csv");
+    BOOST_TEST(csv.substr(0, header.size() + 1) == header + "\n");
+    BOOST_TEST(csv.find('#') == std::string::npos);  // notes go to the table, not into the data
+    const auto rows = by_method(parse_csv(csv));
+    BOOST_TEST(rows.size() == 8u);
+    // T = q_dot^2/2 with V(q): separable, so the generated kernel has acceleration() and Verlet runs.
+    // Verlet turns (q, q_dot) by the angle w~ h with cos(w~ h) = 1 - (wh)^2/2, so the phase lags
+    // by t (w~ - w) = t w^3 h^2 / 24 + O(h^4), and the velocity's amplitude is off by (wh)^2/8: in
+    // the max norm (the velocity's amplitude is w) the error is w (t w^3 h^2/24 + (wh)^2/8), to
+    // within the O(h^4) terms ((wh)^2 <= 0.009 here, so 10% covers them). Order 2: the two step
+    // counts' errors differ by 16 to the same 10%.
+    BOOST_TEST_REQUIRE(rows.count("verlet") == 1u);
+    BOOST_TEST_REQUIRE(rows.at("verlet").size() == 2u);
+    for (const Row& row : rows.at("verlet")) {
+        const double w = 2, t = 3, h = row.setting;
+        BOOST_TEST(row.error <= 1.1 * w * (t * w * w * w * h * h / 24 + w * w * h * h / 8), "verlet h " << h);
+    }
+    BOOST_TEST(std::abs(observed_order(rows.at("verlet")) - 2.0) < std::log(1.1) / std::log(4.0));
+    BOOST_TEST(r.out.find("note: reference: closed form ([reference] of") != std::string::npos, r.out);
+    for (const char* m : {"runge_kutta_dopri5", "runge_kutta_fehlberg78", "bulirsch_stoer"}) {
+        BOOST_TEST_REQUIRE(rows.count(m) == 1u, m);
+        BOOST_TEST(rows.at(m).front().library == "odeint");
+        BOOST_TEST(r.out.find(m) != std::string::npos, "table lacks " << m);
+    }
+    for (const char* m : {"dop853", "dopri5", "runge_kutta_dopri5", "runge_kutta_fehlberg78", "bulirsch_stoer"}) {
+        BOOST_TEST_REQUIRE(rows.at(m).size() == 3u, m);
+        check_errors_fall(m, rows.at(m));
+    }
+    // q'' = -w^2 q is a rotation in (q, q_dot / w): errors are carried along without growth in
+    // that norm, and converting back and forth costs at most a factor w * sqrt(2) = 2.9 in the
+    // max norm. Local errors are held to sc <= atol + rtol * max|x| <= 3 tol. Bound: 3 * 2.9 * tol
+    // per accepted step.
+    for (const char* m : {"dop853", "dopri5"})
+        for (const Row& row : rows.at(m))
+            BOOST_TEST(row.error <= 8.7 * row.setting * static_cast<double>(row.steps), m << " tol " << row.setting);
+    // The energy is the kernel's one invariant: its drift is reported, and the symmetric gl6 keeps
+    // it to round-off-level oscillations (< 1e-10 at 256 steps, where RK4 drifts visibly).
+    BOOST_TEST(rows.at("gl6").back().drift < 1e-10);
+    BOOST_TEST(rows.at("rk4").back().drift > rows.at("gl6").back().drift);
+    if (std::system("command -v gnuplot > /dev/null 2>&1") == 0) {
+        const std::string png = slurp(out / "work_precision.png");
+        BOOST_TEST(png.substr(0, 8) == std::string("\x89PNG\r\n\x1a\n", 8));
+        BOOST_TEST(r.out.find("plot: ") != std::string::npos);
+    }
+
+    // Without gnuplot: the same CSV, a warning, exit 0.
+    const fs::path out2 = dir / "out2";
+    const Result no_plot =
+        run(eomc_bench(scene, out2, "--methods dop853 --tolerances 1e-6"), dir, "EOMC_GNUPLOT=/nonexistent/gnuplot");
+    BOOST_TEST_REQUIRE(no_plot.status == 0, no_plot.err);
+    BOOST_TEST(no_plot.err.find("gnuplot was not found") != std::string::npos, no_plot.err);
+    BOOST_TEST(fs::exists(out2 / "work_precision.csv"));
+    BOOST_TEST(!fs::exists(out2 / "work_precision.png"));
+}
+
+// Without [reference] the errors are measured against a float128 DOP853 run. The double runs
+// are the same as with the closed form (same kernel, same settings), so the two errors differ by
+// no more than the two references do: the float128 run's own error, below 1e-20.
+BOOST_AUTO_TEST_CASE(float128_reference_agrees_with_closed_form) {
+    const fs::path dir = scratch("float128");
+    const fs::path closed = write_scene(dir, std::string(oscillator_scene) + oscillator_reference);
+    const Result a = run(eomc_bench(closed, dir / "closed", "--methods dop853,rk4 --tolerances 1e-5,1e-9 --steps 100"), dir);
+    BOOST_TEST_REQUIRE(a.status == 0, a.err);
+    const fs::path numeric = write_scene(dir, oscillator_scene);
+    const Result b = run(eomc_bench(numeric, dir / "numeric", "--methods dop853,rk4 --tolerances 1e-5,1e-9 --steps 100"), dir);
+    BOOST_TEST_REQUIRE(b.status == 0, b.err);
+    BOOST_TEST(b.out.find("note: reference: float128 DOP853 at rtol = atol = 1e-26") != std::string::npos, b.out);
+    const auto ra = parse_csv(slurp(dir / "closed" / "work_precision.csv"));
+    const auto rb = parse_csv(slurp(dir / "numeric" / "work_precision.csv"));
+    BOOST_TEST_REQUIRE(ra.size() == 3u);
+    BOOST_TEST_REQUIRE(rb.size() == ra.size());
+    for (std::size_t i = 0; i < ra.size(); ++i) {
+        BOOST_TEST(ra[i].method == rb[i].method);
+        BOOST_TEST(ra[i].evals == rb[i].evals);
+        BOOST_TEST(std::abs(ra[i].error - rb[i].error) <= 1e-20, ra[i].method << ": " << ra[i].error << " vs " << rb[i].error);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Bad input: exit 2, a message that names the problem, nothing written.
+// ---------------------------------------------------------------------------------------------
+BOOST_AUTO_TEST_CASE(bad_input_exits_2_and_writes_nothing) {
+    const fs::path dir = scratch("bad");
+    const fs::path scene = write_scene(dir, std::string(oscillator_scene) + oscillator_reference);
+    const fs::path out = dir / "out";
+
+    Result r = run(eomc_bench(scene, out, "--methods dop853,dop835"), dir);
+    BOOST_TEST(r.status == 2);
+    BOOST_TEST(r.err.find("--methods: error: unknown method 'dop835'; did you mean 'dop853'?") != std::string::npos, r.err);
+    BOOST_TEST(!fs::exists(out));
+
+    r = run(eomc_bench(scene, out, "--tolerances 1e-6,2"), dir);
+    BOOST_TEST(r.status == 2);
+    BOOST_TEST(r.err.find("--tolerances: error: a tolerance must lie in (0, 1), not 2") != std::string::npos, r.err);
+    r = run(eomc_bench(scene, out, "--steps 10,abc"), dir);
+    BOOST_TEST(r.status == 2);
+    BOOST_TEST(r.err.find("'abc' is not a number") != std::string::npos, r.err);
+    BOOST_TEST(!fs::exists(out));
+
+    // A reference must be a function of t and the parameters: the coordinate is pointed at.
+    const fs::path bad = write_scene(dir, std::string(oscillator_scene) + "[reference]\nq = \"cos(w*t)\"\nq_dot = \"-w*q\"\n");
+    r = run(eomc_bench(bad, out, ""), dir);
+    BOOST_TEST(r.status == 2);
+    BOOST_TEST(r.err.find("scene.toml:15:13: error: 'q' is a coordinate, which may not appear in the reference value of "
+                          "'q_dot'") != std::string::npos,
+               r.err);
+    BOOST_TEST(!fs::exists(out));
+}
