@@ -51,6 +51,16 @@ struct Carrier {
     Vec3 pole_velocity;
 };
 
+// Equations given directly (scene [newtonian]), one per coordinate in declaration order:
+// the kinematic form q̈_s = f_s(t, q, q̇), or the fundamental form Φ_s = A_sk q̈_k + B_s = 0
+// (checked to be affine in q̈).
+struct Newtonian {
+    bool fundamental = false;
+    std::vector<GiNaC::ex> expressions;  // f_s (kinematic) or Φ_s (fundamental)
+    std::vector<SourcePos> positions;    // of each expression's text
+    SourcePos pos;                       // the [newtonian] table
+};
+
 struct Model {
     std::string name;         // scene name, e.g. disk_tube_ball
     std::string struct_name;  // DiskTubeBall
@@ -71,6 +81,8 @@ struct Model {
     SourcePos kinetic_pos;                       // where T comes from (for errors about M)
 
     scene::Simulate simulate;
+    std::optional<Newtonian> newtonian;  // equations instead of energies (no particles, no T)
+    scene::Inverse inverse;
 
     bool keeps(Effect e) const { return keep[static_cast<int>(e)]; }
     // All symbols that are inputs of the equations: t, q, q_dot, parameters.
