@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "codegen/inverse_printer.hpp"
 #include "codegen/kernel_ir.hpp"
 #include "support/json.hpp"
 
@@ -256,6 +257,7 @@ void print_json(const model::Model& model, const mechanics::Equations& eqs, std:
 
 void print_derivation(const model::Model& model, const mechanics::Equations& eqs, DerivationFormat format,
                       std::ostream& out) {
+    if (model.newtonian) return print_newtonian_derivation(model, eqs, format, out);  // equations given, not energies
     switch (format) {
         case DerivationFormat::text: return print_text(model, eqs, out);
         case DerivationFormat::latex: return print_latex(model, eqs, out);

@@ -55,6 +55,11 @@ struct KernelIR {
     Block jacobian_explicit;         // 2n*2n outputs, when explicit_solution
     Block mass_and_jacobian_terms;   // otherwise: n*n outputs of M, then n*2n of G = ∂f/∂x − (∂M/∂x)·q̈
     Block invariants;                // one output per invariant
+
+    // Newtonian scenes only (empty otherwise, and then nothing is emitted): Santilli's
+    // conditions S1–S5 of the fundamental form as residuals, one output per name.
+    std::vector<std::string> santilli_residual_names;
+    Block santilli_residuals;
 };
 
 // Common-subexpression elimination over all outputs of one function.

@@ -7,6 +7,7 @@
 
 #include "codegen/kernel_ir.hpp"
 #include "mechanics/differentiation.hpp"
+#include "mechanics/inverse_problem.hpp"
 
 namespace eomc::codegen {
 
@@ -119,6 +120,18 @@ KernelIR lower(const model::Model& model, const mechanics::Equations& eqs, Lower
     }
     ir.invariants = eliminate_common_subexpressions(invariants, prefix);
     t.invariants = lap();
+
+    // A scene given by its equations carries the residuals of its self-adjointness
+    // conditions, so that a simulation can watch them along its trajectory.
+    if (model.newtonian) {
+        std::vector<ex> residuals;
+        const auto form = mechanics::inverse::forms(model, eqs).fundamental;
+        for (const auto& r : mechanics::inverse::santilli_conditions(model, form)) {
+            ir.santilli_residual_names.push_back(mechanics::inverse::label(model, r));
+            residuals.push_back(r.value);
+        }
+        ir.santilli_residuals = eliminate_common_subexpressions(residuals, prefix);
+    }
     return ir;
 }
 
