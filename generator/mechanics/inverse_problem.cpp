@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <Eigen/SVD>
 #include <fmt/format.h>
 
 #include "mechanics/differentiation.hpp"
@@ -388,6 +389,10 @@ bool depends_on_state(const ex& e, const std::vector<symbol>& state) {
     return std::any_of(state.begin(), state.end(), [&](const symbol& s) { return e.has(s); });
 }
 
+bool has_velocity(const model::Model& model, const ex& e) {
+    return std::any_of(model.coordinates.begin(), model.coordinates.end(), [&](const auto& c) { return e.has(c.q_dot); });
+}
+
 std::string coordinate(const model::Model& model, std::size_t i) { return model.coordinates[i].name; }
 
 }  // namespace
@@ -687,9 +692,9 @@ void one_degree_of_freedom(const model::Model& model, const std::vector<ex>& f_,
 
     // u = G(t) + H(q): G'(t) + q̇ H'(q) = −∂f/∂q̇, so −∂f/∂q̇ must be affine in q̇.
     {
-        const ex a = simplified(minus_N.subs(v == 0));
         const ex b = simplified(derivative(minus_N, v));
-        if (free_of(a, {&q, &v}) && free_of(b, {&t, &v}) && simplified(minus_N - a - v * b).is_zero()) {
+        const ex a = simplified(minus_N - v * b);  // not −∂f/∂q̇ at q̇ = 0: that may be a pole
+        if (free_of(a, {&q, &v}) && free_of(b, {&t, &v})) {
             const auto G = antiderivative(a, t);
             const auto H = antiderivative(b, q);
             const std::string kind = a.is_zero() && b.is_zero() ? "constant" : b.is_zero() ? "g(t)" : a.is_zero() ? "g(q)" : "g(t)h(q)";
@@ -749,8 +754,12 @@ void one_degree_of_freedom(const model::Model& model, const std::vector<ex>& f_,
 // ---- n degrees of freedom
 
 // H1 and its derivatives along the motion under H2: g ∇ᵏΦ symmetric, ∇X = dX/dt + ΓX − XΓ,
-// Γ = −½ ∂f/∂q̇. These are pointwise linear conditions on the entries of g; when their
-// general solution has det g ≡ 0, no regular multiplier, hence no regular Lagrangian, exists.
+// Γ = −½ ∂f/∂q̇. These are pointwise linear conditions on the entries of g. Their rank is taken
+// at random points (the generic rank; a non-zero minor at a point proves it is not lower);
+// when it reaches the number of entries only g = 0 is left. When the conditions are small
+// enough they are also solved symbolically, for the reasoning steps, and a general solution
+// with det g ≡ 0 proves singularity as well. Either way no regular multiplier, hence no
+// regular Lagrangian, exists.
 bool singular_forced(const model::Model& model, const std::vector<ex>& f, Multiplier& m) {
     const unsigned n = unsigned(model.coordinates.size());
     matrix G(n, n);
@@ -762,62 +771,111 @@ bool singular_forced(const model::Model& model, const std::vector<ex>& f, Multip
             unknowns.emplace_back(name, tex);
             G(i, j) = G(j, i) = unknowns.back();
         }
+    const std::size_t u = unknowns.size();
     const matrix Gamma = m.N.mul_scalar(ex(-1) / 2);
+    const auto points = probe_points(model, 8, 0xd06145);
+    std::vector<std::vector<ex>> rows;  // coefficients of each condition on the unknowns
+    std::size_t rows_size = 0;
+    constexpr std::size_t symbolic_limit = 600;  // expression nodes up to which the conditions are solved exactly
+
+    auto numeric_rank = [&] {
+        Eigen::Index best = 0;
+        for (const auto& point : points) {
+            Eigen::MatrixXd C(Eigen::Index(rows.size()), Eigen::Index(u));
+            for (std::size_t r = 0; r < rows.size(); ++r)
+                for (std::size_t c = 0; c < u; ++c) C(Eigen::Index(r), Eigen::Index(c)) = evaluate(rows[r][c], point);
+            if (!C.allFinite()) continue;
+            Eigen::JacobiSVD<Eigen::MatrixXd> svd(C);
+            const Eigen::VectorXd sigma = svd.singularValues();
+            Eigen::Index rank = 0;
+            for (Eigen::Index k = 0; k < sigma.size(); ++k)
+                if (sigma(k) > 1e-9 * sigma(0)) ++rank;
+            best = std::max(best, rank);
+        }
+        return std::size_t(best);
+    };
+
     matrix X = m.Phi;
-    GiNaC::lst equations, vars;
-    for (const auto& u : unknowns) vars.append(u);
-    GiNaC::exmap solution;
-    for (const auto& u : unknowns) solution[u] = u;
-    const std::size_t rounds = unknowns.size();
-    for (std::size_t k = 0; k < rounds; ++k) {
+    std::size_t previous_rank = 0;
+    for (std::size_t k = 0; k < u; ++k) {
         const matrix GX = G.mul(X);
         Step step{k == 0 ? "H1: g Φ must be symmetric (pointwise conditions on the entries of g)"
                          : fmt::format("H1 differentiated along the motion {} time{}, with H2 for dg/dt: g ∇{}Φ must be "
                                        "symmetric, ∇X = dX/dt + ΓX − XΓ, Γ = −½ ∂f/∂q̇",
                                        k, k == 1 ? "" : "s", k == 1 ? "" : fmt::format("^{}", k)),
                   {}};
-        bool new_condition = false;
         for (unsigned i = 0; i < n; ++i)
             for (unsigned j = i + 1; j < n; ++j) {
-                const ex c = simplified((GX(i, j) - GX(j, i)).subs(solution));
-                if (c.is_zero()) continue;
+                const ex c = (GX(i, j) - GX(j, i)).expand();
+                std::vector<ex> row;
+                ex condition = 0;
+                for (const auto& unknown : unknowns) {
+                    row.push_back(simplified(c.coeff(unknown, 1)));
+                    condition += row.back() * unknown;
+                    rows_size += size_of(row.back());
+                }
+                if (std::all_of(row.begin(), row.end(), [](const ex& e) { return e.is_zero(); })) continue;
                 step.equations.emplace_back(fmt::format("({0})_{1}{2} − ({0})_{2}{1}", k == 0 ? "gΦ" : "g∇Φ",
                                                         coordinate(model, i), coordinate(model, j)),
-                                            c);
-                equations.append(c == 0);
-                new_condition = true;
+                                            condition);
+                rows.push_back(std::move(row));
             }
-        if (new_condition) {
+        const std::size_t rank = rows.empty() ? 0 : numeric_rank();
+        // The exact solution, when small, for the reasoning; trusted only when its rank agrees
+        // with the numeric one (a pivot that is zero but not recognised as zero would not).
+        std::optional<GiNaC::exmap> solution;
+        if (!rows.empty() && rows_size <= symbolic_limit) {
+            GiNaC::lst equations, vars;
+            for (const auto& row : rows) {
+                ex e = 0;
+                for (std::size_t c = 0; c < u; ++c) e += row[c] * unknowns[c];
+                equations.append(e == 0);
+            }
+            for (const auto& unknown : unknowns) vars.append(unknown);
             try {
                 const ex s = GiNaC::lsolve(equations, vars);
-                if (s.nops() != unknowns.size()) return false;
-                for (std::size_t i = 0; i < s.nops(); ++i) solution[s.op(i).op(0)] = simplified(s.op(i).op(1));
+                GiNaC::exmap sol;
+                std::size_t determined = 0;
+                for (std::size_t i = 0; i < s.nops(); ++i) {
+                    sol[s.op(i).op(0)] = simplified(s.op(i).op(1));
+                    if (!sol[s.op(i).op(0)].is_equal(s.op(i).op(0))) ++determined;
+                }
+                if (s.nops() == u && determined == rank) solution = sol;
             } catch (const std::exception&) {
-                return false;
             }
+        }
+        if (step.equations.empty() || rank == previous_rank) {
+            step.text += step.equations.empty() ? ": nothing new" : ": nothing new (implied by the conditions above)";
+            step.equations.clear();
+        } else if (solution) {
             std::string forced;
-            for (const auto& u : unknowns)
-                if (!solution[u].is_equal(u)) forced += (forced.empty() ? "" : ", ") + text(u) + " = " + text(solution[u]);
-            step.text += "; so " + (forced.empty() ? std::string("nothing new") : forced);
-            m.steps.push_back(std::move(step));
+            for (const auto& unknown : unknowns)
+                if (!solution->at(unknown).is_equal(unknown))
+                    forced += (forced.empty() ? "" : ", ") + text(unknown) + " = " + text(solution->at(unknown));
+            step.text += "; so " + forced;
         } else {
-            step.text += ": nothing new";
-            m.steps.push_back(std::move(step));
+            step.text += fmt::format("; the conditions so far have rank {} on the {} entries of g (at random points)", rank, u);
         }
-        // det g of the general solution
-        const matrix general = ex_to<matrix>(G.subs(solution));
-        ex det;
-        try {
-            det = simplified(general.determinant());
-        } catch (const std::exception&) {
-            return false;
-        }
-        if (det.is_zero()) {
-            m.steps.push_back({fmt::format("Every g allowed by H1 and H2 is singular: g = {}, det g = 0. No regular "
-                                           "multiplier exists, so no regular Lagrangian (Douglas).",
-                                           matrix_text(general)),
+        m.steps.push_back(std::move(step));
+        previous_rank = rank;
+        if (rank == u) {
+            m.steps.push_back({fmt::format("H1 and H2 leave only g = 0 ({0} independent conditions on the {0} entries), "
+                                           "det g = 0. No regular multiplier exists, so no regular Lagrangian (Douglas).",
+                                           u),
                                {}});
             return true;
+        }
+        if (solution) {
+            const matrix general = ex_to<matrix>(G.subs(*solution));
+            std::size_t size = 0;
+            for (unsigned i = 0; i < n * n; ++i) size += size_of(general(i / n, i % n));
+            if (size <= symbolic_limit && simplified(general.determinant()).is_zero()) {
+                m.steps.push_back({fmt::format("Every g allowed by H1 and H2 is singular: g = {}, det g = 0. No regular "
+                                               "multiplier exists, so no regular Lagrangian (Douglas).",
+                                               matrix_text(general)),
+                                   {}});
+                return true;
+            }
         }
         matrix next(n, n);
         const matrix commutator = Gamma.mul(X).sub(X.mul(Gamma));
@@ -888,20 +946,14 @@ void several_degrees_of_freedom(const model::Model& model, const std::vector<ex>
         bool depends_t = false, depends_q = false, ok = true;
         for (unsigned i = 0; i < n && ok; ++i) {
             const ex minus = simplified(-m.N(i, i));
-            GiNaC::exmap rest;
-            for (const auto& c : model.coordinates) rest[c.q_dot] = 0;
-            std::vector<ex> gradient{simplified(minus.subs(rest))};
-            ex affine = gradient[0];
+            std::vector<ex> gradient{minus};  // [0]: the part free of q̇, completed below
             for (const auto& c : model.coordinates) {
                 gradient.push_back(simplified(derivative(minus, c.q_dot)));
-                affine += c.q_dot * gradient.back();
+                gradient[0] -= c.q_dot * gradient.back();
             }
-            bool velocity_free = std::none_of(gradient.begin(), gradient.end(), [&](const ex& e) {
-                return std::any_of(model.coordinates.begin(), model.coordinates.end(),
-                                   [&](const auto& c) { return e.has(c.q_dot); });
-            });
-            const auto phi = velocity_free && simplified(minus - affine).is_zero() ? potential(gradient, vars)
-                                                                                   : std::nullopt;
+            gradient[0] = simplified(gradient[0]);
+            const bool affine = std::none_of(gradient.begin(), gradient.end(), [&](const ex& e) { return has_velocity(model, e); });
+            const auto phi = affine ? potential(gradient, vars) : std::nullopt;
             if (!phi) {
                 m.steps.push_back({fmt::format("diagonal: −∂f_{0}/∂{0}_dot = {1} is not the rate of change of a function "
                                                "of t and q along the motion",
@@ -940,8 +992,13 @@ Multiplier search_multiplier(const model::Model& model, const std::vector<ex>& f
     const FlowMatrices fm = flow_matrices(model, f);
     m.N = fm.N;
     m.Phi = fm.Phi;
-    if (model.coordinates.size() == 1) one_degree_of_freedom(model, f, m);
-    else several_degrees_of_freedom(model, f, m);
+    try {
+        if (model.coordinates.size() == 1) one_degree_of_freedom(model, f, m);
+        else several_degrees_of_freedom(model, f, m);
+    } catch (const std::exception& e) {  // a pole met while substituting, or a GiNaC limit
+        m.g.reset();
+        m.steps.push_back({std::string("The search stopped: ") + e.what(), {}});
+    }
     return m;
 }
 
@@ -989,7 +1046,9 @@ std::vector<ex> euler_lagrange_mismatch(const model::Model& model, const ex& L, 
     return out;
 }
 
-Construction construct_lagrangian(const model::Model& model, const FundamentalForm& form) {
+namespace {
+
+Construction construct(const model::Model& model, const FundamentalForm& form) {
     const std::size_t n = model.coordinates.size();
     Construction c;
     const symbol tau("tau", "\\tau");
@@ -1023,8 +1082,6 @@ Construction construct_lagrangian(const model::Model& model, const FundamentalFo
 
     // E − ε(K) = α + β q̇ (no q̈ left: ∂²K/∂q̇∂q̇ = A).
     c.beta = matrix(unsigned(n), unsigned(n));
-    GiNaC::exmap at_rest;
-    for (const auto& co : model.coordinates) at_rest[co.q_dot] = 0;
     for (std::size_t i = 0; i < n; ++i) {
         const ex R = simplified(form.expression(model, i) - euler_operator(model, c.K, i));
         for (const auto& co : model.coordinates)
@@ -1032,13 +1089,18 @@ Construction construct_lagrangian(const model::Model& model, const FundamentalFo
                 c.reason = "E − ε(K) still contains accelerations: A is not the Hessian of K (S1 or S2 fails)";
                 return c;
             }
-        c.alpha.push_back(simplified(R.subs(at_rest)));
-        ex affine = c.alpha.back();
+        // α = R − β q̇ rather than R at q̇ = 0: R may hold terms (log q̇) that cancel only
+        // after simplification and cannot be evaluated at rest.
+        ex alpha = R;
+        bool affine = true;
         for (std::size_t k = 0; k < n; ++k) {
-            c.beta(unsigned(i), unsigned(k)) = simplified(derivative(R, model.coordinates[k].q_dot));
-            affine += c.beta(unsigned(i), unsigned(k)) * model.coordinates[k].q_dot;
+            const ex b = simplified(derivative(R, model.coordinates[k].q_dot));
+            c.beta(unsigned(i), unsigned(k)) = b;
+            alpha -= b * model.coordinates[k].q_dot;
+            affine = affine && !has_velocity(model, b);
         }
-        if (!simplified(R - affine).is_zero()) {
+        c.alpha.push_back(simplified(alpha));
+        if (!affine || has_velocity(model, c.alpha.back())) {
             c.reason = fmt::format("E − ε(K) for '{}' is not affine in the velocities (S3–S5 fail)", coordinate(model, i));
             return c;
         }
@@ -1109,6 +1171,18 @@ Construction construct_lagrangian(const model::Model& model, const FundamentalFo
         }
     }
     return c;
+}
+
+}  // namespace
+
+Construction construct_lagrangian(const model::Model& model, const FundamentalForm& form) {
+    try {
+        return construct(model, form);
+    } catch (const std::exception& e) {  // a pole met while substituting, or a GiNaC limit
+        Construction c;
+        c.reason = std::string("the construction failed: ") + e.what();
+        return c;
+    }
 }
 
 std::pair<ex, ex> split_lagrangian(const model::Model& model, const ex& L) {
