@@ -86,6 +86,7 @@ struct DampedOscillator {
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.
     template <class S>
     static void invariants(S t, const S* x, S* out, const Parameters& p) {
+        (void)out;
         (void)t;
         (void)x;
         (void)p;

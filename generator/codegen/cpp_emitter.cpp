@@ -419,7 +419,9 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
         {"forcing_body", indent(function_body(ir, names, ir.forcing, indexed("out", n)), 8)},
         {"rhs_body", indent(rhs, 8)},
         {"jacobian_body", indent(jacobian, 8)},
-        {"invariants_body", indent(function_body(ir, names, ir.invariants, indexed("out", ir.invariant_names.size())), 8)},
+        {"invariants_body", indent((ir.invariant_names.empty() ? "(void)out;\n" : "") +  // none proven: nothing written
+                                       function_body(ir, names, ir.invariants, indexed("out", ir.invariant_names.size())),
+                                   8)},
         {"invariant_accessors", accessors},
         {"private_part", private_part},
     };
