@@ -120,6 +120,19 @@ ex simplified(const ex& e) {
         if (consider(trig)) return 0;
         if (consider(safe_normal(trig))) return 0;
     }
+    // Last, a zero test only: sines and cosines as complex exponentials make every identity
+    // between trigonometric polynomials (double angles, products to sums) an expansion.
+    // Each factor doubles the terms, so only for moderate sizes.
+    if (best_size < 4000 && (a.has(GiNaC::sin(u)) || a.has(GiNaC::cos(u)) || a.has(GiNaC::sinh(u)) ||
+                             a.has(GiNaC::cosh(u)))) {
+        const ex i = GiNaC::I;
+        const ex exponential =
+            a.subs(GiNaC::lst{GiNaC::sin(u) == (GiNaC::exp(i * u) - GiNaC::exp(-i * u)) / (2 * i),
+                              GiNaC::cos(u) == (GiNaC::exp(i * u) + GiNaC::exp(-i * u)) / 2,
+                              GiNaC::sinh(u) == (GiNaC::exp(u) - GiNaC::exp(-u)) / 2,
+                              GiNaC::cosh(u) == (GiNaC::exp(u) + GiNaC::exp(-u)) / 2});
+        if (combine_exponentials(combine_exponentials(exponential.expand()).expand()).expand().is_zero()) return 0;
+    }
     return best;
 }
 
@@ -170,6 +183,7 @@ public:
             }
             if (all) return sum;
         } else if (is_a<GiNaC::power>(e)) {
+            if (auto linear = linearized_trig(e)) return (*this)(*linear, depth + 1);
             if (e.op(0).is_equal(v_) && !e.op(1).has(v_)) {
                 if (e.op(1).is_equal(-1)) return GiNaC::log(v_);
                 return GiNaC::pow(v_, e.op(1) + 1) / (e.op(1) + 1);
@@ -188,9 +202,10 @@ public:
                     constant *= e.op(i);
                 }
             }
-            if (count == 1) {
+            if (count == 1 && !is_trig_power(dependent)) {
                 if (auto r = (*this)(dependent, depth + 1)) return constant * *r;
             } else {
+                if (auto linear = linearized_trig(dependent)) return (*this)(constant * *linear, depth + 1);
                 if (auto r = by_parts(dependent, depth)) return constant * *r;
                 if (auto r = laurent(dependent, depth)) return constant * *r;
             }
@@ -201,6 +216,41 @@ public:
     }
 
 private:
+    static bool is_trig(const ex& f) { return is_function(f, "sin") || is_function(f, "cos"); }
+    static bool is_trig_power(const ex& e) {
+        return is_a<GiNaC::power>(e) && is_trig(e.op(0)) && is_a<numeric>(e.op(1)) &&
+               ex_to<numeric>(e.op(1)).is_pos_integer();
+    }
+
+    // A product of sines and cosines (positive integer powers included) of arguments in v,
+    // rewritten by the product-to-sum formulas into a sum with one such factor per term:
+    // sin a cos b = (sin(a+b) + sin(a−b))/2, sin a sin b = (cos(a−b) − cos(a+b))/2,
+    // cos a cos b = (cos(a−b) + cos(a+b))/2. nullopt when there is nothing to combine.
+    std::optional<ex> linearized_trig(const ex& e) const {
+        std::vector<ex> trig;
+        ex rest = 1;
+        for (const ex& f : factors_of(e)) {
+            if (is_trig(f) && f.has(v_)) {
+                trig.push_back(f);
+            } else if (is_trig_power(f) && f.op(0).has(v_)) {
+                for (long k = 0; k < ex_to<numeric>(f.op(1)).to_long(); ++k) trig.push_back(f.op(0));
+            } else {
+                rest *= f;
+            }
+        }
+        if (trig.size() < 2) return std::nullopt;
+        // Combine the first two; the rest stays as factors of each new term (recursion does them).
+        const ex a = trig[0].op(0), b = trig[1].op(0);
+        const bool sa = is_function(trig[0], "sin"), sb = is_function(trig[1], "sin");
+        ex combined;
+        if (sa && sb) combined = (GiNaC::cos(a - b) - GiNaC::cos(a + b)) / 2;
+        else if (!sa && !sb) combined = (GiNaC::cos(a - b) + GiNaC::cos(a + b)) / 2;
+        else if (sa) combined = (GiNaC::sin(a + b) + GiNaC::sin(a - b)) / 2;
+        else combined = (GiNaC::sin(a + b) + GiNaC::sin(b - a)) / 2;
+        for (std::size_t k = 2; k < trig.size(); ++k) rest *= trig[k];
+        return (combined * rest).expand();
+    }
+
     // f(u) for u linear in v.
     std::optional<ex> elementary(const ex& e) const {
         if (!is_a<GiNaC::function>(e) || e.nops() != 1) return std::nullopt;
@@ -1083,12 +1133,19 @@ Construction construct(const model::Model& model, const FundamentalForm& form) {
     // E − ε(K) = α + β q̇ (no q̈ left: ∂²K/∂q̇∂q̇ = A).
     c.beta = matrix(unsigned(n), unsigned(n));
     for (std::size_t i = 0; i < n; ++i) {
-        const ex R = simplified(form.expression(model, i) - euler_operator(model, c.K, i));
-        for (const auto& co : model.coordinates)
-            if (R.has(co.q_ddot)) {
+        ex R = simplified(form.expression(model, i) - euler_operator(model, c.K, i));
+        // R is affine in q̈ and its q̈ coefficients A − ∂²K/∂q̇∂q̇ must vanish (they may only
+        // look non-zero, e.g. through square roots the simplifier does not merge).
+        GiNaC::exmap no_acceleration;
+        for (const auto& co : model.coordinates) {
+            if (!R.has(co.q_ddot)) continue;
+            if (!simplified(derivative(R, co.q_ddot)).is_zero()) {
                 c.reason = "E − ε(K) still contains accelerations: A is not the Hessian of K (S1 or S2 fails)";
                 return c;
             }
+            no_acceleration[co.q_ddot] = 0;
+        }
+        if (!no_acceleration.empty()) R = simplified(R.subs(no_acceleration));
         // α = R − β q̇ rather than R at q̇ = 0: R may hold terms (log q̇) that cancel only
         // after simplification and cannot be evaluated at rest.
         ex alpha = R;
@@ -1099,8 +1156,23 @@ Construction construct(const model::Model& model, const FundamentalForm& form) {
             alpha -= b * model.coordinates[k].q_dot;
             affine = affine && !has_velocity(model, b);
         }
-        c.alpha.push_back(simplified(alpha));
-        if (!affine || has_velocity(model, c.alpha.back())) {
+        alpha = simplified(alpha);
+        // Terms of α that only look velocity-dependent (a factor that is zero but not
+        // simplified away) go with a substitution q̇ = 0 once ∂α/∂q̇ is shown to vanish.
+        bool velocity_free = !has_velocity(model, alpha);
+        if (!velocity_free && affine) {
+            velocity_free = std::all_of(model.coordinates.begin(), model.coordinates.end(), [&](const auto& co) {
+                return simplified(derivative(alpha, co.q_dot)).is_zero();
+            });
+            GiNaC::exmap at_rest;
+            for (const auto& co : model.coordinates) at_rest[co.q_dot] = 0;
+            try {
+                if (velocity_free) alpha = simplified(alpha.subs(at_rest));
+            } catch (const std::exception&) {  // a pole at rest: keep α as it is
+            }
+        }
+        c.alpha.push_back(alpha);
+        if (!affine || !velocity_free) {
             c.reason = fmt::format("E − ε(K) for '{}' is not affine in the velocities (S3–S5 fail)", coordinate(model, i));
             return c;
         }
