@@ -174,7 +174,8 @@ void text_construction(const model::Model& model, const inv::Construction& c, co
         out << "  not built: " << c.reason << "\n";
         return;
     }
-    out << fmt::format("  homotopy centres: q̇ = {}, q = {}\n", c.v_centre, c.q_centre);
+    out << fmt::format("  homotopy centres: q̇ = {}, q = {}{}\n", c.v_centre, c.q_centre,
+                       c.C_by_coordinates ? " (C by integrating one coordinate after another: singular at every centre)" : "");
     out << "  K = q̇_i q̇_j ∫₀¹ (1−τ) A_ij(t, q, τq̇) dτ = " << text(display_form(c.K)) << "\n";
     out << "  E − ε(K) = α + β q̇:";
     for (std::size_t i = 0; i < c.alpha.size(); ++i)

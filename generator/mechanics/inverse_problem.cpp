@@ -212,7 +212,7 @@ public:
         }
         const ex x = e.expand();
         if (!x.is_equal(e)) return (*this)(x, depth + 1);
-        return std::nullopt;
+        return odd(e, depth);
     }
 
 private:
@@ -249,6 +249,18 @@ private:
         else combined = (GiNaC::sin(a + b) + GiNaC::sin(b - a)) / 2;
         for (std::size_t k = 2; k < trig.size(); ++k) rest *= trig[k];
         return (combined * rest).expand();
+    }
+
+    // ∫ v h(v²) dv = ½ ∫ h(w) dw, w = v²: radicals of a + b v² (a central force along a ray).
+    std::optional<ex> odd(const ex& e, int depth) const {
+        if (depth > 8 || e.is_polynomial(v_)) return std::nullopt;
+        const ex h = e / v_;
+        if (!simplified(h.subs(v_ == -v_) - h).is_zero()) return std::nullopt;
+        const symbol w("w");
+        const ex in_w = h.subs(v_ == GiNaC::sqrt(w));
+        const auto r = Integrator(w)(in_w, depth + 1);
+        if (!r) return std::nullopt;
+        return r->subs(w == GiNaC::pow(v_, 2)) / 2;
     }
 
     // f(u) for u linear in v.
@@ -1184,37 +1196,57 @@ Construction construct(const model::Model& model, const FundamentalForm& form) {
                 return c;
             }
 
-    // D and C by the homotopy q₀ + τ(q − q₀).
-    bool have_DC = false;
+    // D, then C, by the homotopy q₀ + τ(q − q₀), each with the first centre that works.
+    std::optional<std::vector<ex>> D;
     for (double q0 : centres) {
         GiNaC::exmap ray;
         for (const auto& co : model.coordinates) ray[co.q] = q0 + tau * (co.q - q0);
         std::vector<ex> Dv;
-        bool ok = true;
-        for (std::size_t i = 0; i < n && ok; ++i) {
+        for (std::size_t i = 0; i < n; ++i) {
             ex integrand = 0;
             for (std::size_t k = 0; k < n; ++k)
                 integrand += (model.coordinates[k].q - q0) * c.beta(unsigned(i), unsigned(k)).subs(ray);
-            const auto I = integrand.is_zero() ? std::optional<ex>(ex(0)) : unit_integral(tau * integrand, tau);
-            if (!I) ok = false;
-            else Dv.push_back(*I);
+            const auto I = simplified(integrand).is_zero() ? std::optional<ex>(ex(0)) : unit_integral(tau * integrand, tau);
+            if (!I) break;
+            Dv.push_back(*I);
         }
-        if (!ok) continue;
-        ex integrand = 0;
-        for (std::size_t i = 0; i < n; ++i)
-            integrand += (model.coordinates[i].q - q0) * (derivative(Dv[i], model.t) - c.alpha[i]).subs(ray);
-        const auto C = simplified(integrand).is_zero() ? std::optional<ex>(ex(0)) : unit_integral(integrand, tau);
-        if (!C) continue;
-        c.D = Dv;
-        c.C = *C;
-        c.q_centre = q0;
-        have_DC = true;
-        break;
+        if (Dv.size() == n) {
+            D = Dv;
+            break;
+        }
     }
-    if (!have_DC) {
-        c.reason = "the homotopy integrals for D and C are out of reach of the integrator";
+    if (!D) {
+        c.reason = "the homotopy integral for D is out of reach of the integrator";
         return c;
     }
+    c.D = *D;
+    std::vector<ex> gradient_C;  // ∂_i C = ∂_t D_i − α_i
+    for (std::size_t i = 0; i < n; ++i) gradient_C.push_back(derivative(c.D[i], model.t) - c.alpha[i]);
+    std::optional<ex> C;
+    for (double q0 : centres) {
+        GiNaC::exmap ray;
+        for (const auto& co : model.coordinates) ray[co.q] = q0 + tau * (co.q - q0);
+        ex integrand = 0;
+        for (std::size_t i = 0; i < n; ++i) integrand += (model.coordinates[i].q - q0) * gradient_C[i].subs(ray);
+        C = simplified(integrand).is_zero() ? std::optional<ex>(ex(0)) : unit_integral(integrand, tau);
+        if (C) {
+            c.q_centre = q0;
+            break;
+        }
+    }
+    if (!C) {
+        // A potential singular at every centre tried (k/|q| in Cartesian coordinates): C by
+        // integrating one coordinate after another instead of along rays.
+        std::vector<symbol> coordinates;
+        for (const auto& co : model.coordinates) coordinates.push_back(co.q);
+        C = potential(gradient_C, coordinates);
+        c.C_by_coordinates = bool(C);
+    }
+    if (!C) {
+        c.reason = "the integrals for C are out of reach of the integrator";
+        return c;
+    }
+    c.C = *C;
 
     ex L = c.K + c.C;
     for (std::size_t i = 0; i < n; ++i) L += c.D[i] * model.coordinates[i].q_dot;

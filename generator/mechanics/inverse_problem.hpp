@@ -146,7 +146,8 @@ FundamentalForm multiplied(const GiNaC::matrix& g, const std::vector<GiNaC::ex>&
 //   E_i − ε_i(K) = α_i(t,q) + β_ik(t,q) q̇_k,   β antisymmetric
 //   D_i = ∫₀¹ τ (q−q₀)_k β_ik(t, q₀ + τ(q−q₀)) dτ                          (∂_k D_i − ∂_i D_k = β_ik)
 //   C   = ∫₀¹ (q−q₀)_i (∂_t D_i − α_i)(t, q₀ + τ(q−q₀)) dτ                 (∂_i C = ∂_t D_i − α_i)
-// The homotopy centres v₀, q₀ are 0 unless an integrand is singular there (then 1, then 2).
+// The homotopy centres v₀, q₀ are 0 unless an integrand is singular there (then 1, then 2);
+// when C is singular at all three, it is found by integrating ∂_i C one coordinate at a time.
 
 struct Construction {
     bool built = false;
@@ -156,6 +157,7 @@ struct Construction {
     std::vector<GiNaC::ex> alpha;
     GiNaC::matrix beta;
     double q_centre = 0, v_centre = 0;    // homotopy centres used (every component)
+    bool C_by_coordinates = false;        // C by integrating one coordinate after another (no centre worked)
     bool verified = false;                // ε_i(L) − E_i simplified to 0 for every i
     std::size_t points_agreeing = 0;      // when not proven: random points where they agree to round-off
     std::vector<GiNaC::ex> check;         // ε_i(L) − E_i, simplified

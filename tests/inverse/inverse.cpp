@@ -224,6 +224,33 @@ BOOST_AUTO_TEST_CASE(isotropic_oscillator_has_two_inequivalent_lagrangians) {
     BOOST_TEST(!vanishes(eomc::mechanics::euler_operator(m, L1 - L2, 0)));
 }
 
+BOOST_AUTO_TEST_CASE(kepler_in_cartesian_coordinates_needs_c_along_the_coordinates) {
+    // V = −k/|q| is singular at every homotopy centre's ray integral the integrator can do
+    // (0 is the pole; from (1, 1) the radical is of a full quadratic in τ): C is found by
+    // integrating ∂C/∂x, then the rest in y.
+    const Loaded l = load_text(R"toml([scene]
+name = "kepler_cartesian"
+[parameters]
+k = 1
+[coordinates]
+x = { initial = 1 }
+y = { rate = 1 }
+[newtonian]
+x_ddot = "-k*x/(x^2 + y^2)^(3/2)"
+y_ddot = "-k*y/(x^2 + y^2)^(3/2)"
+)toml");
+    const auto& m = l.model;
+    const auto& a = l.analysis;
+    BOOST_TEST((a.decision.verdict == inv::Verdict::self_adjoint));
+    BOOST_REQUIRE(a.construction && a.construction->built);
+    BOOST_TEST(a.construction->C_by_coordinates);
+    BOOST_TEST(a.construction->verified);
+    const ex k = S(m, "k"), x = S(m, "x"), y = S(m, "y"), xd = S(m, "x_dot"), yd = S(m, "y_dot");
+    const ex r3 = GiNaC::pow(x * x + y * y, GiNaC::numeric(3, 2));
+    check_generates(m, a.construction->L, {S(m, "x_ddot") + k * x / r3, S(m, "y_ddot") + k * y / r3});
+    check_equal_up_to_constant(m, a.construction->L, (xd * xd + yd * yd) / 2 + k / GiNaC::sqrt(x * x + y * y));
+}
+
 // ---------------------------------------------------------------------------------------
 // One degree of freedom: each separable ansatz of H2, u_t + q̇ u_q + f u_q̇ = −∂f/∂q̇ (g = e^u)
 
