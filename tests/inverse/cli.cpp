@@ -191,6 +191,14 @@ BOOST_AUTO_TEST_CASE(latex_report_compiles_with_pdflatex) {
                                     stem + ".tex > " + stem + ".pdflatex.log 2>&1";
         BOOST_TEST(std::system(command.c_str()) == 0, "pdflatex failed on " << stem << ", see " << dir);
     }
+    // `eomc derive` of a Newtonian scene in LaTeX too.
+    const Result r = run("derive " + scene("tests/inverse/scenes/pendulum_fundamental.toml") + " --format latex -o " +
+                             (dir / "derive.tex").string(),
+                         dir);
+    BOOST_REQUIRE(r.status == 0);
+    const std::string command = "cd " + dir.string() +
+                                " && pdflatex -interaction=nonstopmode -halt-on-error derive.tex > derive.pdflatex.log 2>&1";
+    BOOST_TEST(std::system(command.c_str()) == 0, "pdflatex failed on derive.tex, see " << dir);
 }
 
 BOOST_AUTO_TEST_CASE(bad_newtonian_scene_exits_2_at_the_place) {
