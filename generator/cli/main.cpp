@@ -20,9 +20,11 @@
 #include "cli/simulate.hpp"
 #include "codegen/cpp_emitter.hpp"
 #include "codegen/derivation_printer.hpp"
+#include "codegen/inverse_printer.hpp"
 #include "codegen/kernel_ir.hpp"
 #include "mechanics/equilibria.hpp"
 #include "mechanics/hamiltonian.hpp"
+#include "mechanics/inverse_problem.hpp"
 #include "mechanics/lagrange.hpp"
 #include "model/model.hpp"
 #include "scene/scene.hpp"
@@ -290,6 +292,13 @@ int main(int argc, char** argv) {
     equilibria->add_option("scene", scene_path, "scene file (TOML)")->required();
     equilibria->add_option("--format", format, "text | json")->check(CLI::IsMember({"text", "json"}));
 
+    std::string emit_scene;
+    auto* inverse = app.add_subcommand("inverse", "the inverse problem: self-adjointness, a multiplier, a Lagrangian");
+    inverse->add_option("scene", scene_path, "scene file (TOML)")->required();
+    inverse->add_option("--format", format, "text | latex | json")->check(CLI::IsMember({"text", "latex", "json"}));
+    inverse->add_option("-o,--output", output, "write to FILE instead of standard output");
+    inverse->add_option("--emit-scene", emit_scene, "write the constructed Lagrangian as a [lagrangian] scene to FILE");
+
     auto* run = app.add_subcommand("run", "derive + generate + simulate: the whole job on one scene");
     run->add_option("scene", scene_path, "scene file (TOML)")->required();
     run->add_option("-d,--dir", out_dir, "directory for the header and the CSV (default: .)");
@@ -358,6 +367,21 @@ int main(int argc, char** argv) {
             cli::print_bench_table(cli::bench(r), std::cout);
         } else if (equilibria->parsed()) {
             print_equilibria(p.model, mechanics::relative_equilibria(p.model, p.equations), format, std::cout);
+        } else if (inverse->parsed()) {
+            const auto analysis = mechanics::inverse::analyse(p.model, p.equations);
+            // Everything is computed before anything is written: a refusal leaves no file behind.
+            std::string scene_text;
+            if (!emit_scene.empty()) {
+                if (!analysis.construction || !analysis.construction->built || !analysis.construction->verified)
+                    throw std::runtime_error(fmt::format("no verified Lagrangian to write to {}: {}", emit_scene,
+                                                         analysis.reason));
+                scene_text = codegen::lagrangian_scene(p.model, analysis);
+            }
+            std::ostringstream text;
+            codegen::print_inverse(p.model, analysis, derivation_format(format), text);
+            if (output.empty()) std::cout << text.str();
+            else cli::write_file_atomically(output, text.str());
+            if (!emit_scene.empty()) cli::write_file_atomically(emit_scene, scene_text);
         } else if (run->parsed()) {
             codegen::print_derivation(p.model, p.equations, codegen::DerivationFormat::text, std::cout, canonical);
             const std::string header = kernel_header(p);

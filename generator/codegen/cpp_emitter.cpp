@@ -434,6 +434,20 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
             ir.invariant_names[k], k);
     }
 
+    // Newtonian scenes only, so that no other kernel changes: the self-adjointness residuals.
+    if (!ir.santilli_residual_names.empty()) {
+        accessors += fmt::format(
+            "\n    // Santilli's conditions S1–S5 of variational self-adjointness of the fundamental form\n"
+            "    // A(t,q,q̇) q̈ + B(t,q,q̇) = 0 (D = ∂_t + q̇_k ∂/∂q_k), one residual each; all vanish\n"
+            "    // identically iff the equations as given are Euler–Lagrange equations (`eomc inverse`).\n"
+            "    static constexpr int n_santilli_residuals = {};\n"
+            "    static constexpr std::array<const char*, n_santilli_residuals> santilli_residual_names{{ {} }};\n\n"
+            "    template <class S>\n"
+            "    static void santilli_residuals(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n",
+            ir.santilli_residual_names.size(), quoted_list(ir.santilli_residual_names),
+            indent(body(ir.santilli_residuals, "out"), 8));
+    }
+
     const std::string solve_note = ir.explicit_solution ? "u̇ is solved in closed form (n_velocities ≤ 2)."
                                                         : "M u̇ = f is solved at run time (Eigen LDLT).";
     const std::vector<std::pair<std::string, std::string>> fields{

@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "codegen/inverse_printer.hpp"
 #include "codegen/kernel_ir.hpp"
 #include "support/json.hpp"
 
@@ -349,6 +350,7 @@ void print_canonical_json(const mechanics::CanonicalEquations& c, std::ostream& 
 
 void print_derivation(const model::Model& model, const mechanics::Equations& eqs, DerivationFormat format,
                       std::ostream& out, const mechanics::CanonicalEquations* canonical) {
+    if (model.newtonian) return print_newtonian_derivation(model, eqs, format, out);  // equations given, not energies
     switch (format) {
         case DerivationFormat::text:
             print_text(model, eqs, out);

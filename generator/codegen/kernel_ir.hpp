@@ -64,6 +64,11 @@ struct KernelIR {
     Block mass_and_jacobian_terms;   // otherwise: M, then G = ∂f/∂x − (∂M/∂x)·u̇, n_velocities × n_state
     Block invariants;                // one output per invariant
     Block outputs;                   // one per output, functions of (t, x, u̇)
+
+    // Newtonian scenes only (empty otherwise, and then nothing is emitted): Santilli's
+    // conditions S1–S5 of the fundamental form as residuals, one output per name.
+    std::vector<std::string> santilli_residual_names;
+    Block santilli_residuals;
 };
 
 // Common-subexpression elimination over all outputs of one function.

@@ -7,6 +7,7 @@
 
 #include "codegen/kernel_ir.hpp"
 #include "mechanics/differentiation.hpp"
+#include "mechanics/inverse_problem.hpp"
 
 namespace eomc::codegen {
 
@@ -141,7 +142,20 @@ KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form,
 }
 
 KernelIR lower(const model::Model& model, const mechanics::Equations& equations, LoweringTimes* times) {
-    return lower(model, mechanics::first_order_form(model, equations), times);
+    const mechanics::FirstOrderForm form = mechanics::first_order_form(model, equations);
+    KernelIR ir = lower(model, form, times);
+    // A scene given by its equations carries the residuals of its self-adjointness
+    // conditions, so that a simulation can watch them along its trajectory.
+    if (model.newtonian) {
+        std::vector<ex> residuals;
+        const auto fundamental = mechanics::inverse::forms(model, equations).fundamental;
+        for (const auto& r : mechanics::inverse::santilli_conditions(model, fundamental)) {
+            ir.santilli_residual_names.push_back(mechanics::inverse::label(model, r));
+            residuals.push_back(r.value);
+        }
+        ir.santilli_residuals = eliminate_common_subexpressions(residuals, temporary_prefix(model, form));
+    }
+    return ir;
 }
 
 }  // namespace eomc::codegen

@@ -42,6 +42,9 @@ std::string text(const ex& e) {
 
 CanonicalEquations canonical_equations(const model::Model& model, const Equations& eqs) {
     const SourcePos where = model.kinetic_pos;
+    if (model.newtonian)
+        throw InputError(where, "the canonical equations need a Lagrangian, and a [newtonian] scene gives equations "
+                                "instead; `eomc inverse --emit-scene FILE` writes one when the equations admit it");
     if (model.free_carrier())
         throw InputError(where, "the canonical equations are not available for a free carrier: its quasi-velocities "
                                 "are not derivatives of coordinates, so they have no conjugate momenta");

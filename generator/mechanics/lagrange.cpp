@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "mechanics/differentiation.hpp"
+#include "mechanics/newtonian.hpp"
 #include "mechanics/numeric_probe.hpp"
 #include "mechanics/vector3.hpp"
 #include "support/diagnostic.hpp"
@@ -377,6 +378,7 @@ EnergySplit split_kinetic_energy(const model::Model& model) {
 }
 
 Equations derive(const model::Model& model) {
+    if (model.newtonian) return derive_newtonian(model);  // equations given, not energies
     Equations eqs;
     const std::size_t n = model.coordinates.size();
     eqs.from_particles = !model.particles.empty();

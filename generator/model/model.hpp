@@ -74,6 +74,16 @@ struct Carrier {
     Vec3 resultant{0, 0, 0}, moment{0, 0, 0};       // external force on the system, moment about o
 };
 
+// Equations given directly (scene [newtonian]), one per coordinate in declaration order:
+// the kinematic form q̈_s = f_s(t, q, q̇), or the fundamental form Φ_s = A_sk q̈_k + B_s = 0
+// (checked to be affine in q̈).
+struct Newtonian {
+    bool fundamental = false;
+    std::vector<GiNaC::ex> expressions;  // f_s (kinematic) or Φ_s (fundamental)
+    std::vector<SourcePos> positions;    // of each expression's text
+    SourcePos pos;                       // the [newtonian] table
+};
+
 struct Model {
     std::string name;         // scene name, e.g. disk_tube_ball
     std::string struct_name;  // DiskTubeBall
@@ -99,6 +109,8 @@ struct Model {
     // [reference]: the exact state at time t (functions of t and the parameters), one expression
     // per state variable in state order (q_1..q_n, q_1_dot..q_n_dot); empty when the scene gives none.
     std::vector<GiNaC::ex> reference;
+    std::optional<Newtonian> newtonian;  // equations instead of energies (no particles, no T)
+    scene::Inverse inverse;
 
     bool keeps(Effect e) const { return keep[static_cast<int>(e)]; }
     bool free_carrier() const { return carrier && carrier->free; }

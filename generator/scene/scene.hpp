@@ -143,6 +143,29 @@ struct Reference {
     SourcePos pos;                       // the [reference] table
 };
 
+// A system given by its equations instead of its energies (Mei ch. 4, the inverse problem):
+// either the kinematic form, one acceleration q̈_s = f_s(t, q, q̇) per coordinate (keys
+// `<coordinate>_ddot`), or the fundamental form A(t,q,q̇) q̈ + B(t,q,q̇) = 0, one expression
+// per coordinate (keys `<coordinate>` in [newtonian.fundamental]). Coordinate names are
+// checked by the model.
+struct NewtonianEquation {
+    std::string coordinate;  // the coordinate the key names (the `_ddot` stripped)
+    Expr value;
+    SourcePos pos;           // the key
+};
+
+struct Newtonian {
+    bool fundamental = false;
+    std::vector<NewtonianEquation> equations;  // file order
+    SourcePos pos;                             // the [newtonian] (or [newtonian.fundamental]) table
+};
+
+// Settings of `eomc inverse`.
+struct Inverse {
+    bool construct = true;          // build a Lagrangian when the equations allow one
+    bool multiplier_search = true;  // look for an integrating factor when they are not self-adjoint
+};
+
 struct Scene {
     std::string path;     // the file it came from ("" for a string)
     std::string name;     // [a-z][a-z0-9_]*
@@ -159,6 +182,8 @@ struct Scene {
     std::string formulation = "lagrangian";  // one of formulation_names ([formulation] kind)
     SourcePos formulation_pos;
     std::optional<Reference> reference;
+    std::optional<Newtonian> newtonian;  // instead of [[body]] or [lagrangian]
+    Inverse inverse;
 };
 
 // Throws eomc::InputError (file:line:column) on anything malformed.

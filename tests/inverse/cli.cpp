@@ -1,0 +1,237 @@
+// `eomc inverse` as a user meets it: the JSON shape for every classical case (checked by
+// check_inverse_json.py), expressions in GiNaC syntax that parse back, the emitted
+// [lagrangian] scene, LaTeX that compiles, exit codes and file:line:column errors for bad
+// Newtonian scenes, and `eomc derive` on a Newtonian scene.
+#define BOOST_TEST_MODULE inverse_cli
+#include <boost/test/unit_test.hpp>
+
+#include <sys/wait.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <ginac/ginac.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+    int status = -1;
+    std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+fs::path scratch(const std::string& name) {
+    const fs::path dir = fs::path(EOMC_BINARY_DIR) / "inverse-scratch" / name;
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+Result run(const std::string& arguments, const fs::path& dir) {
+    const std::string command = std::string(EOMC_EXECUTABLE) + " " + arguments + " > " + (dir / "stdout").string() +
+                                " 2> " + (dir / "stderr").string();
+    const int raw = std::system(command.c_str());
+    Result r;
+    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    r.out = slurp(dir / "stdout");
+    r.err = slurp(dir / "stderr");
+    fs::remove(dir / "stdout");
+    fs::remove(dir / "stderr");
+    return r;
+}
+
+std::string scene(const std::string& relative) { return (fs::path(EOMC_SOURCE_DIR) / relative).string(); }
+
+// The string value of "key" in a JSON text (GiNaC syntax has no quotes or backslashes to escape).
+std::string json_value(const std::string& json, const std::string& key) {
+    const std::string marker = "\"" + key + "\": \"";
+    const auto at = json.find(marker);
+    BOOST_REQUIRE(at != std::string::npos);
+    const auto begin = at + marker.size();
+    return json.substr(begin, json.find('"', begin) - begin);
+}
+
+// The quoted strings of the (possibly nested) array after "key" in a JSON text.
+std::vector<std::string> json_strings(const std::string& json, const std::string& key) {
+    const auto at = json.find("\"" + key + "\": [");
+    BOOST_REQUIRE(at != std::string::npos);
+    std::vector<std::string> out;
+    int depth = 0;
+    for (std::size_t i = json.find('[', at); i < json.size(); ++i) {
+        if (json[i] == '[') ++depth;
+        if (json[i] == ']' && --depth == 0) break;
+        if (json[i] == '"') {
+            const auto end = json.find('"', i + 1);
+            out.push_back(json.substr(i + 1, end - i - 1));
+            i = end;
+        }
+    }
+    return out;
+}
+
+GiNaC::ex parse(const std::string& text, const std::vector<GiNaC::symbol>& symbols) {
+    GiNaC::symtab names;
+    for (const auto& s : symbols) names[s.get_name()] = s;
+    GiNaC::parser reader(names, true);
+    return reader(text);
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(json_shape_of_every_classical_case) {
+    const fs::path dir = scratch("json");
+    struct Case {
+        const char* scene;
+        int n;
+        const char *self_adjoint, *multiplier, *lagrangian;
+    };
+    const Case cases[] = {
+        {"tests/inverse/scenes/pendulum_fundamental.toml", 1, "true", "no", "yes"},
+        {"scenes/damped_oscillator.toml", 1, "false", "yes", "yes"},
+        {"tests/inverse/scenes/central_force_polar.toml", 2, "false", "yes", "yes"},
+        {"tests/inverse/scenes/douglas_no_lagrangian.toml", 2, "false", "no", "no"},
+        {"tests/inverse/scenes/isotropic_oscillator.toml", 2, "true", "no", "yes"},
+    };
+    for (const Case& c : cases) {
+        BOOST_TEST_CONTEXT(c.scene) {
+            const fs::path out = dir / (fs::path(c.scene).stem().string() + ".json");
+            const Result r = run("inverse " + scene(c.scene) + " --format json -o " + out.string(), dir);
+            BOOST_TEST_REQUIRE(r.status == 0, r.err);
+            const std::string command = "python3 " + scene("tests/inverse/check_inverse_json.py") + " " + out.string() +
+                                        " " + std::to_string(c.n) + " " + c.self_adjoint + " " + c.multiplier + " " +
+                                        c.lagrangian + " > " + (dir / "check.log").string() + " 2>&1";
+            BOOST_TEST(std::system(command.c_str()) == 0, slurp(dir / "check.log"));
+        }
+    }
+}
+
+BOOST_AUTO_TEST_CASE(json_expressions_parse_back_with_ginac) {
+    const fs::path dir = scratch("parse_back");
+    const Result r = run("inverse " + scene("scenes/damped_oscillator.toml") + " --format json", dir);
+    BOOST_REQUIRE(r.status == 0);
+    const GiNaC::symbol t("t"), x("x"), xd("x_dot"), gamma("gamma"), w("w");
+    const std::vector<GiNaC::symbol> symbols{t, x, xd, gamma, w};
+    const GiNaC::ex L = parse(json_value(r.out, "lagrangian"), symbols);
+    const GiNaC::ex expected = GiNaC::exp(gamma * t) * (xd * xd - w * w * x * x) / 2;
+    BOOST_TEST((L - expected).expand().is_zero(), "L = " << L);
+    const auto g = json_strings(r.out, "multiplier");
+    BOOST_REQUIRE(g.size() == 1u);
+    BOOST_TEST((parse(g[0], symbols) - GiNaC::exp(gamma * t)).is_zero(), g[0]);
+    BOOST_TEST(json_value(r.out, "name") == "S3");  // the one condition of one degree of freedom
+    const std::string residual = json_value(r.out, "residual");
+    BOOST_TEST((parse(residual, symbols) - 2 * gamma).is_zero(), residual);
+}
+
+BOOST_AUTO_TEST_CASE(emitted_scene_is_a_lagrangian_scene_eomc_accepts) {
+    const fs::path dir = scratch("emit");
+    const fs::path emitted = dir / "polar_lagrangian.toml";
+    const Result r = run("inverse " + scene("tests/inverse/scenes/central_force_polar.toml") + " --emit-scene " +
+                             emitted.string() + " -o " + (dir / "report.txt").string(),
+                         dir);
+    BOOST_TEST_REQUIRE(r.status == 0, r.err);
+    const std::string text = slurp(emitted);
+    BOOST_TEST(text.find("[lagrangian]") != std::string::npos);
+    BOOST_TEST(text.find("name = \"central_force_polar_lagrangian\"") != std::string::npos);
+    BOOST_TEST(text.find("theta = { initial = 0, rate = 1.2 }") != std::string::npos);
+    const Result d = run("derive " + emitted.string() + " --format json", dir);
+    BOOST_TEST_REQUIRE(d.status == 0, d.err);
+    // The Lagrangian scene has the energy of the central-force problem as its invariant.
+    BOOST_TEST(d.out.find("\"invariants\": {\"energy\": ") != std::string::npos);
+    const std::string report = slurp(dir / "report.txt");
+    BOOST_TEST(report.find("Multiplier (diagonal in q): g = [[1, 0], [0, r^2]]") != std::string::npos, report);
+}
+
+BOOST_AUTO_TEST_CASE(no_scene_is_emitted_without_a_lagrangian) {
+    const fs::path dir = scratch("refuse");
+    const fs::path emitted = dir / "none.toml";
+    const Result r = run("inverse " + scene("tests/inverse/scenes/douglas_no_lagrangian.toml") + " --emit-scene " +
+                             emitted.string() + " -o " + (dir / "report.txt").string(),
+                         dir);
+    BOOST_TEST(r.status == 1);
+    BOOST_TEST(r.err.find("no verified Lagrangian to write") != std::string::npos, r.err);
+    BOOST_TEST(r.err.find("no regular Lagrangian exists") != std::string::npos, r.err);
+    BOOST_TEST(!fs::exists(emitted));
+    BOOST_TEST(!fs::exists(dir / "report.txt"));  // nothing written on failure
+}
+
+BOOST_AUTO_TEST_CASE(text_report_names_the_verdict_and_the_reasoning) {
+    const fs::path dir = scratch("text");
+    const Result douglas = run("inverse " + scene("tests/inverse/scenes/douglas_no_lagrangian.toml"), dir);
+    BOOST_REQUIRE(douglas.status == 0);
+    BOOST_TEST(douglas.out.find("Verdict: not self-adjoint — S3(x,y) = 1 ≠ 0") != std::string::npos, douglas.out);
+    BOOST_TEST(douglas.out.find("so g_x_y = 0") != std::string::npos);
+    BOOST_TEST(douglas.out.find("so g_x_x = 0") != std::string::npos);
+    BOOST_TEST(douglas.out.find("No regular Lagrangian exists.") != std::string::npos);
+    const Result iso = run("inverse " + scene("tests/inverse/scenes/isotropic_oscillator.toml"), dir);
+    BOOST_REQUIRE(iso.status == 0);
+    BOOST_TEST(iso.out.find("Verdict: self-adjoint") != std::string::npos);
+    BOOST_TEST(iso.out.find("A second Lagrangian, from the constant multiplier g = [[0, 1], [1, 0]]") != std::string::npos,
+               iso.out);
+}
+
+BOOST_AUTO_TEST_CASE(latex_report_compiles_with_pdflatex) {
+    const fs::path dir = scratch("latex");
+    for (const char* s : {"scenes/damped_oscillator.toml", "tests/inverse/scenes/douglas_no_lagrangian.toml",
+                          "tests/inverse/scenes/isotropic_oscillator.toml"}) {
+        const std::string stem = fs::path(s).stem().string();
+        const Result r = run("inverse " + scene(s) + " --format latex -o " + (dir / (stem + ".tex")).string(), dir);
+        BOOST_REQUIRE(r.status == 0);
+        const std::string command = "cd " + dir.string() + " && pdflatex -interaction=nonstopmode -halt-on-error " +
+                                    stem + ".tex > " + stem + ".pdflatex.log 2>&1";
+        BOOST_TEST(std::system(command.c_str()) == 0, "pdflatex failed on " << stem << ", see " << dir);
+    }
+    // `eomc derive` of a Newtonian scene in LaTeX too.
+    const Result r = run("derive " + scene("tests/inverse/scenes/pendulum_fundamental.toml") + " --format latex -o " +
+                             (dir / "derive.tex").string(),
+                         dir);
+    BOOST_REQUIRE(r.status == 0);
+    const std::string command = "cd " + dir.string() +
+                                " && pdflatex -interaction=nonstopmode -halt-on-error derive.tex > derive.pdflatex.log 2>&1";
+    BOOST_TEST(std::system(command.c_str()) == 0, "pdflatex failed on derive.tex, see " << dir);
+}
+
+BOOST_AUTO_TEST_CASE(bad_newtonian_scene_exits_2_at_the_place) {
+    const fs::path dir = scratch("bad");
+    const fs::path file = dir / "bad.toml";
+    std::ofstream(file) << "[scene]\nname = \"bad\"\n[parameters]\ngamma = 1\n[coordinates]\nx = {}\n"
+                           "[newtonian]\nx_ddot = \"-gamma*x_dot - omega^2*x\"\n";
+    const Result r = run("inverse " + file.string() + " -o " + (dir / "out.txt").string(), dir);
+    BOOST_TEST(r.status == 2);
+    BOOST_TEST(r.err.find(file.string() + ":8:26: error: unknown symbol 'omega'") == 0u, r.err);
+    BOOST_TEST(!fs::exists(dir / "out.txt"));
+}
+
+BOOST_AUTO_TEST_CASE(derive_on_a_newtonian_scene_prints_both_forms) {
+    const fs::path dir = scratch("derive");
+    const Result r = run("derive " + scene("tests/inverse/scenes/pendulum_fundamental.toml"), dir);
+    BOOST_REQUIRE(r.status == 0);
+    BOOST_TEST(r.out.find("Kinematic form q̈ = f(t, q, q̇) (solved from the fundamental form)") != std::string::npos, r.out);
+    BOOST_TEST(r.out.find("Fundamental form A(t, q, q̇) q̈ + B(t, q, q̇) = 0 (as given)") != std::string::npos);
+    BOOST_TEST(r.out.find("Equations of motion M q̈ = f") != std::string::npos);
+    const Result pj = run("derive " + scene("tests/inverse/scenes/pendulum_fundamental.toml") + " --format json", dir);
+    BOOST_REQUIRE(pj.status == 0);
+    const GiNaC::symbol m("m"), l("l"), g("g"), theta("theta");
+    const std::vector<GiNaC::symbol> symbols{m, l, g, theta};
+    const auto kinematic = json_strings(pj.out, "kinematic");
+    BOOST_REQUIRE(kinematic.size() == 1u);
+    BOOST_TEST((parse(kinematic[0], symbols) + g / l * GiNaC::sin(theta)).normal().is_zero(), kinematic[0]);
+    const auto M = json_strings(pj.out, "mass_matrix");
+    BOOST_REQUIRE(M.size() == 1u);
+    BOOST_TEST((parse(M[0], symbols) - m * l * l).is_zero(), M[0]);
+    const Result j = run("derive " + scene("scenes/damped_oscillator.toml") + " --format json", dir);
+    BOOST_REQUIRE(j.status == 0);
+    BOOST_TEST(j.out.find("\"form\": \"kinematic\"") != std::string::npos);
+    std::ofstream(dir / "d.json") << j.out;
+    BOOST_TEST(std::system(("python3 -m json.tool " + (dir / "d.json").string() + " > /dev/null").c_str()) == 0);
+}
