@@ -216,6 +216,12 @@ bool depends_on_time(const Pipeline& p) {
     return false;
 }
 
+std::string expression_text(const GiNaC::ex& e) {
+    std::ostringstream os;
+    os << e;
+    return os.str();
+}
+
 // `eomc equilibria`: each relative equilibrium with its eigenvalues and verdict.
 void print_equilibria(const model::Model& model, const std::vector<mechanics::Equilibrium>& found,
                       const std::string& format, std::ostream& out) {
@@ -229,7 +235,20 @@ void print_equilibria(const model::Model& model, const std::vector<mechanics::Eq
             for (std::size_t k = 0; k < found[i].eigenvalues.size(); ++k)
                 out << (k ? ", " : "")
                     << fmt::format("[{:.17g}, {:.17g}]", found[i].eigenvalues[k].real(), found[i].eigenvalues[k].imag());
-            out << "], \"verdict\": \"" << found[i].verdict << "\"}";
+            out << "], \"verdict\": \"" << found[i].verdict << "\"";
+            // The closed forms, in GiNaC syntax, when the equilibrium was solved symbolically.
+            out << ", \"exact\": ";
+            if (found[i].exact.empty()) {
+                out << "null";
+            } else {
+                out << "{";
+                for (std::size_t k = 0; k < found[i].exact.size(); ++k)
+                    out << (k ? ", " : "") << json_string(model.coordinates[k].name) << ": "
+                        << json_string(expression_text(found[i].exact[k]));
+                out << "}";
+            }
+            out << ", \"lambda_squared\": "
+                << (found[i].lambda_squared ? json_string(expression_text(*found[i].lambda_squared)) : "null") << "}";
         }
         out << (found.empty() ? "]}\n" : "\n]}\n");
         return;
@@ -239,10 +258,17 @@ void print_equilibria(const model::Model& model, const std::vector<mechanics::Eq
     for (const auto& e : found) {
         out << "\n ";
         for (std::size_t k = 0; k < e.q.size(); ++k) out << fmt::format(" {} = {:.12g}", model.coordinates[k].name, e.q[k]);
+        for (std::size_t k = 0; k < e.exact.size(); ++k)
+            out << fmt::format("{}{} = {}", k ? ", " : "\n    closed form: ", model.coordinates[k].name,
+                               expression_text(e.exact[k]));
+        if (e.lambda_squared) out << "\n    λ² = (∂f/∂q)/M = " << expression_text(*e.lambda_squared);
         out << "\n    " << e.verdict;
+        // Growth rates above the eigensolver's noise (the tolerance the verdict used).
+        double largest = 0;
+        for (const auto& l : e.eigenvalues) largest = std::max(largest, std::abs(l));
         std::string rates;
         for (const auto& l : e.eigenvalues) {
-            if (e.verdict == "unstable" && l.real() > 0) rates += fmt::format(" {:.9g}", l.real());
+            if (e.verdict == "unstable" && l.real() > 1e-9 * (1 + largest)) rates += fmt::format(" {:.9g}", l.real());
             if (e.verdict != "unstable" && l.imag() > 0) rates += fmt::format(" {:.9g}", l.imag());
         }
         out << (e.verdict == "unstable" ? ": growth rates" : ": frequencies") << rates << "\n    eigenvalues";

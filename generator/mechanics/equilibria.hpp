@@ -7,11 +7,20 @@
 // first-order system decide: any Re λ > 0 is unstable (growth rate Re λ); all on the
 // imaginary axis is stable (frequencies |Im λ|), and "gyroscopically stabilised" when the
 // stiffness −∂f/∂q alone is not positive definite.
+//
+// The equilibria are solved in closed form where the equations at rest allow it: each
+// equation is factored (sin q and cos q taken as variables), and factors in one coordinate
+// of the forms a q + b, a q² + b q + c, a sin q + b, a cos q + b, a cos² q + b cos q + c and
+// a sin q + b cos q are solved and substituted into the remaining equations. Newton's
+// method from a grid of starts finds the rest and confirms the closed forms numerically.
 #pragma once
 
 #include <complex>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include <ginac/ginac.h>
 
 #include "mechanics/lagrange.hpp"
 
@@ -21,6 +30,10 @@ struct Equilibrium {
     std::vector<double> q;                          // in coordinate order
     std::vector<std::complex<double>> eigenvalues;  // of the linearised first-order system, 2n of them
     std::string verdict;                            // "stable" | "unstable" | "gyroscopically stabilised"
+    std::vector<GiNaC::ex> exact;                   // q in closed form (parameters symbolic); empty if numeric only
+    // One degree of freedom without velocity coupling: λ² = (∂f/∂q)/M at the closed-form q,
+    // simplified (the squared growth rate; −λ² the squared frequency).
+    std::optional<GiNaC::ex> lambda_squared;
 };
 
 struct EquilibriumSearch {

@@ -223,6 +223,9 @@ BOOST_AUTO_TEST_CASE(equilibria_json_lists_the_hoop_equilibria) {
     for (auto at = r.out.find("\"verdict\""); at != std::string::npos; at = r.out.find("\"verdict\"", at + 1)) ++count;
     BOOST_TEST(count == 5u);  // −π, −θ*, 0, θ*, π
     BOOST_TEST(r.out.find("\"verdict\": \"stable\"") != std::string::npos);
+    // The closed forms ride along in GiNaC syntax.
+    BOOST_TEST(r.out.find("\"exact\": {\"theta\": \"acos(g*omega^(-2)*R^(-1))\"}") != std::string::npos, r.out);
+    BOOST_TEST(r.out.find("\"lambda_squared\": \"(omega^2*R-g)*R^(-1)\"") != std::string::npos, r.out);
 }
 
 BOOST_AUTO_TEST_CASE(every_integrator_closes_the_kepler_orbit) {

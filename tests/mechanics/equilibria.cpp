@@ -142,3 +142,124 @@ BOOST_AUTO_TEST_CASE(an_unsteady_carrier_has_no_relative_equilibria) {
     spun_up.replace(spun_up.find("\"omega\"]"), 8, "\"omega*t\"]");
     BOOST_CHECK_THROW(equilibria_of(spun_up), InputError);
 }
+
+// ---- Closed forms ----------------------------------------------------------------------------
+
+namespace {
+
+struct Solved {
+    model::Model model;
+    std::vector<mechanics::Equilibrium> found;
+    GiNaC::ex parameter(const std::string& name) const {
+        for (const auto& p : model.parameters)
+            if (p.name == name) return p.symbol;
+        throw std::runtime_error("no parameter " + name);
+    }
+};
+
+Solved solve(const std::string& toml) {
+    Solved s{model::build_model(scene::parse_scene_string(toml, "test.toml")), {}};
+    s.found = mechanics::relative_equilibria(s.model, mechanics::derive(s.model));
+    return s;
+}
+
+// A canonical rational form at every level, function arguments included (acos(x) and acos(y)
+// are the same when x and y are): expanded numerator over expanded denominator.
+struct NormalEverywhere : GiNaC::map_function {
+    GiNaC::ex operator()(const GiNaC::ex& e) override {
+        const GiNaC::ex nd = e.map(*this).normal().numer_denom();
+        return nd.op(0).expand() / nd.op(1).expand();
+    }
+};
+
+bool same(const GiNaC::ex& a, const GiNaC::ex& b) {
+    NormalEverywhere normal;
+    return normal(a - b).is_zero();
+}
+
+}  // namespace
+
+// The bead: f(θ) = m R sin θ (R ω² cos θ − g), so θ = 0, ±π and cos θ* = g/(R ω²); M = m R²
+// and λ² = f'(θ)/M is ω² − g/R at the bottom, ω² + g/R at the top and g²/(R ω²)² · ω² − ω²
+// = −ω² sin² θ* off the bottom (the frequency ω sin θ* of the numeric test above).
+BOOST_AUTO_TEST_CASE(hoop_equilibria_in_closed_form) {
+    const Solved s = solve(hoop(6.0));
+    const GiNaC::ex g = s.parameter("g"), R = s.parameter("R"), w = s.parameter("omega");
+    BOOST_REQUIRE_EQUAL(s.found.size(), 5u);
+    const GiNaC::ex star = GiNaC::acos(g / (R * w * w));
+    const GiNaC::ex expected[] = {-GiNaC::Pi, -star, 0, star, GiNaC::Pi};
+    const GiNaC::ex lambda2[] = {w * w + g / R, g * g / (R * R * w * w) - w * w, w * w - g / R,
+                                 g * g / (R * R * w * w) - w * w, w * w + g / R};
+    for (std::size_t i = 0; i < 5; ++i) {
+        BOOST_REQUIRE_EQUAL(s.found[i].exact.size(), 1u);
+        BOOST_TEST(same(s.found[i].exact[0], expected[i]), "θ " << s.found[i].exact[0]);
+        BOOST_REQUIRE(s.found[i].lambda_squared.has_value());
+        BOOST_TEST(same(*s.found[i].lambda_squared, lambda2[i]), "λ² " << *s.found[i].lambda_squared);
+    }
+    // Slow hoop: cos θ* = g/(R ω²) > 1 has no real root; the three left are still exact.
+    const Solved slow = solve(hoop(2.0));
+    BOOST_REQUIRE_EQUAL(slow.found.size(), 3u);
+    for (const auto& e : slow.found) BOOST_TEST(e.exact.size() == 1u);
+}
+
+// Two coupled coordinates: a spring-loaded slider (stiffness k, natural length l) at distance
+// r along a rod swinging at θ in the plane of a frame spinning at Ω about the vertical. At
+// rest f_θ = m r sin θ (r Ω² cos θ − g) and f_r = m Ω² r sin² θ + m g cos θ − k (r − l).
+// The factor r Ω² cos θ − g gives r = g/(Ω² cos θ), and then f_r = 0 reduces to
+// cos θ* = g (k − m Ω²)/(k l Ω²); sin θ = 0 gives r = l ± m g/k (hanging down, standing up).
+std::string slider(double Omega) {
+    return R"toml([scene]
+name = "slider"
+[parameters]
+m = 1.0
+k = 30.0
+l = 0.5
+g = 9.81
+Omega = )toml" + std::to_string(Omega) + R"toml(
+[coordinates]
+r = { initial = 0.5 }
+theta = {}
+[carrier]
+angular_velocity = ["0", "0", "Omega"]
+[[body]]
+name = "p"
+mass = "m"
+position = ["r*sin(theta)", "0", "-r*cos(theta)"]
+[forces]
+potential = "-m*g*r*cos(theta) + k*(r-l)^2/2"
+)toml";
+}
+
+BOOST_AUTO_TEST_CASE(coupled_coordinates_eliminated_in_closed_form) {
+    const Solved s = solve(slider(5.0));
+    const GiNaC::ex m = s.parameter("m"), k = s.parameter("k"), l = s.parameter("l"), g = s.parameter("g"),
+                    W = s.parameter("Omega");
+    const GiNaC::ex cos_star = g * (k - m * W * W) / (k * l * W * W);
+    const GiNaC::ex off_axis_r = g / (W * W * cos_star);
+    // −π, π (standing up), 0 (hanging), ±θ*: five on [−π, π], all in closed form.
+    BOOST_REQUIRE_EQUAL(s.found.size(), 5u);
+    int hanging = 0, standing = 0, off_axis = 0;
+    for (const auto& e : s.found) {
+        BOOST_REQUIRE_EQUAL(e.exact.size(), 2u);
+        const GiNaC::ex r = e.exact[0], theta = e.exact[1];
+        if (same(theta, 0)) {
+            ++hanging;
+            BOOST_TEST(same(r, l + m * g / k), r);
+        } else if (same(GiNaC::cos(theta), -1)) {
+            ++standing;
+            BOOST_TEST(same(r, l - m * g / k), r);
+        } else {
+            ++off_axis;
+            BOOST_TEST((same(theta, GiNaC::acos(cos_star)) || same(theta, -GiNaC::acos(cos_star))), theta);
+            BOOST_TEST(same(r, off_axis_r), r);
+        }
+        // The numbers are the closed forms evaluated: r g/(Ω² cos θ*) = 3.0000 at these values.
+        GiNaC::exmap values;
+        for (const auto& p : s.model.parameters) values[p.symbol] = p.value;
+        for (std::size_t c = 0; c < 2; ++c)
+            BOOST_TEST(std::abs(GiNaC::ex_to<GiNaC::numeric>(e.exact[c].subs(values).evalf()).to_double() - e.q[c]) < tol);
+    }
+    BOOST_TEST(hanging == 1);
+    BOOST_TEST(standing == 2);
+    BOOST_TEST(off_axis == 2);
+}
