@@ -1,4 +1,4 @@
-# eomc_add_model(<target> SCENES <scene.toml>... [EOMC <eomc executable>])
+# eomc_add_model(<target> SCENES <scene.toml>... [EOMC <eomc executable>] [OPTIONS <generate flags>...])
 #
 # Generates one kernel header per scene at build time (never at configure time, so the
 # headers cannot go stale) into <build>/eomc_models/, and makes <target> an INTERFACE
@@ -6,10 +6,11 @@
 # on the generator and on the kernel template, so editing any of them regenerates it.
 #
 # The header is named after the scene's [scene] name, which is read here from the file.
+# OPTIONS go to `eomc generate` as they are (e.g. --hamiltonian, --variational).
 set(EOMC_CMAKE_DIR "${CMAKE_CURRENT_LIST_DIR}")
 
 function(eomc_add_model target)
-  cmake_parse_arguments(ARG "" "EOMC" "SCENES" ${ARGN})
+  cmake_parse_arguments(ARG "" "EOMC" "SCENES;OPTIONS" ${ARGN})
   if(NOT ARG_SCENES)
     message(FATAL_ERROR "eomc_add_model(${target}): no SCENES given")
   endif()
@@ -36,7 +37,7 @@ function(eomc_add_model target)
     set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS "${scene}")
     add_custom_command(
       OUTPUT "${header}"
-      COMMAND "${generator}" generate "${scene}" -o "${out_dir}"
+      COMMAND "${generator}" generate "${scene}" -o "${out_dir}" ${ARG_OPTIONS}
       DEPENDS "${scene}" ${generator_dependency} "${template}"
       COMMENT "eomc: generating ${CMAKE_MATCH_1}.hpp"
       VERBATIM)

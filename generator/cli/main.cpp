@@ -75,6 +75,7 @@ struct Pipeline {
     model::Model model;
     mechanics::Equations equations;
     std::optional<mechanics::CanonicalEquations> canonical;  // the Hamiltonian formulation, when asked for
+    bool variational = false;                                // emit variational_rhs too (--variational)
 };
 
 Pipeline front_end(const std::string& scene_path, bool hamiltonian, StageClock* clock = nullptr) {
@@ -99,7 +100,7 @@ std::string kernel_header(const Pipeline& p, StageClock* clock = nullptr, codege
         clock->add("jacobian", lowering.jacobian);
         clock->add("invariants", lowering.invariants);
     }
-    std::string header = codegen::emit_header(ir, {EOMC_VERSION});
+    std::string header = codegen::emit_header(ir, {EOMC_VERSION, p.variational});
     if (clock) clock->lap("emit");
     return header;
 }
@@ -307,6 +308,10 @@ int main(int argc, char** argv) {
     generate->add_option("-o,--output-dir", out_dir, "directory for the header (default: .)");
     generate->add_flag("--timings", timings, "print the time of each stage on stderr (`timing <stage> <seconds>`)");
     add_hamiltonian_flag(generate);
+    bool variational = false;
+    generate->add_flag("--variational", variational,
+                       "also emit variational_rhs: the state extended by the state-transition matrix, "
+                       "Φ̇ = (∂ẋ/∂x) Φ (seed §2.9)");
 
     SimulateOptions sim;
     auto* simulate = app.add_subcommand("simulate", "generate, compile, integrate; write CSV and a summary");
@@ -357,7 +362,8 @@ int main(int argc, char** argv) {
 
     try {
         StageClock clock;
-        const Pipeline p = front_end(scene_path, hamiltonian, timings ? &clock : nullptr);
+        Pipeline p = front_end(scene_path, hamiltonian, timings ? &clock : nullptr);
+        p.variational = variational;
         const mechanics::CanonicalEquations* canonical = p.canonical ? &*p.canonical : nullptr;
         if (derive->parsed()) {
             std::ostringstream text;

@@ -425,6 +425,29 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
             "    }\n";
     }
 
+    // The variational equations ride on the kernel's own rhs and symbolic Jacobian, so they
+    // need no derivation of their own; only on request, so that other kernels keep their bytes.
+    std::string variational;
+    if (options.variational) {
+        variational =
+            "\n    // Variational equations (seed §2.9): y = (x, Φ), Φ row-major n_state × n_state, with\n"
+            "    // Φ̇ = (∂ẋ/∂x) Φ through jacobian(). From Φ(t0) = I, δx(t) = Φ(t) δx(t0) to first order.\n"
+            "    static constexpr int n_variational = n_state + n_state * n_state;\n\n"
+            "    template <class S>\n"
+            "    static void variational_rhs(S t, const S* y, S* dydt, const Parameters& p) {\n"
+            "        rhs(t, y, dydt, p);\n"
+            "        std::array<S, n_state * n_state> J;\n"
+            "        jacobian(t, y, J.data(), p);\n"
+            "        const S* Phi = y + n_state;\n"
+            "        for (int i = 0; i < n_state; ++i)\n"
+            "            for (int j = 0; j < n_state; ++j) {\n"
+            "                S sum = S(0);\n"
+            "                for (int k = 0; k < n_state; ++k) sum += J[i * n_state + k] * Phi[k * n_state + j];\n"
+            "                dydt[n_state + i * n_state + j] = sum;\n"
+            "            }\n"
+            "    }\n";
+    }
+
     std::string accessors;
     for (std::size_t k = 0; k < ir.invariant_names.size(); ++k) {
         accessors += fmt::format(
@@ -482,6 +505,7 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
         {"outputs_note", ir.output_names.empty() ? "none for this model" : "functions of t, x and u̇"},
         {"outputs_body", indent(outputs, 8)},
         {"acceleration", acceleration},
+        {"variational", variational},
         {"invariant_accessors", accessors},
         {"private_part", private_part},
     };

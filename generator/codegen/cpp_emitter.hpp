@@ -39,6 +39,8 @@ private:
 
 struct EmitOptions {
     std::string generator_version;
+    // Also emit variational_rhs: the state extended by the state-transition matrix (seed §2.9).
+    bool variational = false;
 };
 
 // The whole header. Same IR, same bytes.
