@@ -30,7 +30,7 @@ struct DiskTubeBall {
     static constexpr int n_parameters = 4;
     static constexpr int n_invariants = 1;
     static constexpr int n_outputs = 0;
-    // q̈ = a(t, q) with M constant: acceleration() exists for the splitting methods.
+    // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = true;
     static constexpr const char* scene_name = "disk_tube_ball";
     static constexpr std::array<const char*, n_state> state_names{ "q", "q_dot" };

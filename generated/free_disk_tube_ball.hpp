@@ -37,7 +37,7 @@ struct FreeDiskTubeBall {
     static constexpr int n_parameters = 3;
     static constexpr int n_invariants = 1;
     static constexpr int n_outputs = 4;
-    // q̈ = a(t, q) with M constant: acceleration() exists for the splitting methods.
+    // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = false;
     static constexpr const char* scene_name = "free_disk_tube_ball";
     static constexpr std::array<const char*, n_state> state_names{ "q", "q_dot", "v0", "w", "carrier_e0", "carrier_e1", "carrier_e2", "carrier_e3", "carrier_x", "carrier_y", "carrier_z" };

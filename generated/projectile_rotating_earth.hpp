@@ -34,7 +34,7 @@ struct ProjectileRotatingEarth {
     static constexpr int n_parameters = 5;
     static constexpr int n_invariants = 1;
     static constexpr int n_outputs = 0;
-    // q̈ = a(t, q) with M constant: acceleration() exists for the splitting methods.
+    // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = false;
     static constexpr const char* scene_name = "projectile_rotating_earth";
     static constexpr std::array<const char*, n_state> state_names{ "x", "y", "z", "x_dot", "y_dot", "z_dot" };
