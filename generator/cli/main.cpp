@@ -232,7 +232,10 @@ void print_equilibria(const model::Model& model, const std::vector<mechanics::Eq
             out << (i ? ",\n  " : "\n  ") << "{\"q\": {";
             for (std::size_t k = 0; k < found[i].q.size(); ++k)
                 out << (k ? ", " : "") << json_string(model.coordinates[k].name) << fmt::format(": {:.17g}", found[i].q[k]);
-            out << "}, \"eigenvalues\": [";
+            out << "}, \"free\": [";
+            for (std::size_t k = 0, listed = 0; k < found[i].free.size(); ++k)
+                if (found[i].free[k]) out << (listed++ ? ", " : "") << json_string(model.coordinates[k].name);
+            out << "], \"eigenvalues\": [";
             for (std::size_t k = 0; k < found[i].eigenvalues.size(); ++k)
                 out << (k ? ", " : "")
                     << fmt::format("[{:.17g}, {:.17g}]", found[i].eigenvalues[k].real(), found[i].eigenvalues[k].imag());
@@ -243,9 +246,10 @@ void print_equilibria(const model::Model& model, const std::vector<mechanics::Eq
                 out << "null";
             } else {
                 out << "{";
-                for (std::size_t k = 0; k < found[i].exact.size(); ++k)
-                    out << (k ? ", " : "") << json_string(model.coordinates[k].name) << ": "
-                        << json_string(expression_text(found[i].exact[k]));
+                for (std::size_t k = 0, listed = 0; k < found[i].exact.size(); ++k)
+                    if (!found[i].free[k])
+                        out << (listed++ ? ", " : "") << json_string(model.coordinates[k].name) << ": "
+                            << json_string(expression_text(found[i].exact[k]));
                 out << "}";
             }
             out << ", \"lambda_squared\": "
@@ -256,12 +260,17 @@ void print_equilibria(const model::Model& model, const std::vector<mechanics::Eq
     }
     out << fmt::format("{} relative equilibri{} of {} (q̇ = 0, parameters at their defaults)\n", found.size(),
                        found.size() == 1 ? "um" : "a", model.name);
+    if (!found.empty() && std::find(found[0].free.begin(), found[0].free.end(), true) != found[0].free.end())
+        out << "(\"any\": a coordinate absent from the equations at rest; each equilibrium is a family in it)\n";
     for (const auto& e : found) {
         out << "\n ";
-        for (std::size_t k = 0; k < e.q.size(); ++k) out << fmt::format(" {} = {:.12g}", model.coordinates[k].name, e.q[k]);
-        for (std::size_t k = 0; k < e.exact.size(); ++k)
-            out << fmt::format("{}{} = {}", k ? ", " : "\n    closed form: ", model.coordinates[k].name,
-                               expression_text(e.exact[k]));
+        for (std::size_t k = 0; k < e.q.size(); ++k)
+            out << (e.free[k] ? fmt::format(" {} = any", model.coordinates[k].name)
+                              : fmt::format(" {} = {:.12g}", model.coordinates[k].name, e.q[k]));
+        for (std::size_t k = 0, listed = 0; k < e.exact.size(); ++k)
+            if (!e.free[k])
+                out << fmt::format("{}{} = {}", listed++ ? ", " : "\n    closed form: ", model.coordinates[k].name,
+                                   expression_text(e.exact[k]));
         if (e.lambda_squared) out << "\n    λ² = (∂f/∂q)/M = " << expression_text(*e.lambda_squared);
         out << "\n    " << e.verdict;
         // Growth rates above the eigensolver's noise (the tolerance the verdict used).

@@ -24,6 +24,11 @@ struct RestSystem {
     std::vector<ex> M;       // M(q), row-major
     std::vector<ex> f_q;     // ∂f/∂q at q̇ = 0, row-major
     std::vector<ex> f_qdot;  // ∂f/∂q̇ at q̇ = 0, row-major
+    // Coordinates that f(q, 0) does not contain (cyclic at rest: every value of theirs is as
+    // much an equilibrium as any other) and equations that vanish at rest identically. When
+    // they are equally many, the search runs over the rest, the free ones held at 0.
+    std::vector<bool> free;
+    std::vector<std::size_t> rows, columns;  // the equations and coordinates the search solves
 };
 
 RestSystem rest_system(const model::Model& model, const Equations& eqs) {
@@ -42,6 +47,34 @@ RestSystem rest_system(const model::Model& model, const Equations& eqs) {
             r.f_q.push_back(derivative(eqs.forcing[s], model.coordinates[k].q).subs(at_rest));
             r.f_qdot.push_back(derivative(eqs.forcing[s], model.coordinates[k].q_dot).subs(at_rest));
         }
+    }
+    // Decided at random points (sin² + cos² need not cancel symbolically): zero to round-off
+    // of the largest entry seen.
+    const auto points = probe_points(model, 12);
+    double scale = 0;
+    for (const auto& at : points)
+        for (const auto* group : {&r.f, &r.f_q})
+            for (const ex& e : *group) scale = std::max(scale, std::abs(evaluate(e, at)));
+    const double zero = 1e-10 * (1 + scale);
+    auto vanishes = [&](const ex& e) {
+        return std::all_of(points.begin(), points.end(), [&](const ProbePoint& at) { return std::abs(evaluate(e, at)) <= zero; });
+    };
+    r.free.assign(r.n, false);
+    std::vector<std::size_t> rows, columns;
+    for (std::size_t k = 0; k < r.n; ++k) {
+        bool absent = true;
+        for (std::size_t i = 0; i < r.n && absent; ++i) absent = vanishes(r.f_q[i * r.n + k]);
+        r.free[k] = absent;
+        if (!absent) columns.push_back(k);
+    }
+    for (std::size_t i = 0; i < r.n; ++i)
+        if (!vanishes(r.f[i])) rows.push_back(i);
+    if (rows.size() == columns.size()) {
+        r.rows = rows;
+        r.columns = columns;
+    } else {
+        r.free.assign(r.n, false);  // not square: search everything (a singular Jacobian finds nothing)
+        for (std::size_t k = 0; k < r.n; ++k) r.rows.push_back(k), r.columns.push_back(k);
     }
     for (const auto* group : {&r.f, &r.M, &r.f_q, &r.f_qdot})
         for (const ex& e : *group)
@@ -81,14 +114,24 @@ private:
 
 // Newton's method on f(q, 0) = 0 from q0; true and the root in q when it converges.
 bool newton(const RestSystem& r, Evaluation& at, Eigen::VectorXd& q) {
+    const Eigen::Index m = Eigen::Index(r.rows.size());
     for (int iteration = 0; iteration < 60; ++iteration) {
         at.set(q);
-        const Eigen::VectorXd F = at.vector(r.f);
-        const Eigen::MatrixXd J = at.matrix(r.f_q, r.n);
+        const Eigen::VectorXd F_all = at.vector(r.f);
+        const Eigen::MatrixXd J_all = at.matrix(r.f_q, r.n);
+        Eigen::VectorXd F(m);
+        Eigen::MatrixXd J(m, m);
+        for (Eigen::Index i = 0; i < m; ++i) {
+            F(i) = F_all(Eigen::Index(r.rows[std::size_t(i)]));
+            for (Eigen::Index j = 0; j < m; ++j)
+                J(i, j) = J_all(Eigen::Index(r.rows[std::size_t(i)]), Eigen::Index(r.columns[std::size_t(j)]));
+        }
         if (!F.allFinite() || !J.allFinite()) return false;
         const Eigen::FullPivLU<Eigen::MatrixXd> lu(J);
         if (!lu.isInvertible()) return false;
-        const Eigen::VectorXd step = lu.solve(F);
+        const Eigen::VectorXd reduced = lu.solve(F);
+        Eigen::VectorXd step = Eigen::VectorXd::Zero(q.size());
+        for (Eigen::Index j = 0; j < m; ++j) step(Eigen::Index(r.columns[std::size_t(j)])) = reduced(j);
         q -= step;
         // Converged when the step is at round-off of q (quadratic convergence gets there in
         // a few iterations from a good start).
@@ -109,6 +152,7 @@ Equilibrium classify(const RestSystem& r, Evaluation& at, const Eigen::VectorXd&
 
     Equilibrium e;
     e.q.assign(q.data(), q.data() + n);
+    e.free = r.free;
     double largest = 0;
     for (Eigen::Index i = 0; i < 2 * n; ++i) {
         e.eigenvalues.push_back(eig.eigenvalues()(i));
@@ -124,9 +168,17 @@ Equilibrium classify(const RestSystem& r, Evaluation& at, const Eigen::VectorXd&
     if (unstable) {
         e.verdict = "unstable";
     } else {
-        const Eigen::MatrixXd K = -(Fq + Fq.transpose()) / 2;  // stiffness, symmetric part
+        // Stiffness (symmetric part) over the coordinates that have one: a free coordinate only
+        // drifts (a zero eigenvalue pair), which does not make the rest gyroscopic.
+        const Eigen::Index m = Eigen::Index(r.columns.size());
+        Eigen::MatrixXd K(m, m);
+        for (Eigen::Index i = 0; i < m; ++i)
+            for (Eigen::Index j = 0; j < m; ++j) {
+                const auto a = Eigen::Index(r.columns[std::size_t(i)]), b = Eigen::Index(r.columns[std::size_t(j)]);
+                K(i, j) = -(Fq(a, b) + Fq(b, a)) / 2;
+            }
         const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> k(K);
-        e.verdict = k.eigenvalues().minCoeff() > 0 ? "stable" : "gyroscopically stabilised";
+        e.verdict = m == 0 || k.eigenvalues().minCoeff() > 0 ? "stable" : "gyroscopically stabilised";
     }
     return e;
 }
@@ -231,12 +283,16 @@ public:
     // branch could not be solved (a factor of no form solved here, a continuum, too many
     // branches). Elimination goes through numerators, so a solution may be spurious where a
     // denominator vanishes: the caller checks each one numerically.
-    std::vector<ClosedForm> solve(const std::vector<ex>& f, bool& complete) {
+    // Free coordinates (absent from f) are held at 0, as in the numeric search.
+    std::vector<ClosedForm> solve(const std::vector<ex>& f, const std::vector<bool>& free, bool& complete) {
         complete = true;
         complete_ = &complete;
         solutions_.clear();
         const std::size_t n = model_.coordinates.size();
-        branch(f, std::vector<bool>(f.size(), false), ClosedForm{std::vector<Root>(n), std::vector<bool>(n, false), {}});
+        ClosedForm start{std::vector<Root>(n), std::vector<bool>(n, false), {}};
+        for (std::size_t k = 0; k < n; ++k)
+            if (free[k]) start = with(start, k, Root{0, 0, 1}, false);
+        branch(f, std::vector<bool>(f.size(), false), start);
         return solutions_;
     }
 
@@ -359,14 +415,14 @@ std::vector<Equilibrium> relative_equilibria(const model::Model& model, const Eq
     const std::size_t n = r.n;
     // A grid of starts, at most about 4000 of them whatever n is.
     int per = search.starts_per_coordinate;
-    while (per > 2 && std::pow(double(per), double(n)) > 4000) --per;
+    while (per > 2 && std::pow(double(per), double(r.columns.size())) > 4000) --per;
 
     std::vector<Eigen::VectorXd> roots;
     std::vector<int> index(n, 0);
     for (;;) {
         Eigen::VectorXd q(static_cast<Eigen::Index>(n));
         for (std::size_t k = 0; k < n; ++k)
-            q(Eigen::Index(k)) = -search.range + 2 * search.range * (index[k] + 0.5) / per;
+            q(Eigen::Index(k)) = r.free[k] ? 0.0 : -search.range + 2 * search.range * (index[k] + 0.5) / per;
         if (newton(r, at, q) && q.cwiseAbs().maxCoeff() <= search.range * (1 + 1e-9)) {
             const bool known = std::any_of(roots.begin(), roots.end(), [&](const Eigen::VectorXd& other) {
                 return (other - q).norm() <= 1e-7 * (1.0 + q.norm());
@@ -374,7 +430,7 @@ std::vector<Equilibrium> relative_equilibria(const model::Model& model, const Eq
             if (!known) roots.push_back(q);
         }
         std::size_t k = 0;
-        while (k < n && ++index[k] == per) index[k++] = 0;
+        while (k < n && (r.free[k] || ++index[k] == per)) index[k++] = 0;
         if (k == n) break;
     }
 
@@ -385,7 +441,7 @@ std::vector<Equilibrium> relative_equilibria(const model::Model& model, const Eq
     for (const ex& e : r.f) f_trig.push_back(e.subs(trig.to_variables).expand());
     bool complete = true;
     std::vector<std::optional<GiNaC::exmap>> exact(roots.size());  // per root: q, sin q, cos q in closed form
-    for (const ClosedForm& form : ClosedFormSolver(model, trig).solve(f_trig, complete)) {
+    for (const ClosedForm& form : ClosedFormSolver(model, trig).solve(f_trig, r.free, complete)) {
         Eigen::VectorXd q(static_cast<Eigen::Index>(n));
         bool real = true;
         for (std::size_t k = 0; k < n && real; ++k) {

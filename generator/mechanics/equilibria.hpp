@@ -28,6 +28,7 @@ namespace eomc::mechanics {
 
 struct Equilibrium {
     std::vector<double> q;                          // in coordinate order
+    std::vector<bool> free;                         // per coordinate: absent from f(q, 0), any value (q holds 0)
     std::vector<std::complex<double>> eigenvalues;  // of the linearised first-order system, 2n of them
     std::string verdict;                            // "stable" | "unstable" | "gyroscopically stabilised"
     std::vector<GiNaC::ex> exact;                   // q in closed form (parameters symbolic); empty if numeric only

@@ -263,3 +263,43 @@ BOOST_AUTO_TEST_CASE(coupled_coordinates_eliminated_in_closed_form) {
     BOOST_TEST(standing == 2);
     BOOST_TEST(off_axis == 2);
 }
+
+// A coordinate absent from the equations at rest (the rotor's spin angle ψ of the gyrocompass,
+// cyclic) makes every equilibrium a family in it; the search runs over the others. At rest
+// f_φ = (A − C) Ω² sin φ cos φ (platform rate Ω about x', rotor moments C about its axis, A
+// across), so φ = 0, ±π/2, ±π. About φ = 0 the stiffness (C − A) Ω² is positive. About φ = π/2
+// it is negative, yet the gyroscopic coupling G = C Ω sin φ with ψ̇ (ψ̇ = G φ/C, C being ψ's
+// inertia) adds −G²/C: M_φ φ̈ = ((C − A) − C) Ω² φ = −A Ω² φ, stable at Ω √(A/M_φ) = 1 here.
+BOOST_AUTO_TEST_CASE(cyclic_coordinate_is_free_and_couples_gyroscopically) {
+    const std::string scene = R"toml([scene]
+name = "gyro"
+[parameters]
+m = 1.0
+A = 1.0
+C = 2.0
+Omega = 1.0
+[coordinates]
+phi = {}
+psi = {}
+[carrier]
+angular_velocity = ["Omega", "0", "0"]
+[[body]]
+name = "rotor"
+mass = "m"
+position = ["0", "0", "0"]
+inertia = ["C", "A", "A"]
+orientation = ["z:phi", "x:psi"]
+)toml";
+    const auto found = equilibria_of(scene);
+    BOOST_REQUIRE_EQUAL(found.size(), 5u);
+    const double expected[] = {-M_PI, -M_PI / 2, 0, M_PI / 2, M_PI};
+    for (std::size_t i = 0; i < 5; ++i) {
+        BOOST_TEST(std::abs(found[i].q[0] - expected[i]) < tol);
+        BOOST_TEST(!found[i].free[0]);
+        BOOST_TEST(found[i].free[1]);
+        BOOST_TEST(std::abs(largest_imag(found[i]) - 1.0) < tol);
+        BOOST_TEST(std::abs(largest_real(found[i])) < tol);
+    }
+    BOOST_TEST(found[2].verdict == "stable");
+    BOOST_TEST(found[3].verdict == "gyroscopically stabilised");
+}
