@@ -149,6 +149,17 @@ struct FreeDiskTubeBall {
         out[3] = m*q*v0_dot;
     }
 
+    // Puts the attitude quaternion back on |e| = 1 (the runtime calls it after every accepted
+    // step). R(e)/|e|² is orthogonal for any |e|, so this only keeps e well scaled.
+    template <class S>
+    static void project(S* x) {
+        using std::sqrt;
+        {
+            const S norm = sqrt(x[4] * x[4] + x[5] * x[5] + x[6] * x[6] + x[7] * x[7]);
+            for (int i = 4; i < 8; ++i) x[i] /= norm;
+        }
+    }
+
     template <class S>
     static S energy(S t, const S* x, const Parameters& p) {
         std::array<S, n_invariants> all;

@@ -425,6 +425,24 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
             "    }\n";
     }
 
+    // A unit quaternion's rates keep |e| = 1 only to the integrator's error; the runtime's
+    // drivers call project() after every accepted step when a kernel has one.
+    std::string projection;
+    if (!ir.unit_quaternions.empty()) {
+        std::string body = "        using std::sqrt;\n";
+        for (std::size_t k : ir.unit_quaternions) {
+            body += fmt::format("        {{\n            const S norm = sqrt(x[{0}] * x[{0}] + x[{1}] * x[{1}] + x[{2}] * x[{2}] + "
+                                "x[{3}] * x[{3}]);\n",
+                                k, k + 1, k + 2, k + 3);
+            body += fmt::format("            for (int i = {}; i < {}; ++i) x[i] /= norm;\n        }}\n", k, k + 4);
+        }
+        projection =
+            "\n    // Puts the attitude quaternion back on |e| = 1 (the runtime calls it after every accepted\n"
+            "    // step). R(e)/|e|² is orthogonal for any |e|, so this only keeps e well scaled.\n"
+            "    template <class S>\n    static void project(S* x) {\n" +
+            body + "    }\n";
+    }
+
     // The variational equations ride on the kernel's own rhs and symbolic Jacobian, so they
     // need no derivation of their own; only on request, so that other kernels keep their bytes.
     std::string variational;
@@ -505,7 +523,7 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
         {"outputs_note", ir.output_names.empty() ? "none for this model" : "functions of t, x and u̇"},
         {"outputs_body", indent(outputs, 8)},
         {"acceleration", acceleration},
-        {"variational", variational},
+        {"variational", projection + variational},
         {"invariant_accessors", accessors},
         {"private_part", private_part},
     };

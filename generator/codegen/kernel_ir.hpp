@@ -51,6 +51,7 @@ struct KernelIR {
     std::vector<std::string> invariant_names;
     std::vector<std::string> output_names;
     bool separable = false;                  // q̈ = a(t, q): emit acceleration() for the splitting methods
+    std::vector<std::size_t> unit_quaternions;  // first state index of each: emit project()
 
     Block mass_matrix;       // n_velocities² outputs, row-major
     Block forcing;           // n_velocities outputs

@@ -65,6 +65,7 @@ KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form,
     const std::size_t nu = form.n_velocities(), N = form.state.size();
     ir.n_velocities = nu;
     ir.separable = form.separable;
+    ir.unit_quaternions = form.unit_quaternions;
     for (const auto& c : form.state) {
         ir.state.push_back({c.name, c.symbol});
         ir.initial_state.push_back(c.initial);

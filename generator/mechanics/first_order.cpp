@@ -60,6 +60,7 @@ void add_carrier_kinematics(const model::Model& model, FirstOrderForm& form) {
         {2 * (e1 * e3 - e0 * e2), 2 * (e2 * e3 + e0 * e1), e0 * e0 - e1 * e1 - e2 * e2 + e3 * e3}};
     const ex norm2 = e0 * e0 + e1 * e1 + e2 * e2 + e3 * e3;
     for (std::size_t k = 0; k < 4; ++k) form.explicit_rates.emplace_back(first + k, attitude[k]);
+    form.unit_quaternions.push_back(first);
     for (std::size_t i = 0; i < 3; ++i) {
         ex v = 0;
         for (std::size_t j = 0; j < 3; ++j) v += R[i][j] * c.pole_velocity[j];

@@ -51,6 +51,9 @@ struct FirstOrderForm {
 
     // q̈ = a(t, q) alone, M constant: the symplectic splitting methods apply.
     bool separable = false;
+    // First state index of each unit quaternion (a free carrier's attitude): the kernel's
+    // project() puts it back on |e| = 1 after every step.
+    std::vector<std::size_t> unit_quaternions;
 
     std::size_t n_velocities() const { return velocity_rates.size(); }
 };
