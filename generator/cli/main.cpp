@@ -20,6 +20,7 @@
 #include "cli/simulate.hpp"
 #include "codegen/cpp_emitter.hpp"
 #include "codegen/derivation_printer.hpp"
+#include "codegen/expression_text.hpp"
 #include "codegen/inverse_printer.hpp"
 #include "codegen/kernel_ir.hpp"
 #include "mechanics/equilibria.hpp"
@@ -217,12 +218,6 @@ bool depends_on_time(const Pipeline& p) {
     return false;
 }
 
-std::string expression_text(const GiNaC::ex& e) {
-    std::ostringstream os;
-    os << e;
-    return os.str();
-}
-
 // `eomc equilibria`: each relative equilibrium with its eigenvalues and verdict.
 void print_equilibria(const model::Model& model, const std::vector<mechanics::Equilibrium>& found,
                       const std::string& format, std::ostream& out) {
@@ -249,11 +244,11 @@ void print_equilibria(const model::Model& model, const std::vector<mechanics::Eq
                 for (std::size_t k = 0, listed = 0; k < found[i].exact.size(); ++k)
                     if (!found[i].free[k])
                         out << (listed++ ? ", " : "") << json_string(model.coordinates[k].name) << ": "
-                            << json_string(expression_text(found[i].exact[k]));
+                            << json_string(codegen::text(found[i].exact[k]));
                 out << "}";
             }
             out << ", \"lambda_squared\": "
-                << (found[i].lambda_squared ? json_string(expression_text(*found[i].lambda_squared)) : "null") << "}";
+                << (found[i].lambda_squared ? json_string(codegen::text(*found[i].lambda_squared)) : "null") << "}";
         }
         out << (found.empty() ? "]}\n" : "\n]}\n");
         return;
@@ -270,8 +265,8 @@ void print_equilibria(const model::Model& model, const std::vector<mechanics::Eq
         for (std::size_t k = 0, listed = 0; k < e.exact.size(); ++k)
             if (!e.free[k])
                 out << fmt::format("{}{} = {}", listed++ ? ", " : "\n    closed form: ", model.coordinates[k].name,
-                                   expression_text(e.exact[k]));
-        if (e.lambda_squared) out << "\n    λ² = (∂f/∂q)/M = " << expression_text(*e.lambda_squared);
+                                   codegen::text(e.exact[k]));
+        if (e.lambda_squared) out << "\n    λ² = (∂f/∂q)/M = " << codegen::text(*e.lambda_squared);
         out << "\n    " << e.verdict;
         // Growth rates above the eigensolver's noise (the tolerance the verdict used).
         double largest = 0;

@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "codegen/expression_text.hpp"
 #include "codegen/inverse_printer.hpp"
 #include "codegen/kernel_ir.hpp"
 #include "support/json.hpp"
@@ -28,18 +29,6 @@ ex display_form(const ex& e) {
 }
 
 namespace {
-
-std::string text(const ex& e) {
-    std::ostringstream os;
-    os << GiNaC::dflt << e;
-    return os.str();
-}
-
-std::string latex(const ex& e) {
-    std::ostringstream os;
-    os << GiNaC::latex << e;
-    return os.str();
-}
 
 // Width on a terminal of UTF-8 text: one column per character, none for the combining
 // marks that draw the dots of ṙ and q̇ (U+0300–U+036F).

@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "codegen/expression_text.hpp"
 #include "support/json.hpp"
 
 namespace eomc::codegen {
@@ -12,18 +13,6 @@ namespace inv = mechanics::inverse;
 using GiNaC::ex;
 
 namespace {
-
-std::string text(const ex& e) {
-    std::ostringstream os;
-    os << GiNaC::dflt << e;
-    return os.str();
-}
-
-std::string latex(const ex& e) {
-    std::ostringstream os;
-    os << GiNaC::latex << e;
-    return os.str();
-}
 
 std::string json_ex(const ex& e) { return json_string(text(e)); }
 

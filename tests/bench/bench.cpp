@@ -6,8 +6,6 @@
 #define BOOST_TEST_MODULE bench
 #include <boost/test/unit_test.hpp>
 
-#include <sys/wait.h>
-
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -18,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include "../support/command.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -25,38 +25,16 @@ namespace {
 const std::string header =
     "method,library,kind,setting,error,max_invariant_drift,rhs_evals,steps,rejected,wall_seconds,repetitions";
 
-struct Result {
-    int status = -1;
-    std::string out, err;
-};
+using test_support::Result;
+using test_support::slurp;
 
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
-fs::path scratch(const std::string& name) {
-    const fs::path dir = fs::path(EOMC_BINARY_DIR) / "bench-scratch" / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path scratch(const std::string& name) { return test_support::scratch("bench-scratch", name); }
 
 // Compiled drivers are kept here across runs of the suite (keyed by content, so never stale).
 std::string cache_dir() { return (fs::path(EOMC_BINARY_DIR) / "bench-cache").string(); }
 
 Result run(const std::string& command, const fs::path& dir, const std::string& env = "") {
-    const std::string line = env + " " + command + " > '" + (dir / "stdout").string() + "' 2> '" + (dir / "stderr").string() + "'";
-    const int raw = std::system(line.c_str());
-    Result r;
-    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    r.out = slurp(dir / "stdout");
-    r.err = slurp(dir / "stderr");
-    fs::remove(dir / "stdout");
-    fs::remove(dir / "stderr");
-    return r;
+    return test_support::run_command(command, dir, env);
 }
 
 struct Row {

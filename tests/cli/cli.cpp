@@ -1,8 +1,6 @@
 #define BOOST_TEST_MODULE cli
 #include <boost/test/unit_test.hpp>
 
-#include <sys/wait.h>
-
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -10,42 +8,19 @@
 #include <sstream>
 #include <string>
 
+#include "../support/command.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-    int status = -1;
-    std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
+using test_support::Result;
+using test_support::slurp;
 
 // A scratch directory per test case, emptied first.
-fs::path scratch(const std::string& name) {
-    const fs::path dir = fs::path(EOMC_BINARY_DIR) / "cli-scratch" / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path scratch(const std::string& name) { return test_support::scratch("cli-scratch", name); }
 
-Result run(const std::string& arguments, const fs::path& dir) {
-    const std::string command = std::string(EOMC_EXECUTABLE) + " " + arguments + " > " + (dir / "stdout").string() +
-                                " 2> " + (dir / "stderr").string();
-    const int raw = std::system(command.c_str());
-    Result r;
-    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    r.out = slurp(dir / "stdout");
-    r.err = slurp(dir / "stderr");
-    fs::remove(dir / "stdout");
-    fs::remove(dir / "stderr");
-    return r;
-}
+Result run(const std::string& arguments, const fs::path& dir) { return test_support::run_eomc(arguments, dir); }
 
 fs::path write_scene(const fs::path& dir, const std::string& text) {
     const fs::path p = dir / "scene.toml";

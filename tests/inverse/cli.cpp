@@ -5,8 +5,6 @@
 #define BOOST_TEST_MODULE inverse_cli
 #include <boost/test/unit_test.hpp>
 
-#include <sys/wait.h>
-
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -15,41 +13,18 @@
 
 #include <ginac/ginac.h>
 
+#include "../support/command.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-    int status = -1;
-    std::string out, err;
-};
+using test_support::Result;
+using test_support::slurp;
 
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
+fs::path scratch(const std::string& name) { return test_support::scratch("inverse-scratch", name); }
 
-fs::path scratch(const std::string& name) {
-    const fs::path dir = fs::path(EOMC_BINARY_DIR) / "inverse-scratch" / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
-
-Result run(const std::string& arguments, const fs::path& dir) {
-    const std::string command = std::string(EOMC_EXECUTABLE) + " " + arguments + " > " + (dir / "stdout").string() +
-                                " 2> " + (dir / "stderr").string();
-    const int raw = std::system(command.c_str());
-    Result r;
-    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    r.out = slurp(dir / "stdout");
-    r.err = slurp(dir / "stderr");
-    fs::remove(dir / "stdout");
-    fs::remove(dir / "stderr");
-    return r;
-}
+Result run(const std::string& arguments, const fs::path& dir) { return test_support::run_eomc(arguments, dir); }
 
 std::string scene(const std::string& relative) { return (fs::path(EOMC_SOURCE_DIR) / relative).string(); }
 
