@@ -135,7 +135,7 @@ std::vector<std::pair<std::string, double>> parse_overrides(const std::vector<st
 
 struct SimulateOptions {
     std::optional<double> t_end, rtol, atol, step;
-    std::string integrator, output, summary = "text";
+    std::string integrator, output, summary = "text", compensated;
     std::vector<std::string> overrides;
     std::string cache_dir;
 };
@@ -143,11 +143,17 @@ struct SimulateOptions {
 void add_simulate_options(CLI::App* cmd, SimulateOptions& o) {
     cmd->add_option("--t-end", o.t_end, "final time (default: [simulate] t_end)")->check(CLI::PositiveNumber);
     cmd->add_option("--integrator", o.integrator,
-                    "rk4 | dopri5 | dop853 | gl4 | gl6 | gl8 (default: [simulate] integrator)")
+                    "rk4 | dopri5 | dop853 | gl4 | gl6 | gl8 | verlet | yoshida6 | kahanli8 (default: [simulate] "
+                    "integrator; the last three need a separable system)")
         ->check(CLI::IsMember(std::vector<std::string>(scene::integrator_names.begin(), scene::integrator_names.end())));
     cmd->add_option("--rtol", o.rtol, "relative tolerance (dopri5, dop853)")->check(CLI::PositiveNumber);
     cmd->add_option("--atol", o.atol, "absolute tolerance (dopri5, dop853)")->check(CLI::PositiveNumber);
-    cmd->add_option("--step", o.step, "step size (rk4, gl4, gl6, gl8)")->check(CLI::PositiveNumber);
+    cmd->add_option("--step", o.step, "step size (rk4, gl4, gl6, gl8, verlet, yoshida6, kahanli8)")
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--compensated", o.compensated,
+                    "on | off: compensated (Kahan) summation of the state update (default: [simulate] compensated, "
+                    "else on for gl4-8, verlet, yoshida6, kahanli8 and off for the others)")
+        ->check(CLI::IsMember({"on", "off"}));
     cmd->add_option("--set", o.overrides, "NAME=VALUE: a parameter, or an initial value (q, q_dot)");
     cmd->add_option("--output", o.output, "trajectory CSV (t, state, invariants)");
     cmd->add_option("--summary", o.summary, "text | json")->check(CLI::IsMember({"text", "json"}));
@@ -162,6 +168,9 @@ cli::SimulationRequest simulation_request(const Pipeline& p, const std::string& 
     r.overrides = parse_overrides(o.overrides);
     r.t_end = o.t_end.value_or(d.t_end);
     r.integrator = o.integrator.empty() ? d.integrator : o.integrator;
+    r.integrator_pos = o.integrator.empty() ? d.integrator_pos : SourcePos{"--integrator"};
+    if (!o.compensated.empty()) r.compensated = o.compensated == "on";
+    else r.compensated = d.compensated;
     r.rtol = o.rtol.value_or(d.rtol);
     r.atol = o.atol.value_or(d.atol);
     r.step = o.step.value_or(d.step);
