@@ -224,8 +224,10 @@ class Dop853 {
     requires System<Sys, S>
   const State<S>& prepare(Sys& sys, const State<S>& x, S t) {
     if (!(k1_valid_ && t == t_k1_ && x == x_k1_)) {
+      // The compensation belongs to x: kept when only t moved (a fixed-step caller computing
+      // t afresh), dropped for an edited state or after reset().
+      if (!(k1_valid_ && x == x_k1_)) comp_.assign(x.size(), S(0));
       resize(x.size());
-      comp_.assign(x.size(), S(0));
       sys(t, x, k_[0]);
       ++rhs_evals_;
       x_k1_ = x;
