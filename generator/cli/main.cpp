@@ -336,7 +336,13 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"vector", "array"}));
     bench->add_option("--cache-dir", bo.cache_dir, "where compiled programs are kept (default ~/.cache/eomc)");
 
-    CLI11_PARSE(app, argc, argv);
+    // Bad flags and values are bad input like any other: exit 2 (CLI11 would use its own codes).
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        const int rc = app.exit(e);
+        return rc == 0 ? 0 : 2;
+    }
 
     try {
         StageClock clock;
@@ -353,7 +359,11 @@ int main(int argc, char** argv) {
             if (timings) clock.print(std::cerr);
             std::cerr << "wrote " << path.string() << "\n";
         } else if (simulate->parsed()) {
-            const auto result = cli::simulate(simulation_request(p, kernel_header(p), sim));
+            codegen::KernelIR ir;
+            const std::string header = kernel_header(p, nullptr, &ir);
+            const cli::SimulationRequest request = simulation_request(p, header, sim);
+            cli::check_separable(request.integrator, request.integrator_pos, ir.separable, ir.scene_name);
+            const auto result = cli::simulate(request);
             cli::print_summary(result, sim.summary, std::cout);
         } else if (bench->parsed()) {
             codegen::KernelIR ir;
@@ -392,13 +402,16 @@ int main(int argc, char** argv) {
             else cli::write_file_atomically(output, text.str());
             if (!emit_scene.empty()) cli::write_file_atomically(emit_scene, scene_text);
         } else if (run->parsed()) {
-            codegen::print_derivation(p.model, p.equations, codegen::DerivationFormat::text, std::cout, canonical);
-            const std::string header = kernel_header(p);
+            codegen::KernelIR ir;
+            const std::string header = kernel_header(p, nullptr, &ir);
             const fs::path header_path = fs::path(out_dir) / (p.model.name + ".hpp");
-            cli::write_file_atomically(header_path, header);
             if (sim.output.empty()) sim.output = (fs::path(out_dir) / (p.model.name + ".csv")).string();
+            const cli::SimulationRequest request = simulation_request(p, header, sim);
+            cli::check_separable(request.integrator, request.integrator_pos, ir.separable, ir.scene_name);
+            codegen::print_derivation(p.model, p.equations, codegen::DerivationFormat::text, std::cout, canonical);
+            cli::write_file_atomically(header_path, header);
             std::cout << "\nKernel: " << header_path.string() << "\n\nSimulation\n";
-            const auto result = cli::simulate(simulation_request(p, header, sim));
+            const auto result = cli::simulate(request);
             cli::print_summary(result, sim.summary, std::cout);
             std::cout << "Trajectory: " << sim.output << "\n";
         }

@@ -214,6 +214,15 @@ std::string json_number(double v) { return std::isfinite(v) ? number(v) : "null"
 
 }  // namespace
 
+void check_separable(const std::string& integrator, const SourcePos& where, bool separable,
+                     const std::string& scene_name) {
+    if (scene::is_splitting(integrator) && !separable)
+        throw InputError(where, fmt::format("the {} integrator needs a separable system (q̈ = a(t, q) with a constant "
+                                            "mass matrix, forces free of the velocities), and {} is not one; use gl4, "
+                                            "gl6 or gl8 for a symplectic fixed-step method",
+                                            integrator, scene_name));
+}
+
 double InvariantReport::relative_drift() const {
     return initial != 0.0 ? max_abs_drift / std::abs(initial) : std::numeric_limits<double>::quiet_NaN();
 }
@@ -247,13 +256,7 @@ SimulationResult simulate(const SimulationRequest& request) {
     for (std::size_t i = 0; i < parameter_values.size(); ++i)
         result.parameters.emplace_back(lib.parameter_names()[i], parameter_values[i]);
 
-    // The splitting methods step (q, q̇) with q̈ = a(t, q) alone.
-    if (scene::is_splitting(request.integrator) && !lib.separable())
-        throw InputError(request.integrator_pos,
-                         fmt::format("the {} integrator needs a separable system (q̈ = a(t, q) with a constant mass "
-                                     "matrix, forces free of the velocities), and {} is not one; use gl4, gl6 or gl8 "
-                                     "for a symplectic fixed-step method",
-                                     request.integrator, lib.scene_name()));
+    check_separable(request.integrator, request.integrator_pos, lib.separable(), lib.scene_name());
 
     const std::size_t n_inv = lib.invariant_names().size(), n_ev = lib.event_names().size();
     std::vector<std::string> columns{"t"};

@@ -77,6 +77,12 @@ struct SimulationResult {
 // runtime::IntegrationError when the integration fails (then no CSV is left behind).
 SimulationResult simulate(const SimulationRequest& request);
 
+// The splitting methods (verlet, yoshida6, kahanli8) step q̈ = a(t, q): throws InputError at
+// `where` when `integrator` is one of them and the kernel is not separable. simulate() calls it
+// on the compiled kernel; the command line calls it on the kernel IR before anything is written.
+void check_separable(const std::string& integrator, const SourcePos& where, bool separable,
+                     const std::string& scene_name);
+
 // format: "text" (for people) or "json" (one object, valid JSON: NaN and infinities as null).
 void print_summary(const SimulationResult& result, const std::string& format, std::ostream& out);
 
