@@ -32,7 +32,7 @@ const std::string cache_dir = EOMC_BINARY_DIR "/test-cache";
 
 // A projectile: y'' = -g, x'' = 0. Apex (y_dot = 0) at v0/g, ground (y = 0 downwards) at 2 v0/g.
 constexpr double g_acc = 9.81, vx0 = 3.0, vy0 = 7.0;
-const char* const projectile = R"([scene]
+const char* const projectile = R"toml([scene]
 name = "projectile"
 [parameters]
 g = 9.81
@@ -45,11 +45,11 @@ V = "g*y"
 [events]
 apex = { when = "y_dot", direction = "down" }
 ground = { when = "y", direction = "down", terminal = true }
-)";
+)toml";
 
 // A pendulum theta'' = -w^2 sin(theta) from rest at theta0 = 2: period T = 4 K(sin 1) / w.
 constexpr double w0 = 2.0, theta0 = 2.0;
-const char* const pendulum = R"([scene]
+const char* const pendulum = R"toml([scene]
 name = "pendulum"
 [parameters]
 w = 2.0
@@ -61,7 +61,7 @@ V = "-w^2*cos(theta)"
 [events]
 crossing = "theta"
 leftwards = { when = "theta", direction = "down" }
-)";
+)toml";
 
 struct Kernel {
     std::string header, struct_name;
@@ -123,14 +123,14 @@ BOOST_AUTO_TEST_CASE(the_kernel_carries_its_events) {
           "event_terminal{ false, true }", "static void events(S t, const S* x, S* out, const Parameters& p)"})
         BOOST_TEST(k.header.find(fragment) != std::string::npos, "missing: " << fragment);
     // A kernel without events has none of it (bundled kernels keep their bytes).
-    const Kernel plain = generate(R"([scene]
+    const Kernel plain = generate(R"toml([scene]
 name = "plain"
 [coordinates]
 q = { initial = 1.0 }
 [lagrangian]
 T = "q_dot^2/2"
 V = "q^2/2"
-)");
+)toml");
     BOOST_TEST(plain.header.find("n_events") == std::string::npos);
 }
 
@@ -229,7 +229,7 @@ BOOST_AUTO_TEST_CASE(pendulum_crossings_and_direction_filtering) {
 // logarithm, and a window of ±0.3 on the observed order still tells p from p ± 2 (the nearest
 // orders a symmetric method can have).
 BOOST_AUTO_TEST_CASE(splitting_methods_reach_their_orders) {
-    const Kernel k = generate(R"([scene]
+    const Kernel k = generate(R"toml([scene]
 name = "tube"
 [parameters]
 Omega = 3.0
@@ -241,7 +241,7 @@ angular_velocity = ["0", "Omega", "0"]
 name = "ball"
 mass = "1"
 position = ["q", "0", "0"]
-)");
+)toml");
     const double exact = 0.1 * std::cosh(3.0);
     struct Case {
         const char* method;
@@ -263,7 +263,7 @@ position = ["q", "0", "0"]
 
 BOOST_AUTO_TEST_CASE(a_splitting_method_on_a_non_separable_kernel_is_refused_at_its_place) {
     // A damped oscillator is not separable: its force depends on q_dot.
-    const Kernel k = generate(R"([scene]
+    const Kernel k = generate(R"toml([scene]
 name = "damped"
 [coordinates]
 q = { initial = 1.0 }
@@ -272,7 +272,7 @@ T = "q_dot^2/2"
 V = "q^2/2"
 [forces]
 generalized = { q = "-q_dot/10" }
-)");
+)toml");
     SimulationRequest req = request(k, "verlet", 1.0);
     req.integrator_pos = eomc::SourcePos{"scene.toml", 7, 14};
     try {
@@ -290,16 +290,18 @@ generalized = { q = "-q_dot/10" }
 // sqrt(N) eps |x| in the energy (~1e-13 for N = 2e5). Compensated: what is left per step is the
 // rounding of the increment, ~eps |h x'| = h eps |x| (h = 0.05), 20 times smaller, plus the stage
 // iteration's round-off. The assertion asks for a factor 4: well below the expected ~20 and the
-// measured value, well above the 1 a broken compensation gives.
+// measured value, well above the 1 a broken compensation gives. KahanLi8 does not conserve the
+// energy exactly, but its bounded O(h^8) energy error is below 2e-15 here (the compensated run
+// shows it), so the same round-off argument and factor apply.
 BOOST_AUTO_TEST_CASE(compensated_summation_reduces_round_off_on_a_long_run) {
-    const Kernel k = generate(R"([scene]
+    const Kernel k = generate(R"toml([scene]
 name = "oscillator"
 [coordinates]
 q = { initial = 1.0, rate = 0.0 }
 [lagrangian]
 T = "q_dot^2/2"
 V = "q^2/2"
-)");
+)toml");
     for (const char* method : {"gl8", "kahanli8"}) {
         double drift[2];
         for (int on = 0; on < 2; ++on) {
@@ -313,7 +315,7 @@ V = "q^2/2"
         }
         BOOST_TEST_MESSAGE(method << ": max energy drift over 2e5 steps, plain " << drift[0] << ", compensated "
                                   << drift[1]);
-        if (std::string(method) == "gl8") BOOST_TEST(drift[1] * 4 < drift[0], "plain " << drift[0] << ", compensated " << drift[1]);
+        BOOST_TEST(drift[1] * 4 < drift[0], method << ": plain " << drift[0] << ", compensated " << drift[1]);
     }
     // The default: on for the symplectic fixed-step methods, off for the others.
     SimulationRequest req = request(k, "gl4", 0.1);
