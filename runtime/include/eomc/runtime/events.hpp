@@ -131,7 +131,8 @@ class EventLocator {
   // After a step from t_old to t_new with x_new the state at t_new; state_at(tau, out) gives the
   // solution at any tau in [t_old, t_new]. Replaces `hits` by the step's events in time order
   // (equal times in index order) and returns true when the last of them is terminal: the
-  // integration must then stop at hits.back().t with the state hits.back().x.
+  // integration must then stop at hits.back().t with the state hits.back().x (to go on from there,
+  // call start() again: the signs kept here are those at t_new).
   template <class G, class StateAt>
   bool step(G& g, S t_old, S t_new, const State<S>& x_new, StateAt&& state_at, std::vector<EventHit<S>>& hits) {
     using std::abs;
