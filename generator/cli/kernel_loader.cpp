@@ -18,7 +18,7 @@ namespace {
 
 // Bumped whenever the C interface below changes; the loader refuses a library that reports
 // another value (a cache written by an older eomc).
-constexpr int adapter_abi = 2;
+constexpr int adapter_abi = 3;  // 3: acceleration and events
 
 // The adapter: C functions over double, so that the host needs no knowledge of the kernel's
 // C++ types. Parameters travel by position in parameter_names order, never by member name
@@ -48,6 +48,52 @@ template <std::size_t... I>
 P* create(const double* v, std::index_sequence<I...>) {
     (void)v;
     return new P{v[I]...};
+}
+
+// Kernels of separable systems have acceleration(); kernels of scenes with [events] have events().
+// Templates, so that the branch for a kernel without them is discarded.
+template <class M>
+concept HasAcceleration = requires(double t, const double* q, double* a, const typename M::Parameters& p) {
+    M::template acceleration<double>(t, q, a, p);
+};
+template <class M>
+concept HasEvents = requires(double t, const double* x, double* out, const typename M::Parameters& p) {
+    M::n_events;
+    M::event_names;
+    M::event_directions;
+    M::event_terminal;
+    M::template events<double>(t, x, out, p);
+};
+
+template <class M>
+void acceleration(double t, const double* q, double* a, const void* p) {
+    if constexpr (HasAcceleration<M>) M::template acceleration<double>(t, q, a, *static_cast<const typename M::Parameters*>(p));
+    else (void)t, (void)q, (void)a, (void)p;
+}
+template <class M>
+constexpr int n_events() {
+    if constexpr (HasEvents<M>) return M::n_events;
+    else return 0;
+}
+template <class M>
+const char* event_name(int i) {
+    if constexpr (HasEvents<M>) return M::event_names[std::size_t(i)];
+    else return (void)i, nullptr;
+}
+template <class M>
+int event_direction(int i) {
+    if constexpr (HasEvents<M>) return M::event_directions[std::size_t(i)];
+    else return (void)i, 0;
+}
+template <class M>
+int event_terminal(int i) {
+    if constexpr (HasEvents<M>) return M::event_terminal[std::size_t(i)] ? 1 : 0;
+    else return (void)i, 0;
+}
+template <class M>
+void events(double t, const double* x, double* out, const void* p) {
+    if constexpr (HasEvents<M>) M::template events<double>(t, x, out, *static_cast<const typename M::Parameters*>(p));
+    else (void)t, (void)x, (void)out, (void)p;
 }
 }  // namespace
 
@@ -87,6 +133,14 @@ EOMC_EXPORT void eomc_invariants(double t, const double* x, double* out, const v
 EOMC_EXPORT void eomc_outputs(double t, const double* x, double* out, const void* p) {
     K::outputs<double>(t, x, out, *static_cast<const P*>(p));
 }
+
+EOMC_EXPORT int eomc_separable() { return HasAcceleration<K> ? 1 : 0; }
+EOMC_EXPORT void eomc_acceleration(double t, const double* q, double* a, const void* p) { acceleration<K>(t, q, a, p); }
+EOMC_EXPORT int eomc_n_events() { return n_events<K>(); }
+EOMC_EXPORT const char* eomc_event_name(int i) { return event_name<K>(i); }
+EOMC_EXPORT int eomc_event_direction(int i) { return event_direction<K>(i); }
+EOMC_EXPORT int eomc_event_terminal(int i) { return event_terminal<K>(i); }
+EOMC_EXPORT void eomc_events(double t, const double* x, double* out, const void* p) { events<K>(t, x, out, p); }
 )";
 
 std::string replace_all(std::string text, const std::string& from, const std::string& to) {
@@ -178,6 +232,18 @@ KernelLibrary KernelLibrary::load(const std::string& header_text, const std::str
     lib.rhs_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_rhs", p);
     lib.invariants_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_invariants", p);
     lib.outputs_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_outputs", p);
+    lib.separable_ = symbol<int (*)()>(h, "eomc_separable", p)() != 0;
+    lib.acceleration_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_acceleration", p);
+    const int n_ev = symbol<int (*)()>(h, "eomc_n_events", p)();
+    const auto event_name = symbol<const char* (*)(int)>(h, "eomc_event_name", p);
+    const auto event_direction = symbol<int (*)(int)>(h, "eomc_event_direction", p);
+    const auto event_terminal = symbol<int (*)(int)>(h, "eomc_event_terminal", p);
+    for (int i = 0; i < n_ev; ++i) {
+        lib.event_names_.emplace_back(event_name(i));
+        lib.event_directions_.push_back(event_direction(i));
+        lib.event_terminal_.push_back(event_terminal(i) != 0);
+    }
+    lib.events_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_events", p);
     lib.seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return lib;
 }
@@ -210,6 +276,12 @@ KernelLibrary& KernelLibrary::operator=(KernelLibrary&& other) noexcept {
         rhs_ = other.rhs_;
         invariants_ = other.invariants_;
         outputs_ = other.outputs_;
+        separable_ = other.separable_;
+        acceleration_ = other.acceleration_;
+        event_names_ = std::move(other.event_names_);
+        event_directions_ = std::move(other.event_directions_);
+        event_terminal_ = std::move(other.event_terminal_);
+        events_ = other.events_;
     }
     return *this;
 }

@@ -54,6 +54,18 @@ public:
     // Quantities written beside the state (a free carrier's reactions), n_outputs doubles.
     void outputs(double t, const double* x, double* out, const Parameters& p) const { outputs_(t, x, out, p.get()); }
 
+    // q̈ = a(t, q) for separable systems (the splitting methods): q and a of n_coordinates =
+    // n_state / 2 doubles. Only when separable(); otherwise the kernel has no acceleration().
+    bool separable() const { return separable_; }
+    void acceleration(double t, const double* q, double* a, const Parameters& p) const { acceleration_(t, q, a, p.get()); }
+
+    // The scene's events: g_i(t, x) written to out[0 .. event_names().size()); directions +1 (up
+    // only), -1 (down only), 0 (both).
+    const std::vector<std::string>& event_names() const { return event_names_; }
+    const std::vector<int>& event_directions() const { return event_directions_; }
+    const std::vector<bool>& event_terminal() const { return event_terminal_; }
+    void events(double t, const double* x, double* out, const Parameters& p) const { events_(t, x, out, p.get()); }
+
     // How the library was obtained.
     const std::string& library_path() const { return path_; }
     bool cache_hit() const { return cache_hit_; }
@@ -76,6 +88,12 @@ private:
     void (*rhs_)(double, const double*, double*, const void*) = nullptr;
     void (*invariants_)(double, const double*, double*, const void*) = nullptr;
     void (*outputs_)(double, const double*, double*, const void*) = nullptr;
+    bool separable_ = false;
+    void (*acceleration_)(double, const double*, double*, const void*) = nullptr;
+    std::vector<std::string> event_names_;
+    std::vector<int> event_directions_;
+    std::vector<bool> event_terminal_;
+    void (*events_)(double, const double*, double*, const void*) = nullptr;
 };
 
 // Exposed for tests: the adapter source for a struct, and the cache key (FNV-1a 64, hex) of

@@ -137,7 +137,7 @@ std::vector<std::pair<std::string, double>> parse_overrides(const std::vector<st
 
 struct SimulateOptions {
     std::optional<double> t_end, rtol, atol, step;
-    std::string integrator, output, summary = "text";
+    std::string integrator, output, summary = "text", compensated;
     std::vector<std::string> overrides;
     std::string cache_dir;
 };
@@ -145,11 +145,17 @@ struct SimulateOptions {
 void add_simulate_options(CLI::App* cmd, SimulateOptions& o) {
     cmd->add_option("--t-end", o.t_end, "final time (default: [simulate] t_end)")->check(CLI::PositiveNumber);
     cmd->add_option("--integrator", o.integrator,
-                    "rk4 | dopri5 | dop853 | gl4 | gl6 | gl8 (default: [simulate] integrator)")
+                    "rk4 | dopri5 | dop853 | gl4 | gl6 | gl8 | verlet | yoshida6 | kahanli8 (default: [simulate] "
+                    "integrator; the last three need a separable system)")
         ->check(CLI::IsMember(std::vector<std::string>(scene::integrator_names.begin(), scene::integrator_names.end())));
     cmd->add_option("--rtol", o.rtol, "relative tolerance (dopri5, dop853)")->check(CLI::PositiveNumber);
     cmd->add_option("--atol", o.atol, "absolute tolerance (dopri5, dop853)")->check(CLI::PositiveNumber);
-    cmd->add_option("--step", o.step, "step size (rk4, gl4, gl6, gl8)")->check(CLI::PositiveNumber);
+    cmd->add_option("--step", o.step, "step size (rk4, gl4, gl6, gl8, verlet, yoshida6, kahanli8)")
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--compensated", o.compensated,
+                    "on | off: compensated (Kahan) summation of the state update (default: [simulate] compensated, "
+                    "else on for gl4-8, verlet, yoshida6, kahanli8 and off for the others)")
+        ->check(CLI::IsMember({"on", "off"}));
     cmd->add_option("--set", o.overrides, "NAME=VALUE: a parameter, or an initial value (q, q_dot)");
     cmd->add_option("--output", o.output, "trajectory CSV (t, state, invariants)");
     cmd->add_option("--summary", o.summary, "text | json")->check(CLI::IsMember({"text", "json"}));
@@ -164,6 +170,9 @@ cli::SimulationRequest simulation_request(const Pipeline& p, const std::string& 
     r.overrides = parse_overrides(o.overrides);
     r.t_end = o.t_end.value_or(d.t_end);
     r.integrator = o.integrator.empty() ? d.integrator : o.integrator;
+    r.integrator_pos = o.integrator.empty() ? d.integrator_pos : SourcePos{"--integrator"};
+    if (!o.compensated.empty()) r.compensated = o.compensated == "on";
+    else r.compensated = d.compensated;
     r.rtol = o.rtol.value_or(d.rtol);
     r.atol = o.atol.value_or(d.atol);
     r.step = o.step.value_or(d.step);
@@ -362,7 +371,13 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"vector", "array"}));
     bench->add_option("--cache-dir", bo.cache_dir, "where compiled programs are kept (default ~/.cache/eomc)");
 
-    CLI11_PARSE(app, argc, argv);
+    // Bad flags and values are bad input like any other: exit 2 (CLI11 would use its own codes).
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        const int rc = app.exit(e);
+        return rc == 0 ? 0 : 2;
+    }
 
     try {
         StageClock clock;
@@ -380,7 +395,11 @@ int main(int argc, char** argv) {
             if (timings) clock.print(std::cerr);
             std::cerr << "wrote " << path.string() << "\n";
         } else if (simulate->parsed()) {
-            const auto result = cli::simulate(simulation_request(p, kernel_header(p), sim));
+            codegen::KernelIR ir;
+            const std::string header = kernel_header(p, nullptr, &ir);
+            const cli::SimulationRequest request = simulation_request(p, header, sim);
+            cli::check_separable(request.integrator, request.integrator_pos, ir.separable, ir.scene_name);
+            const auto result = cli::simulate(request);
             cli::print_summary(result, sim.summary, std::cout);
         } else if (bench->parsed()) {
             codegen::KernelIR ir;
@@ -419,13 +438,16 @@ int main(int argc, char** argv) {
             else cli::write_file_atomically(output, text.str());
             if (!emit_scene.empty()) cli::write_file_atomically(emit_scene, scene_text);
         } else if (run->parsed()) {
-            codegen::print_derivation(p.model, p.equations, codegen::DerivationFormat::text, std::cout, canonical);
-            const std::string header = kernel_header(p);
+            codegen::KernelIR ir;
+            const std::string header = kernel_header(p, nullptr, &ir);
             const fs::path header_path = fs::path(out_dir) / (p.model.name + ".hpp");
-            cli::write_file_atomically(header_path, header);
             if (sim.output.empty()) sim.output = (fs::path(out_dir) / (p.model.name + ".csv")).string();
+            const cli::SimulationRequest request = simulation_request(p, header, sim);
+            cli::check_separable(request.integrator, request.integrator_pos, ir.separable, ir.scene_name);
+            codegen::print_derivation(p.model, p.equations, codegen::DerivationFormat::text, std::cout, canonical);
+            cli::write_file_atomically(header_path, header);
             std::cout << "\nKernel: " << header_path.string() << "\n\nSimulation\n";
-            const auto result = cli::simulate(simulation_request(p, header, sim));
+            const auto result = cli::simulate(request);
             cli::print_summary(result, sim.summary, std::cout);
             std::cout << "Trajectory: " << sim.output << "\n";
         }

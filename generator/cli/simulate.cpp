@@ -128,13 +128,19 @@ public:
         std::remove(temp_.c_str());
     }
 
-    void row(double t, const State<double>& x, const std::vector<double>& invariants, const std::vector<double>& outputs) {
+    // `event`: the name of the event located at t, or null; with_event_column: the CSV has one.
+    void row(double t, const State<double>& x, const std::vector<double>& invariants, const std::vector<double>& outputs,
+             const std::string* event = nullptr, bool with_event_column = false) {
         if (!file_) return;
         buffer_.clear();
         fmt::format_to(std::back_inserter(buffer_), "{:.17g}", t);
         for (double v : x) fmt::format_to(std::back_inserter(buffer_), ",{:.17g}", v);
         for (double v : invariants) fmt::format_to(std::back_inserter(buffer_), ",{:.17g}", v);
         for (double v : outputs) fmt::format_to(std::back_inserter(buffer_), ",{:.17g}", v);
+        if (with_event_column) {
+            buffer_.push_back(',');
+            if (event) buffer_.append(event->data(), event->data() + event->size());
+        }
         buffer_.push_back('\n');
         std::fwrite(buffer_.data(), 1, buffer_.size(), file_);
         ++rows_;
@@ -208,6 +214,15 @@ std::string json_number(double v) { return std::isfinite(v) ? number(v) : "null"
 
 }  // namespace
 
+void check_separable(const std::string& integrator, const SourcePos& where, bool separable,
+                     const std::string& scene_name) {
+    if (scene::is_splitting(integrator) && !separable)
+        throw InputError(where, fmt::format("the {} integrator needs a separable system (q̈ = a(t, q) with a constant "
+                                            "mass matrix, forces free of the velocities), and {} is not one; use gl4, "
+                                            "gl6 or gl8 for a symplectic fixed-step method",
+                                            integrator, scene_name));
+}
+
 double InvariantReport::relative_drift() const {
     return initial != 0.0 ? max_abs_drift / std::abs(initial) : std::numeric_limits<double>::quiet_NaN();
 }
@@ -229,67 +244,103 @@ SimulationResult simulate(const SimulationRequest& request) {
 
     SimulationResult result;
     result.scene_name = lib.scene_name();
+    const bool compensated_run = request.compensated.value_or(scene::compensated_by_default(request.integrator));
     result.integrator = scene::is_fixed_step(request.integrator)
-                            ? fmt::format("{} (step {})", request.integrator, request.step)
-                            : fmt::format("{} (rtol {}, atol {})", request.integrator, request.rtol, request.atol);
+                            ? fmt::format("{} (step {}{})", request.integrator, request.step,
+                                          compensated_run ? ", compensated" : "")
+                            : fmt::format("{} (rtol {}, atol {}{})", request.integrator, request.rtol, request.atol,
+                                          compensated_run ? ", compensated" : "");
     result.compile_s = lib.seconds();
     result.cache_hit = lib.cache_hit();
     result.library_path = lib.library_path();
     for (std::size_t i = 0; i < parameter_values.size(); ++i)
         result.parameters.emplace_back(lib.parameter_names()[i], parameter_values[i]);
 
-    const std::size_t n_inv = lib.invariant_names().size();
+    check_separable(request.integrator, request.integrator_pos, lib.separable(), lib.scene_name());
+
+    const std::size_t n_inv = lib.invariant_names().size(), n_ev = lib.event_names().size();
     std::vector<std::string> columns{"t"};
     columns.insert(columns.end(), lib.state_names().begin(), lib.state_names().end());
     columns.insert(columns.end(), lib.invariant_names().begin(), lib.invariant_names().end());
     columns.insert(columns.end(), lib.output_names().begin(), lib.output_names().end());
+    if (n_ev > 0) columns.push_back("event");  // only for scenes with [events]: other CSVs keep their shape
     CsvOutput csv(request.csv_path, columns);
     std::vector<double> outputs(lib.output_names().size());
 
     auto system = [&](double t, const State<double>& xs, State<double>& dxdt) {
         lib.rhs(t, xs.data(), dxdt.data(), parameters);
     };
+    auto acceleration = [&](double t, const State<double>& q, State<double>& a) {
+        lib.acceleration(t, q.data(), a.data(), parameters);
+    };
+    auto event_functions = [&](double t, const State<double>& xs, State<double>& g) {
+        lib.events(t, xs.data(), g.data(), parameters);
+    };
+    std::vector<runtime::EventSpec> specs;
+    for (std::size_t i = 0; i < n_ev; ++i)
+        specs.push_back({static_cast<runtime::EventDirection>(lib.event_directions()[i]), lib.event_terminal()[i]});
+    runtime::EventLocator<double> locator(specs);
 
-    // The observer sees t0 and every accepted step.
+    // One CSV row (and one look at the invariants) at t0, after every step and at every event.
     std::vector<double> inv(n_inv), inv0(n_inv), max_drift(n_inv, 0.0);
     bool first = true;
     double t_last = 0.0;
     State<double> x_last = x;
     ProgressBar progress(request.progress, request.t_end);
-    auto observer = [&](double t, const State<double>& xs) {
+    auto record = [&](double t, const State<double>& xs, const std::string* event) {
         lib.invariants(t, xs.data(), inv.data(), parameters);
         if (first) inv0 = inv, first = false;
         for (std::size_t i = 0; i < n_inv; ++i) max_drift[i] = track_max(max_drift[i], std::abs(inv[i] - inv0[i]));
         if (!outputs.empty() && !request.csv_path.empty()) lib.outputs(t, xs.data(), outputs.data(), parameters);
-        csv.row(t, xs, inv, outputs);
+        csv.row(t, xs, inv, outputs, n_ev > 0 ? event : nullptr, n_ev > 0);
         t_last = t;
         x_last = xs;
         progress.update(t);
     };
+    auto observer = [&](double t, const State<double>& xs) { record(t, xs, nullptr); };
+    auto on_event = [&](const runtime::EventHit<double>& hit) {
+        const std::string& name = lib.event_names()[hit.index];
+        record(hit.t, hit.x, &name);
+        result.events.push_back({name, hit.t, hit.direction, hit.terminal, hit.x});
+    };
 
+    const bool compensated = compensated_run;
+    result.compensated = compensated;
     const auto start = Clock::now();
-    runtime::Stats stats;
+    runtime::EventOutcome<double> outcome;
     try {
-        auto fixed_step = [&](auto&& stepper) {
+        auto fixed_step = [&](auto&& stepper, auto& sys) {
             // The step count is the user's choice here, not a sign of no progress: the budget
             // must not stop a long fixed-step run short of t_end.
             runtime::Limits limits;
             const double steps = std::ceil(request.t_end / request.step) + 2.0;
             limits.max_steps = std::max(limits.max_steps, steps >= 1e18 ? std::size_t{1'000'000'000'000'000'000}
                                                                         : static_cast<std::size_t>(steps));
-            return runtime::integrate_fixed(stepper, system, x, 0.0, request.t_end, request.step, observer, limits);
+            return runtime::integrate_fixed_events(stepper, sys, x, 0.0, request.t_end, request.step, locator,
+                                                   event_functions, observer, on_event, limits);
         };
         auto adaptive = [&](auto&& stepper) {
-            return runtime::integrate_adaptive(stepper, system, x, 0.0, request.t_end, 0.0,
-                                               runtime::Tolerances{request.rtol, request.atol}, observer);
+            stepper.set_compensated(compensated);
+            return runtime::integrate_adaptive_events(stepper, system, x, 0.0, request.t_end, 0.0,
+                                                      runtime::Tolerances{request.rtol, request.atol}, locator,
+                                                      event_functions, observer, on_event);
         };
+        runtime::GaussLegendreOptions gauss;
+        gauss.compensated = compensated;
+        runtime::SplittingOptions splitting;
+        splitting.compensated = compensated;
+        runtime::Rk4<double> rk4;
+        rk4.set_compensated(compensated);
         const std::string& name = request.integrator;
-        if (name == "rk4") stats = fixed_step(runtime::Rk4<double>{});
-        else if (name == "gl4") stats = fixed_step(runtime::Gl4<double>{});
-        else if (name == "gl6") stats = fixed_step(runtime::Gl6<double>{});
-        else if (name == "gl8") stats = fixed_step(runtime::Gl8<double>{});
-        else if (name == "dop853") stats = adaptive(runtime::Dop853<double>{});
-        else stats = adaptive(runtime::Dopri5<double>{});
+        if (name == "rk4") outcome = fixed_step(rk4, system);
+        else if (name == "gl4") outcome = fixed_step(runtime::Gl4<double>{gauss}, system);
+        else if (name == "gl6") outcome = fixed_step(runtime::Gl6<double>{gauss}, system);
+        else if (name == "gl8") outcome = fixed_step(runtime::Gl8<double>{gauss}, system);
+        else if (name == "verlet") outcome = fixed_step(runtime::Verlet<double>{splitting}, acceleration);
+        else if (name == "yoshida6") outcome = fixed_step(runtime::Yoshida6<double>{splitting}, acceleration);
+        else if (name == "kahanli8") outcome = fixed_step(runtime::KahanLi8<double>{splitting}, acceleration);
+        else if (name == "dop853") outcome = adaptive(runtime::Dop853<double>{});
+        else outcome = adaptive(runtime::Dopri5<double>{});
     } catch (const runtime::IntegrationError& e) {
         // Say which variable failed and where the solution was last seen; `csv` removes its temporary.
         std::string message = fmt::format("simulating {} with {}: {}", lib.scene_name(), request.integrator, e.what());
@@ -303,7 +354,9 @@ SimulationResult simulate(const SimulationRequest& request) {
     result.wall_s = seconds_since(start);
     csv.commit();
 
-    result.t = t_last;
+    result.t = outcome.t;
+    if (outcome.stopped) result.stopped_by = lib.event_names()[outcome.event];
+    const runtime::Stats& stats = outcome.stats;
     for (std::size_t i = 0; i < x.size(); ++i) result.state.emplace_back(lib.state_names()[i], x[i]);
     for (std::size_t i = 0; i < n_inv; ++i)
         result.invariants.push_back({lib.invariant_names()[i], inv0[i], inv[i], max_drift[i]});
@@ -328,7 +381,19 @@ void print_summary(const SimulationResult& r, const std::string& format, std::os
             s += fmt::format("{}{}: {{\"initial\": {}, \"max_abs_drift\": {}}}", i ? ", " : "", json_string(v.name),
                              json_number(v.initial), json_number(v.max_abs_drift));
         }
-        s += fmt::format("}}, \"steps\": {}, \"rejected\": {}, \"rhs_evals\": {}, \"wall_s\": {}, \"compile_s\": {}, "
+        s += "}, \"events\": [";
+        for (std::size_t i = 0; i < r.events.size(); ++i) {
+            const auto& e = r.events[i];
+            s += fmt::format("{}{{\"name\": {}, \"t\": {}, \"direction\": \"{}\", \"terminal\": {}, \"state\": {{",
+                             i ? ", " : "", json_string(e.name), json_number(e.t), e.direction > 0 ? "up" : "down",
+                             e.terminal ? "true" : "false");
+            for (std::size_t k = 0; k < e.state.size() && k < r.state.size(); ++k)
+                s += fmt::format("{}{}: {}", k ? ", " : "", json_string(r.state[k].first), json_number(e.state[k]));
+            s += "}}";
+        }
+        s += fmt::format("], \"stopped_by\": {}, \"compensated\": {}",
+                         r.stopped_by.empty() ? "null" : json_string(r.stopped_by), r.compensated ? "true" : "false");
+        s += fmt::format(", \"steps\": {}, \"rejected\": {}, \"rhs_evals\": {}, \"wall_s\": {}, \"compile_s\": {}, "
                          "\"cache_hit\": {}}}\n",
                          r.steps, r.rejected, r.rhs_evals, json_number(r.wall_s), json_number(r.compile_s),
                          r.cache_hit ? "true" : "false");
@@ -341,8 +406,10 @@ void print_summary(const SimulationResult& r, const std::string& format, std::os
     std::size_t width = 6;  // aligns the values of the longest name
     for (const auto& [n, v] : r.state) width = std::max(width, n.size());
     for (const auto& v : r.invariants) width = std::max(width, v.name.size());
+    for (const auto& e : r.events) width = std::max(width, e.name.size());
 
-    std::string s = fmt::format("{}: {} to t = {}\n", r.scene_name, r.integrator, number(r.t));
+    std::string s = fmt::format("{}: {} to t = {}{}\n", r.scene_name, r.integrator, number(r.t),
+                                r.stopped_by.empty() ? "" : fmt::format(", stopped by the terminal event '{}'", r.stopped_by));
     s += "final state\n";
     for (const auto& [n, v] : r.state) s += fmt::format("  {:<{}}  {:>24}\n", n, width, number(v));
     if (!r.invariants.empty()) {
@@ -352,6 +419,17 @@ void print_summary(const SimulationResult& r, const std::string& format, std::os
             s += fmt::format("  {:<{}}  {:>24}  {:>12.3g}  {:>12}\n", v.name, width, number(v.initial), v.max_abs_drift,
                              std::isnan(rel) && !std::isnan(v.max_abs_drift) ? "-" : fmt::format("{:.3g}", rel));
         }
+    }
+    if (!r.events.empty()) {
+        // Each event once per crossing; a long run lists the first ones (all are in the CSV and the JSON).
+        constexpr std::size_t shown = 20;
+        s += fmt::format("events      {} located\n", r.events.size());
+        for (std::size_t i = 0; i < r.events.size() && i < shown; ++i) {
+            const auto& e = r.events[i];
+            s += fmt::format("  {:<{}}  t = {:>24}  {}{}\n", e.name, width, number(e.t), e.direction > 0 ? "up" : "down",
+                             e.terminal ? ", terminal" : "");
+        }
+        if (r.events.size() > shown) s += fmt::format("  ... {} more\n", r.events.size() - shown);
     }
     s += fmt::format("steps       {} accepted, {} rejected, {} rhs evaluations\n", r.steps, r.rejected, r.rhs_evals);
     s += fmt::format("time        integration {:.3g} s; kernel {:.3g} s ({})\n", r.wall_s, r.compile_s,

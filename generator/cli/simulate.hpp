@@ -3,12 +3,14 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "eomc/runtime/state.hpp"
+#include "support/diagnostic.hpp"
 
 namespace eomc::cli {
 
@@ -17,9 +19,11 @@ struct SimulationRequest {
     std::string struct_name;                                // e.g. "DiskTubeBall"
     std::vector<std::pair<std::string, double>> overrides;  // --set NAME=VALUE: parameters, or initial values "q" / "q_dot"; later wins
     double t_end = 10.0;
-    std::string integrator = "dopri5";                      // "rk4" | "dopri5"
-    double rtol = 1e-10, atol = 1e-12;                      // dopri5
-    double step = 1e-3;                                     // rk4
+    std::string integrator = "dopri5";                      // one of scene::integrator_names
+    SourcePos integrator_pos{"--integrator"};               // where it was chosen: the flag, or the scene's [simulate] integrator
+    double rtol = 1e-10, atol = 1e-12;                      // dopri5, dop853
+    double step = 1e-3;                                     // the fixed-step methods
+    std::optional<bool> compensated;                        // absent: scene::compensated_by_default(integrator)
     std::string csv_path;                                   // "" = no CSV
     std::string summary_format = "text";                    // "text" | "json"
     std::string cache_dir;                                  // "" = $XDG_CACHE_HOME/eomc or ~/.cache/eomc
@@ -35,13 +39,25 @@ struct InvariantReport {
     double relative_drift() const;
 };
 
+// One located event (a zero crossing of the scene's g), with the state there.
+struct EventReport {
+    std::string name;
+    double t = 0.0;
+    int direction = 0;  // +1 g went up through zero, -1 down
+    bool terminal = false;
+    std::vector<double> state;
+};
+
 struct SimulationResult {
     std::string scene_name;
     std::string integrator;
+    bool compensated = false;
     double t = 0.0;                                       // final time reached
     std::vector<std::pair<std::string, double>> state;    // final state, in state_names order
     std::vector<std::pair<std::string, double>> parameters;  // the values used, in parameter_names order
     std::vector<InvariantReport> invariants;
+    std::vector<EventReport> events;                      // every located event, in time order
+    std::string stopped_by;                               // the terminal event that ended the run, "" if none
     std::size_t steps = 0, rejected = 0, rhs_evals = 0;   // accepted steps, rejected attempts, system calls
     double wall_s = 0.0;     // integration, including the observer (invariants, CSV)
     double compile_s = 0.0;  // compiling or finding the kernel in the cache, and loading it
@@ -55,10 +71,17 @@ struct SimulationResult {
 };
 
 // Throws eomc::InputError for a bad request (unknown override name, with the nearest known
-// name; unknown integrator; bad t_end, step or tolerances), std::runtime_error when the kernel
+// name; unknown integrator; bad t_end, step or tolerances; a splitting method on a kernel that
+// is not separable, at request.integrator_pos), std::runtime_error when the kernel
 // does not compile (with the compiler's output) or the CSV cannot be written, and
 // runtime::IntegrationError when the integration fails (then no CSV is left behind).
 SimulationResult simulate(const SimulationRequest& request);
+
+// The splitting methods (verlet, yoshida6, kahanli8) step q̈ = a(t, q): throws InputError at
+// `where` when `integrator` is one of them and the kernel is not separable. simulate() calls it
+// on the compiled kernel; the command line calls it on the kernel IR before anything is written.
+void check_separable(const std::string& integrator, const SourcePos& where, bool separable,
+                     const std::string& scene_name);
 
 // format: "text" (for people) or "json" (one object, valid JSON: NaN and infinities as null).
 void print_summary(const SimulationResult& result, const std::string& format, std::ostream& out);

@@ -401,6 +401,7 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
     }
     row("invariants", ir.invariants);
     if (!ir.output_names.empty()) row("outputs", ir.outputs);
+    if (!ir.event_names.empty()) row("events", ir.events);
     table.pop_back();
 
     // The outputs may read u̇: computed once by rhs and handed over as `acc`.
@@ -466,6 +467,28 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
             "    }\n";
     }
 
+    // Only kernels of scenes with [events] carry them, so that no other kernel changes.
+    std::string events;
+    if (!ir.event_names.empty()) {
+        std::string directions, terminal;
+        for (std::size_t k = 0; k < ir.event_names.size(); ++k) {
+            directions += fmt::format("{}{}", k ? ", " : "", ir.event_directions[k]);
+            terminal += fmt::format("{}{}", k ? ", " : "", ir.event_terminal[k] ? "true" : "false");
+        }
+        events = fmt::format(
+            "\n    // Events (scene [events]): g_i(t, x), whose zero crossings the runtime locates.\n"
+            "    static constexpr int n_events = {};\n"
+            "    static constexpr std::array<const char*, n_events> event_names{{ {} }};\n"
+            "    // +1: upward crossings (g from negative to positive) only, -1: downward only, 0: both.\n"
+            "    static constexpr std::array<int, n_events> event_directions{{ {} }};\n"
+            "    // A terminal event stops the integration at its time.\n"
+            "    static constexpr std::array<bool, n_events> event_terminal{{ {} }};\n\n"
+            "    template <class S>\n"
+            "    static void events(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n",
+            ir.event_names.size(), quoted_list(ir.event_names), directions, terminal,
+            indent(body(ir.events, "out"), 8));
+    }
+
     std::string accessors;
     for (std::size_t k = 0; k < ir.invariant_names.size(); ++k) {
         accessors += fmt::format(
@@ -523,6 +546,7 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
         {"outputs_note", ir.output_names.empty() ? "none for this model" : "functions of t, x and u̇"},
         {"outputs_body", indent(outputs, 8)},
         {"acceleration", acceleration},
+        {"events", events},
         {"variational", projection + variational},
         {"invariant_accessors", accessors},
         {"private_part", private_part},

@@ -66,6 +66,12 @@ struct KernelIR {
     Block invariants;                // one output per invariant
     Block outputs;                   // one per output, functions of (t, x, u̇)
 
+    // Scene events (empty: nothing is emitted): g_i(t, x), one output each.
+    std::vector<std::string> event_names;
+    std::vector<int> event_directions;  // +1 up, -1 down, 0 both
+    std::vector<bool> event_terminal;
+    Block events;
+
     // Newtonian scenes only (empty otherwise, and then nothing is emitted): Santilli's
     // conditions S1–S5 of the fundamental form as residuals, one output per name.
     std::vector<std::string> santilli_residual_names;

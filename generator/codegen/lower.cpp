@@ -138,6 +138,14 @@ KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form,
         outputs.push_back(out.value);
     }
     ir.outputs = eliminate_common_subexpressions(outputs, prefix);
+    std::vector<ex> events;
+    for (const auto& e : form.events) {
+        ir.event_names.push_back(e.name);
+        ir.event_directions.push_back(e.direction);
+        ir.event_terminal.push_back(e.terminal);
+        events.push_back(e.value);
+    }
+    if (!events.empty()) ir.events = eliminate_common_subexpressions(events, prefix);
     t.invariants = lap();
     return ir;
 }

@@ -100,6 +100,7 @@ FirstOrderForm first_order_form(const model::Model& model, const Equations& eqs)
     form.mass_matrix = eqs.mass_matrix;
     form.forcing = eqs.forcing;
     form.invariants = eqs.invariants;
+    for (const auto& e : model.events) form.events.push_back({e.name, e.when, e.direction, e.terminal});
     form.separable = is_separable(model, form);
     return form;
 }

@@ -30,6 +30,14 @@ struct NamedExpression {
     GiNaC::ex value;
 };
 
+// g(t, x) of a scene event, in the form's state (Hamilton's: q̇ replaced by ∂H/∂p).
+struct EventFunction {
+    std::string name;
+    GiNaC::ex value;
+    int direction = 0;  // +1 upwards only, -1 downwards only, 0 both
+    bool terminal = false;
+};
+
 struct FirstOrderForm {
     std::string description;  // one line for the kernel's banner: what the state and equations are
     std::vector<StateComponent> state;
@@ -48,6 +56,8 @@ struct FirstOrderForm {
     std::vector<Invariant> invariants;
     // Quantities written beside the state (a free carrier's reactions): functions of (t, x, u̇).
     std::vector<NamedExpression> outputs;
+
+    std::vector<EventFunction> events;
 
     // q̈ = a(t, q) alone, M constant: the symplectic splitting methods apply.
     bool separable = false;

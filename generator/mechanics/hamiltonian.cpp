@@ -132,6 +132,8 @@ CanonicalEquations canonical_equations(const model::Model& model, const Equation
     }
     for (std::size_t s = 0; s < n; ++s) form.explicit_rates.emplace_back(s, out.q_rate[s]);
     for (std::size_t s = 0; s < n; ++s) form.explicit_rates.emplace_back(n + s, out.p_rate[s]);
+    for (const auto& e : model.events)
+        form.events.push_back({e.name, e.when.subs(to_canonical), e.direction, e.terminal});
     if (out.conserved)
         form.invariants.push_back({"energy", out.H, "H(q, p), the Legendre transform of L (the Jacobi integral)"});
     return out;

@@ -290,6 +290,10 @@ Model build_model(const scene::Scene& scene) {
         for (const auto& c : model.coordinates) model.reference.push_back(parse_reference(c.name + "_dot"));
     }
 
+    for (const auto& e : scene.events)
+        model.events.push_back({e.name, symbols.parse(e.when, phase, fmt::format("event '{}'", e.name)),
+                                e.direction == "up" ? 1 : (e.direction == "down" ? -1 : 0), e.terminal, e.pos});
+
     if (scene.newtonian) {
         model.newtonian = build_newtonian(symbols, *scene.newtonian, model);
         model.kinetic_pos = scene.newtonian->pos;

@@ -84,6 +84,16 @@ struct Newtonian {
     SourcePos pos;                       // the [newtonian] table
 };
 
+// An event (scene [events]): g(t, q, q̇, parameters) crossing zero. Quasi-velocities count as
+// velocities.
+struct Event {
+    std::string name;
+    GiNaC::ex when;
+    int direction = 0;  // +1: upwards only, -1: downwards only, 0: both
+    bool terminal = false;
+    SourcePos pos;      // the key in [events]
+};
+
 struct Model {
     std::string name;         // scene name, e.g. disk_tube_ball
     std::string struct_name;  // DiskTubeBall
@@ -110,6 +120,7 @@ struct Model {
     // per state variable in state order (q_1..q_n, q_1_dot..q_n_dot); empty when the scene gives none.
     std::vector<GiNaC::ex> reference;
     std::optional<Newtonian> newtonian;  // equations instead of energies (no particles, no T)
+    std::vector<Event> events;           // [events], in file order
     scene::Inverse inverse;
 
     bool keeps(Effect e) const { return keep[static_cast<int>(e)]; }

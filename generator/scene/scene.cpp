@@ -108,7 +108,7 @@ public:
     Scene read() {
         Scene s;
         check_keys(root_, {"scene", "parameters", "coordinates", "carrier", "body", "lagrangian", "forces",
-                           "effects", "simulate", "formulation", "reference", "newtonian", "inverse"},
+                           "effects", "simulate", "events", "formulation", "reference", "newtonian", "inverse"},
                    "at the top level");
         read_scene(s);
         read_parameters(s);
@@ -120,6 +120,7 @@ public:
         read_forces(s);
         read_effects(s);
         read_simulate(s);
+        read_events(s);
         read_formulation(s);
         read_reference(s);
         read_newtonian(s);
@@ -267,6 +268,11 @@ private:
         }
         if (!std::isfinite(v)) fail(at(n), fmt::format("'{}': expected a finite number, got {}", path, number_text(n)));
         return v;
+    }
+
+    bool read_bool(const toml::node& n, const std::string& path) const {
+        if (const auto* b = n.as_boolean()) return b->get();
+        fail(at(n), fmt::format("'{}': expected true or false, got {}", path, type_name(n)));
     }
 
     double read_positive(const toml::node& n, const std::string& path) const {
@@ -633,7 +639,7 @@ private:
         Simulate& sim = s.simulate;
         if (!node) return;
         const toml::table& t = as_table(*node, "simulate");
-        check_keys(t, {"t_end", "integrator", "rtol", "atol", "step"}, "in [simulate]");
+        check_keys(t, {"t_end", "integrator", "rtol", "atol", "step", "compensated"}, "in [simulate]");
         sim.integrator_pos = at(t);
         if (const toml::node* v = t.get("t_end")) sim.t_end = read_positive(*v, "simulate.t_end");
         if (const toml::node* v = t.get("integrator")) {
@@ -650,6 +656,43 @@ private:
         if (const toml::node* v = t.get("rtol")) sim.rtol = read_positive(*v, "simulate.rtol");
         if (const toml::node* v = t.get("atol")) sim.atol = read_positive(*v, "simulate.atol");
         if (const toml::node* v = t.get("step")) sim.step = read_positive(*v, "simulate.step");
+        if (const toml::node* v = t.get("compensated")) sim.compensated = read_bool(*v, "simulate.compensated");
+    }
+
+    // [events]: name = "g" (direction both, not terminal) or name = { when = "g", direction =
+    // "up" | "down" | "both", terminal = true | false }.
+    void read_events(Scene& s) const {
+        const toml::node* node = root_.get("events");
+        if (!node) return;
+        const toml::table& t = as_table(*node, "events");
+        for (const auto& [key, value] : entries(t)) {
+            Event e;
+            e.name = std::string(key->str());
+            e.pos = at(*key);
+            const std::string path = "events." + e.name;
+            if (!is_identifier(e.name))
+                fail(at(*key), fmt::format("invalid event name '{}': expected a letter followed by letters, digits or "
+                                           "underscores",
+                                           e.name));
+            if (const toml::table* spec = value->as_table()) {
+                check_keys(*spec, {"when", "direction", "terminal"}, "in '" + path + "'");
+                e.when = read_expr(require(*spec, "when", "'" + path + "'"), path + ".when");
+                if (const toml::node* d = spec->get("direction")) {
+                    e.direction = read_string(*d, path + ".direction");
+                    const std::vector<std::string> names(event_directions.begin(), event_directions.end());
+                    if (std::find(names.begin(), names.end(), e.direction) == names.end()) {
+                        const std::string near = nearest_name(e.direction, names);
+                        fail(at(*d), fmt::format("unknown direction '{}' in '{}'; {}", e.direction, path,
+                                                 near.empty() ? std::string("expected 'up', 'down' or 'both'")
+                                                              : fmt::format("did you mean '{}'?", near)));
+                    }
+                }
+                if (const toml::node* v = spec->get("terminal")) e.terminal = read_bool(*v, path + ".terminal");
+            } else {
+                e.when = read_expr(*value, path);
+            }
+            s.events.push_back(std::move(e));
+        }
     }
 
     // [reference]: state name = expression, for every state variable (q and q_dot of each coordinate).

@@ -113,19 +113,41 @@ struct Effects {
 };
 
 // The integrators `eomc simulate` offers: fixed-step ones take a step, adaptive ones tolerances.
-inline constexpr std::array<std::string_view, 6> integrator_names{"rk4", "dopri5", "dop853", "gl4", "gl6", "gl8"};
+// The splitting methods (verlet, yoshida6, kahanli8) need a separable kernel (q̈ = a(t, q)).
+inline constexpr std::array<std::string_view, 9> integrator_names{"rk4", "dopri5", "dop853", "gl4", "gl6",
+                                                                  "gl8", "verlet", "yoshida6", "kahanli8"};
 inline bool is_integrator(std::string_view name) {
     return std::find(integrator_names.begin(), integrator_names.end(), name) != integrator_names.end();
 }
-inline bool is_fixed_step(std::string_view name) { return name == "rk4" || name.substr(0, 2) == "gl"; }
+inline bool is_splitting(std::string_view name) { return name == "verlet" || name == "yoshida6" || name == "kahanli8"; }
+inline bool is_fixed_step(std::string_view name) {
+    return name == "rk4" || name.substr(0, 2) == "gl" || is_splitting(name);
+}
+// Compensated summation of the state update is on by default for the fixed-step symplectic
+// methods (long runs, round-off the only drift left), off for the others.
+inline bool compensated_by_default(std::string_view name) { return name.substr(0, 2) == "gl" || is_splitting(name); }
 
 struct Simulate {
     double t_end = 10.0;
     std::string integrator = "dopri5";  // one of integrator_names
     double rtol = 1e-10;
     double atol = 1e-12;
-    double step = 1e-3;                 // for fixed-step integrators (rk4, gl4, gl6, gl8)
-    SourcePos integrator_pos;
+    double step = 1e-3;                 // for fixed-step integrators (rk4, gl4, gl6, gl8, verlet, yoshida6, kahanli8)
+    std::optional<bool> compensated;    // absent: compensated_by_default(integrator)
+    SourcePos integrator_pos;           // the value of `integrator`, else the [simulate] table, else unknown
+};
+
+// [events]: g(t, x) crossing zero. `when` is an expression of t, the coordinates, the velocities
+// and the parameters; direction "up" counts crossings from negative to positive only, "down"
+// the reverse, "both" either; a terminal event stops the simulation at its time.
+inline constexpr std::array<std::string_view, 3> event_directions{"both", "up", "down"};
+
+struct Event {
+    std::string name;  // the key: an identifier
+    Expr when;
+    std::string direction = "both";  // one of event_directions
+    bool terminal = false;
+    SourcePos pos;  // the key
 };
 
 // Which equations the kernel integrates: Lagrange's (state q, q̇) or Hamilton's (state q, p).
@@ -179,6 +201,7 @@ struct Scene {
     Forces forces;
     Effects effects;
     Simulate simulate;
+    std::vector<Event> events;  // [events], file order
     std::string formulation = "lagrangian";  // one of formulation_names ([formulation] kind)
     SourcePos formulation_pos;
     std::optional<Reference> reference;

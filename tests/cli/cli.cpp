@@ -221,3 +221,97 @@ BOOST_AUTO_TEST_CASE(every_integrator_closes_the_kepler_orbit) {
         BOOST_TEST(std::abs(radius - 0.5) < 1e-8, method << ": r = " << radius);
     }
 }
+
+namespace {
+
+// A throw with its apex and a terminal landing: y = 7 t − 9.81 t²/2 lands at t = 14/9.81.
+const char* throw_scene = R"toml([scene]
+name = "throw"
+[parameters]
+g = 9.81
+[coordinates]
+x = { initial = 0.0, rate = 3.0 }
+y = { initial = 0.0, rate = 7.0 }
+[lagrangian]
+T = "(x_dot^2 + y_dot^2)/2"
+V = "g*y"
+[simulate]
+integrator = "dop853"
+t_end = 10
+[events]
+apex = { when = "y_dot", direction = "down" }
+ground = { when = "y", direction = "down", terminal = true }
+)toml";
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(bad_events_are_refused_with_their_place) {
+    // ground is line 16, its expression "y" starts in column 20; apex is line 15.
+    expect_input_error(replaced(throw_scene, R"(when = "y",)", R"(when = "yy",)"), "16:20",
+                       "unknown symbol 'yy' in event 'ground'; did you mean 'y'?");
+    expect_input_error(replaced(throw_scene, R"(direction = "down", terminal)", R"(direction = "dwon", terminal)"),
+                       "16:36", "did you mean 'down'?");
+    expect_input_error(replaced(throw_scene, "terminal = true", "terminal = 1"), "16:55", "expected true or false");
+    expect_input_error(replaced(throw_scene, "terminal = true", "terminl = true"), "16:44", "did you mean 'terminal'?");
+    expect_input_error(replaced(throw_scene, R"(when = "y_dot")", R"(when = "y_ddot")"), "15:18",
+                       "'y_ddot' is an acceleration, which may not appear in event 'apex'");
+}
+
+BOOST_AUTO_TEST_CASE(a_terminal_event_stops_the_run_with_exit_0) {
+    const fs::path dir = scratch("events");
+    const fs::path file = write_scene(dir, throw_scene);
+    const Result r = run("simulate " + file.string() + " --output " + (dir / "t.csv").string() + " --cache-dir " +
+                             (dir / "cache").string(),
+                         dir);
+    BOOST_REQUIRE_MESSAGE(r.status == 0, r.err);
+    BOOST_TEST(r.out.find("stopped by the terminal event 'ground'") != std::string::npos, r.out);
+    BOOST_TEST(r.out.find("events      2 located") != std::string::npos, r.out);
+    const std::string csv = slurp(dir / "t.csv");
+    BOOST_TEST(csv.rfind("t,x,y,x_dot,y_dot,energy,event\n", 0) == 0u, csv.substr(0, 60));
+    BOOST_TEST(csv.find(",apex\n") != std::string::npos);
+    // The last row is the landing, at t = 14/9.81 to round-off.
+    const std::string last = csv.substr(csv.rfind('\n', csv.size() - 2) + 1);
+    BOOST_TEST(last.substr(last.size() - 7) == "ground\n");
+    BOOST_TEST(std::abs(std::stod(last) - 14 / 9.81) <= 1e-14);
+    // JSON: the events and what stopped the run, valid JSON.
+    const Result j = run("simulate " + file.string() + " --summary json --cache-dir " + (dir / "cache").string(), dir);
+    BOOST_REQUIRE(j.status == 0);
+    BOOST_TEST(j.out.find("\"stopped_by\": \"ground\"") != std::string::npos, j.out);
+    std::ofstream(dir / "s.json") << j.out;
+    BOOST_TEST(std::system(("python3 -m json.tool " + (dir / "s.json").string() + " > /dev/null").c_str()) == 0);
+}
+
+BOOST_AUTO_TEST_CASE(splitting_methods_need_a_separable_scene) {
+    const fs::path dir = scratch("splitting");
+    // The damped oscillator's force depends on q_dot: not separable.
+    const fs::path file = write_scene(dir, R"toml([scene]
+name = "damped"
+[coordinates]
+q = { initial = 1.0 }
+[lagrangian]
+T = "q_dot^2/2"
+V = "q^2/2"
+[forces]
+generalized = { q = "-q_dot/10" }
+[simulate]
+integrator = "kahanli8"
+)toml");
+    Result r = run("simulate " + file.string() + " --output " + (dir / "d.csv").string(), dir);
+    BOOST_TEST(r.status == 2);
+    BOOST_TEST(r.err.rfind(file.string() + ":11:14: error: the kahanli8 integrator needs a separable system", 0) == 0u,
+               r.err);
+    BOOST_TEST(!fs::exists(dir / "d.csv"));
+    r = run("run " + file.string() + " -d " + (dir / "out").string() + " --integrator verlet", dir);
+    BOOST_TEST(r.status == 2);
+    BOOST_TEST(r.err.rfind("--integrator: error: the verlet integrator needs a separable system", 0) == 0u, r.err);
+    BOOST_TEST(!fs::exists(dir / "out"));
+    // On a separable scene they run; bad option values are bad input too.
+    const fs::path tube_file = write_scene(dir, tube);
+    r = run("simulate " + tube_file.string() + " --integrator yoshida6 --step 0.01 --t-end 1 --compensated off "
+            "--cache-dir " + (dir / "cache").string(),
+            dir);
+    BOOST_TEST(r.status == 0, r.err);
+    BOOST_TEST(r.out.find("yoshida6 (step 0.01)") != std::string::npos, r.out);
+    r = run("simulate " + tube_file.string() + " --compensated maybe", dir);
+    BOOST_TEST(r.status == 2);
+}

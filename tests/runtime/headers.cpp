@@ -36,6 +36,22 @@ void exercise() {
   dp.calc_state(dp.previous_time(), u);
   BOOST_TEST(x[0] > S(0.018));
   BOOST_TEST(x[0] < S(0.019));  // exp(-4): decayed over four units of time
+  // Events: x crosses 1/2 on the way down, located on the dense output and on re-steps; compensated
+  // summation of the explicit methods.
+  auto g = [](S, const rt::State<S>& xs, rt::State<S>& out) { out[0] = xs[0] - S(0.5); };
+  auto on_event = [](const rt::EventHit<S>&) {};
+  rt::EventLocator<S> loc({{rt::EventDirection::down, true}});
+  rt::State<S> y{S(1)};
+  rk4.set_compensated(true);
+  const rt::EventOutcome<S> fixed = rt::integrate_fixed_events(rk4, sys, y, 0, 1, S(0.1), loc, g, obs, on_event);
+  BOOST_TEST(fixed.stopped);
+  y = {S(1)};
+  dp.set_compensated(true);
+  const rt::EventOutcome<S> adaptive =
+      rt::integrate_adaptive_events(dp, sys, y, 0, 1, 0, rt::Tolerances{}, loc, g, obs, on_event);
+  BOOST_TEST(adaptive.stopped);
+  BOOST_TEST(adaptive.t > S(0.693));
+  BOOST_TEST(adaptive.t < S(0.694));  // ln 2
   static_assert(rt::System<Decay, S>);
   static_assert(rt::FixedStepper<rt::Rk4<S>, Decay, S>);
   static_assert(rt::FixedStepper<rt::Dopri5<S>, Decay, S>);
@@ -53,6 +69,8 @@ template class eomc::runtime::ErrorChecker<double>;
 template class eomc::runtime::ErrorChecker<long double>;
 template class eomc::runtime::NoProgressChecker<double>;
 template class eomc::runtime::NoProgressChecker<long double>;
+template class eomc::runtime::EventLocator<double>;
+template class eomc::runtime::EventLocator<long double>;
 
 BOOST_AUTO_TEST_CASE(api_instantiates_for_double_and_long_double) {
   exercise<double>();

@@ -370,7 +370,52 @@ BOOST_AUTO_TEST_CASE(rk4_with_integer_settings) {
     BOOST_TEST(s.simulate.step == 1.0);
 }
 
+BOOST_AUTO_TEST_CASE(events_in_both_forms_and_compensated) {
+    const Scene s = parse_scene_string("[scene]\nname = \"e\"\n[coordinates]\nq = {}\n[lagrangian]\nT = \"q_dot^2\"\n"
+                                       "[simulate]\nintegrator = \"kahanli8\"\ncompensated = false\n"
+                                       "[events]\nzero = \"q\"\n"
+                                       "turn = { when = \"q_dot\", direction = \"up\", terminal = true }\n",
+                                       "t.toml");
+    BOOST_TEST(s.simulate.integrator == "kahanli8");
+    BOOST_REQUIRE(s.simulate.compensated.has_value());
+    BOOST_TEST(!*s.simulate.compensated);
+    BOOST_REQUIRE(s.events.size() == 2u);  // file order
+    BOOST_TEST(s.events[0].name == "zero");
+    BOOST_TEST(s.events[0].when.text == "q");
+    check_pos(s.events[0].when.pos, 11, 9);
+    BOOST_TEST(s.events[0].direction == "both");
+    BOOST_TEST(!s.events[0].terminal);
+    BOOST_TEST(s.events[1].name == "turn");
+    BOOST_TEST(s.events[1].when.text == "q_dot");
+    check_pos(s.events[1].when.pos, 12, 18);
+    BOOST_TEST(s.events[1].direction == "up");
+    BOOST_TEST(s.events[1].terminal);
+    // Without [simulate] compensated the integrator's default applies (decided by simulate).
+    BOOST_TEST(!parse_scene_string("[scene]\nname = \"e\"\n[coordinates]\nq = {}\n[lagrangian]\nT = \"q_dot^2\"\n")
+                    .simulate.compensated.has_value());
+    BOOST_TEST(eomc::scene::compensated_by_default("gl6"));
+    BOOST_TEST(eomc::scene::compensated_by_default("verlet"));
+    BOOST_TEST(!eomc::scene::compensated_by_default("dop853"));
+    BOOST_TEST(eomc::scene::is_fixed_step("yoshida6"));
+}
+
 // --- errors, one kind at a time ---------------------------------------------------------
+
+BOOST_AUTO_TEST_CASE(event_errors) {
+    const std::string head = "[scene]\nname = \"e\"\n[coordinates]\nq = {}\n[lagrangian]\nT = \"q_dot^2\"\n[events]\n";
+    expect_error(head + "z = { direction = \"up\" }\n", 8, 5, "missing required key 'when'");
+    expect_error(head + "z = { when = \"q\", direction = \"sideways\" }\n", 8, 31, "unknown direction 'sideways'");
+    expect_error(head + "z = { when = \"q\", terminal = \"yes\" }\n", 8, 30, "expected true or false");
+    expect_error(head + "z = { when = \"q\", wehn = \"q\" }\n", 8, 19, "unknown key 'wehn'");
+    expect_error(head + "\"a b\" = \"q\"\n", 8, 1, "invalid event name 'a b'");
+    expect_error(head + "z = [\"q\"]\n", 8, 5, "expected an expression");
+    expect_error("[scene]\nname = \"e\"\n[coordinates]\nq = {}\n[lagrangian]\nT = \"q_dot^2\"\n"
+                 "[simulate]\ncompensated = 1\n",
+                 8, 15, "'simulate.compensated': expected true or false");
+    expect_error("[scene]\nname = \"e\"\n[coordinates]\nq = {}\n[lagrangian]\nT = \"q_dot^2\"\n"
+                 "[simulate]\nintegrator = \"kahanli9\"\n",
+                 8, 14, "did you mean 'kahanli8'?");
+}
 
 BOOST_AUTO_TEST_CASE(error_message_format) {
     try {

@@ -404,11 +404,16 @@ BOOST_AUTO_TEST_CASE(json_summary) {
     r.wall_s = 0.5;
     r.compile_s = std::numeric_limits<double>::infinity();
     r.cache_hit = true;
+    r.events = {{"wall", 0.75, -1, true, {0.5, -2.0}}};
+    r.stopped_by = "wall";
+    r.compensated = true;
     std::ostringstream out;
     eomc::cli::print_summary(r, "json", out);
     BOOST_TEST(out.str() ==
                "{\"t\": 1, \"state\": {\"q\": 0.10000000000000001, \"q_dot\": null}, \"invariants\": {\"energy\": "
-               "{\"initial\": -0.25, \"max_abs_drift\": 1.0000000000000001e-17}}, \"steps\": 10, \"rejected\": 1, "
+               "{\"initial\": -0.25, \"max_abs_drift\": 1.0000000000000001e-17}}, \"events\": [{\"name\": \"wall\", "
+               "\"t\": 0.75, \"direction\": \"down\", \"terminal\": true, \"state\": {\"q\": 0.5, \"q_dot\": -2}}], "
+               "\"stopped_by\": \"wall\", \"compensated\": true, \"steps\": 10, \"rejected\": 1, "
                "\"rhs_evals\": 67, \"wall_s\": 0.5, \"compile_s\": null, \"cache_hit\": true}\n");
 }
 

@@ -11,6 +11,7 @@
 //     (version of 2004), read from the faithful transcription in SciPy,
 //     scipy/integrate/_ivp/dop853_coefficients.py (30 significant digits, so long double gets
 //     long double accuracy and float128 30 digits, see coefficients.hpp).
+// Optionally with compensated (Kahan) summation of the update, as Dopri5::set_compensated.
 
 #include <array>
 #include <cmath>
@@ -223,6 +224,9 @@ class Dop853 {
     requires System<Sys, S>
   const State<S>& prepare(Sys& sys, const State<S>& x, S t) {
     if (!(k1_valid_ && t == t_k1_ && x == x_k1_)) {
+      // The compensation belongs to x: kept when only t moved (a fixed-step caller computing
+      // t afresh), dropped for an edited state or after reset().
+      if (!(k1_valid_ && x == x_k1_)) comp_.assign(x.size(), S(0));
       resize(x.size());
       sys(t, x, k_[0]);
       ++rhs_evals_;
@@ -310,6 +314,12 @@ class Dop853 {
   bool dense_output_enabled() const { return dense_enabled_; }
   std::size_t rhs_evals() const { return rhs_evals_; }
   StepAdjuster<S>& adjuster() { return adjuster_; }
+  // Compensated summation of the update (off by default).
+  void set_compensated(bool on) {
+    compensated_ = on;
+    k1_valid_ = false;
+  }
+  bool compensated() const { return compensated_; }
 
   void reset() {
     k1_valid_ = false;
@@ -382,7 +392,13 @@ class Dop853 {
       ([&] {
         if constexpr (T::e5_nonzero(J)) e5 += T::e5[J] * k[J][i];
       }(), ...);
-      ynew_[i] = x[i] + h * b;
+      if (compensated_) {
+        const S inc = h * b - comp_[i];
+        ynew_[i] = x[i] + inc;
+        comp_new_[i] = (ynew_[i] - x[i]) - inc;
+      } else {
+        ynew_[i] = x[i] + h * b;
+      }
       err5_[i] = h * e5;
       err3_[i] = h * (b - (T::bhh[0] * k[0][i] + T::bhh[1] * k[8][i] + T::bhh[2] * k[11][i]));
     }
@@ -438,6 +454,7 @@ class Dop853 {
       dense_valid_ = true;
     }
     for (std::size_t i = 0; i < n; ++i) x[i] = ynew_[i];  // copy: the caller's buffer stays put
+    if (compensated_) comp_.swap(comp_new_);
     t_new_ = t_end;
     if (!dense_enabled_) t_old_ = t;
     k_[0].swap(k_[12]);
@@ -460,7 +477,7 @@ class Dop853 {
     if (k_[0].size() == n) return;
     for (State<S>& v : k_) v.assign(n, S(0));
     for (State<S>& v : r_) v.assign(n, S(0));
-    for (State<S>* v : {&y_, &ynew_, &err5_, &err3_}) v->assign(n, S(0));
+    for (State<S>* v : {&y_, &ynew_, &err5_, &err3_, &comp_, &comp_new_}) v->assign(n, S(0));
     k1_valid_ = false;
     dense_valid_ = false;
   }
@@ -471,6 +488,8 @@ class Dop853 {
   State<S> y_, ynew_, err5_, err3_;
   std::array<State<S>, 8> r_;  // dense-output coefficients of the last accepted step
   State<S> x_k1_;
+  State<S> comp_, comp_new_;  // compensation of x, and of the attempted step's ynew_
+  bool compensated_ = false;
   S t_k1_ = S(0), t_old_ = S(0), t_new_ = S(0), h_old_ = S(0);
   S last_error_ = S(0);
   bool k1_valid_ = false, dense_valid_ = false;

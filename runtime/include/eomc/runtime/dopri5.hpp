@@ -7,6 +7,9 @@
 //   [HNW] Hairer-Norsett-Wanner I, Table 5.2 of Sect. II.5 (tableau), Sect. II.6 (dense output);
 //   L.F. Shampine, "Some practical Runge-Kutta formulas", Math. Comp. 46 (1986) 135-150, through
 //     the dense-output coefficients d_i of Hairer's code DOPRI5.
+// Optionally with compensated (Kahan) summation of x_{n+1} = x_n + h sum b_i k_i (off by default;
+// set_compensated): the compensation is carried from accepted step to accepted step and dropped
+// whenever the FSAL derivative is (an edited state, another time, reset()).
 
 #include <cmath>
 #include <cstddef>
@@ -60,6 +63,9 @@ class Dopri5 {
     requires System<Sys, S>
   const State<S>& prepare(Sys& sys, const State<S>& x, S t) {
     if (!(k1_valid_ && t == t_k1_ && x == x_k1_)) {
+      // The compensation belongs to x: kept when only t moved (a fixed-step caller computing
+      // t afresh), dropped for an edited state or after reset().
+      if (!(k1_valid_ && x == x_k1_)) comp_.assign(x.size(), S(0));
       resize(x.size());
       sys(t, x, k1_);
       ++rhs_evals_;
@@ -133,6 +139,12 @@ class Dopri5 {
   bool has_dense_output() const { return dense_valid_; }
   std::size_t rhs_evals() const { return rhs_evals_; }
   StepAdjuster<S>& adjuster() { return adjuster_; }
+  // Compensated summation of the update (off by default).
+  void set_compensated(bool on) {
+    compensated_ = on;
+    k1_valid_ = false;
+  }
+  bool compensated() const { return compensated_; }
 
   // Forgets the FSAL derivative, the dense output and the controller's memory. Call it when the
   // system itself changes (parameters, switched dynamics); state edits are detected automatically.
@@ -165,8 +177,16 @@ class Dopri5 {
                           T::a65 * k5_[i]);
     const S t_end = t + h;
     sys(t_end, y, k6_);
-    for (std::size_t i = 0; i < n; ++i)
-      y_[i] = x[i] + h * (T::b1 * k1_[i] + T::b3 * k3_[i] + T::b4 * k4_[i] + T::b5 * k5_[i] + T::b6 * k6_[i]);
+    if (compensated_) {
+      for (std::size_t i = 0; i < n; ++i) {
+        const S inc = h * (T::b1 * k1_[i] + T::b3 * k3_[i] + T::b4 * k4_[i] + T::b5 * k5_[i] + T::b6 * k6_[i]) - comp_[i];
+        y_[i] = x[i] + inc;
+        comp_new_[i] = (y_[i] - x[i]) - inc;
+      }
+    } else {
+      for (std::size_t i = 0; i < n; ++i)
+        y_[i] = x[i] + h * (T::b1 * k1_[i] + T::b3 * k3_[i] + T::b4 * k4_[i] + T::b5 * k5_[i] + T::b6 * k6_[i]);
+    }
     sys(t_end, y, k7_);
     rhs_evals_ += 6;
   }
@@ -184,6 +204,7 @@ class Dopri5 {
                     T::d7 * k7_[i]);
       x[i] = y_[i];  // copy, not swap: the caller's buffer (and pointers into it) stay put
     }
+    if (compensated_) comp_.swap(comp_new_);
     t_old_ = t;
     h_old_ = h;
     t_new_ = t + h;
@@ -203,7 +224,8 @@ class Dopri5 {
 
   void resize(std::size_t n) {
     if (k1_.size() == n) return;
-    for (State<S>* v : {&k1_, &k2_, &k3_, &k4_, &k5_, &k6_, &k7_, &y_, &err_, &r1_, &r2_, &r3_, &r4_, &r5_})
+    for (State<S>* v : {&k1_, &k2_, &k3_, &k4_, &k5_, &k6_, &k7_, &y_, &err_, &r1_, &r2_, &r3_, &r4_, &r5_, &comp_,
+                        &comp_new_})
       v->assign(n, S(0));
     k1_valid_ = false;
     dense_valid_ = false;
@@ -213,6 +235,8 @@ class Dopri5 {
   State<S> k1_, k2_, k3_, k4_, k5_, k6_, k7_, y_, err_;
   State<S> r1_, r2_, r3_, r4_, r5_;  // dense-output coefficients of the last accepted step
   State<S> x_k1_;                     // the state at which k1_ = f(t_k1_, x_k1_) was evaluated
+  State<S> comp_, comp_new_;          // compensation of x, and of the attempted step's y_
+  bool compensated_ = false;
   S t_k1_ = S(0), t_old_ = S(0), t_new_ = S(0), h_old_ = S(0);
   S last_error_ = S(0);
   bool k1_valid_ = false, dense_valid_ = false;

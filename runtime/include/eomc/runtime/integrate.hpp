@@ -1,7 +1,7 @@
 #pragma once
 
 // Integration drivers: fixed-step, adaptive (observer after every accepted step) and adaptive
-// with output at prescribed times through dense output. Each call owns one NoProgressChecker.
+// with output at prescribed times through dense output, and both kinds with event location. Each call owns one NoProgressChecker.
 // The stepper and the system are taken by reference and keep their state after the call.
 
 #include <cmath>
@@ -13,6 +13,7 @@
 
 #include "eomc/runtime/checker.hpp"
 #include "eomc/runtime/dopri5.hpp"
+#include "eomc/runtime/events.hpp"
 #include "eomc/runtime/rk4.hpp"
 #include "eomc/runtime/state.hpp"
 #include "eomc/runtime/step_control.hpp"
@@ -26,6 +27,48 @@ concept FixedStepper = System<Sys, S> && requires(Stepper& st, Sys& sys, State<S
   { st.rhs_evals() } -> std::convertible_to<std::size_t>;
 };
 
+namespace detail {
+
+// on_step(t_old, t_new, x) may return void, or bool: false stops the loop after that step.
+template <class F, class S>
+bool keep_going(F& f, S t_old, S t_new, const State<S>& x) {
+  if constexpr (std::is_same_v<std::invoke_result_t<F&, S, S, const State<S>&>, bool>) {
+    return f(t_old, t_new, x);
+  } else {
+    f(t_old, t_new, x);
+    return true;
+  }
+}
+
+// The fixed-step loop shared by integrate_fixed and integrate_fixed_events (see integrate_fixed);
+// before_step(t, x) runs before each step, on_step(t_old, t_new, x) after it.
+template <class Stepper, class S, class Sys, class Before, class OnStep>
+Stats fixed_loop(Stepper& stepper, Sys& sys, State<S>& x, S t0, S t1, S h, NoProgressChecker<S>& checker,
+                 Before&& before_step, OnStep&& on_step) {
+  using std::abs;
+  Stats stats;
+  if (t0 == t1) return stats;
+  const S dir = t1 > t0 ? S(1) : S(-1);
+  const S land = S(8) * std::numeric_limits<S>::epsilon() * (abs(t0) > abs(t1) ? abs(t0) : abs(t1));
+  S t = t0;
+  for (std::size_t k = 1;; ++k) {
+    checker.count_attempt(t);
+    S t_next = t0 + S(k) * h;
+    const bool last = (t_next - t1) * dir >= -land;
+    if (last) t_next = t1;
+    before_step(t, static_cast<const State<S>&>(x));
+    stepper.do_step(sys, x, t, t_next - t);
+    const S t_old = t;
+    t = t_next;
+    ++stats.accepted;
+    checker.check_state(t, x);
+    if (!keep_going(on_step, t_old, t, static_cast<const State<S>&>(x)) || last) break;
+  }
+  return stats;
+}
+
+}  // namespace detail
+
 // Fixed steps of size h from t0 to t1; the last step is shortened to land exactly on t1 (a
 // remainder below round-off of t0 + k*h is merged into the previous step). Step k ends at
 // t0 + k*h, computed afresh rather than accumulated. observer(t, x) at t0 and after every step.
@@ -36,30 +79,14 @@ template <class Stepper, class S, class Sys, class Obs>
 Stats integrate_fixed(Stepper& stepper, Sys& sys, State<S>& x, std::type_identity_t<S> t0,
                       std::type_identity_t<S> t1, std::type_identity_t<S> h, Obs&& observer,
                       const Limits& limits = {}) {
-  using std::abs;
   if (h == S(0) || (t1 - t0) * h < S(0))
     throw std::invalid_argument("integrate_fixed: h must be non-zero with the sign of t1 - t0");
   NoProgressChecker<S> checker(limits);
-  Stats stats;
   const std::size_t evals0 = stepper.rhs_evals();
   checker.check_state(t0, x);
   observer(t0, static_cast<const State<S>&>(x));
-  if (t0 == t1) return stats;
-  const S dir = t1 > t0 ? S(1) : S(-1);
-  const S land = S(8) * std::numeric_limits<S>::epsilon() * (abs(t0) > abs(t1) ? abs(t0) : abs(t1));
-  S t = t0;
-  for (std::size_t k = 1;; ++k) {
-    checker.count_attempt(t);
-    S t_next = t0 + S(k) * h;
-    const bool last = (t_next - t1) * dir >= -land;
-    if (last) t_next = t1;
-    stepper.do_step(sys, x, t, t_next - t);
-    t = t_next;
-    ++stats.accepted;
-    checker.check_state(t, x);
-    observer(t, static_cast<const State<S>&>(x));
-    if (last) break;
-  }
+  Stats stats = detail::fixed_loop(stepper, sys, x, S(t0), S(t1), S(h), checker, [](S, const State<S>&) {},
+                                   [&](S, S t, const State<S>& xs) { observer(t, xs); });
   stats.rhs_evals = stepper.rhs_evals() - evals0;
   return stats;
 }
@@ -67,7 +94,8 @@ Stats integrate_fixed(Stepper& stepper, Sys& sys, State<S>& x, std::type_identit
 namespace detail {
 
 // The adaptive loop shared by integrate_adaptive and integrate_times: steps from t0 to t1 and
-// calls on_accept(t_old, t_new, x) after every accepted step; the last one lands exactly on t1.
+// calls on_accept(t_old, t_new, x) after every accepted step (returning false stops it there); the
+// last step lands exactly on t1.
 template <template <class> class Stepper, class S, class Sys, class OnAccept>
 Stats adaptive_loop(Stepper<S>& stepper, Sys& sys, State<S>& x, S t0, S t1, S h0, const Tolerances& tol,
                     const Limits& limits, NoProgressChecker<S>& checker, OnAccept&& on_accept) {
@@ -105,8 +133,7 @@ Stats adaptive_loop(Stepper<S>& stepper, Sys& sys, State<S>& x, S t0, S t1, S h0
       if (last) t = t1;  // t_old + (t1 - t_old) can miss t1 by an ulp
       checker.check_state(t, x);
       checker.check_derivative(t, stepper.derivative());
-      on_accept(t_old, t, static_cast<const State<S>&>(x));
-      if (last) break;
+      if (!keep_going(on_accept, t_old, t, static_cast<const State<S>&>(x)) || last) break;
     } else {
       ++stats.rejected;
     }
@@ -171,6 +198,110 @@ Stats integrate_times(Stepper<S>& stepper, Sys& sys, State<S>& x, const std::vec
                                    ++next;
                                  }
                                });
+}
+
+// How an integration with events ended.
+template <class S>
+struct EventOutcome {
+  Stats stats;
+  S t = S(0);             // the end time reached: t1, or the time of the terminal event
+  bool stopped = false;   // a terminal event ended it
+  std::size_t event = 0;  // which one, when stopped
+};
+
+namespace detail {
+
+// After each step: locate the step's events, report them (in time order, before the step's own
+// observer call), and stop at a terminal one. Returns whether to go on.
+template <class S, class G, class StateAt, class Obs, class OnEvent>
+bool handle_events(EventLocator<S>& events, G& g, S t_old, S t_new, const State<S>& x, StateAt&& state_at,
+                   std::vector<EventHit<S>>& hits, EventOutcome<S>& out, Obs& observer, OnEvent& on_event) {
+  const bool stop = events.step(g, t_old, t_new, x, state_at, hits);
+  for (const EventHit<S>& hit : hits) on_event(hit);
+  if (stop) {
+    out.stopped = true;
+    out.event = hits.back().index;
+    out.t = hits.back().t;
+    return false;
+  }
+  observer(t_new, x);
+  return true;
+}
+
+}  // namespace detail
+
+// integrate_adaptive with events g(t, x, out) (one value per spec of `events`) located on the
+// stepper's dense output. observer(t, x) at t0 and after every accepted step; on_event(hit) for
+// every event, in time order, before the observer call of the step that holds it. A terminal event
+// ends the integration at its time: x is then the state there, and that step gets no observer call.
+template <template <class> class Stepper, class S, class Sys, class G, class Obs, class OnEvent>
+  requires System<Sys, S> && Observer<Obs, S> && std::invocable<OnEvent&, const EventHit<S>&>
+EventOutcome<S> integrate_adaptive_events(Stepper<S>& stepper, Sys& sys, State<S>& x, std::type_identity_t<S> t0,
+                                          std::type_identity_t<S> t1, std::type_identity_t<S> h0,
+                                          const Tolerances& tol, EventLocator<S>& events, G& g, Obs&& observer,
+                                          OnEvent&& on_event, const Limits& limits = {}) {
+  validate(tol);
+  NoProgressChecker<S> checker(limits);
+  checker.check_state(t0, x);
+  events.start(g, t0, static_cast<const State<S>&>(x));
+  observer(t0, static_cast<const State<S>&>(x));
+  EventOutcome<S> out;
+  out.t = t1;
+  if (t0 == t1) return out;
+  std::vector<EventHit<S>> hits;
+  const auto dense = [&](S tau, State<S>& o) { stepper.calc_state(tau, o); };
+  out.stats = detail::adaptive_loop(stepper, sys, x, S(t0), S(t1), S(h0), tol, limits, checker,
+                                    [&](S t_old, S t_new, const State<S>& xs) {
+                                      return detail::handle_events(events, g, t_old, t_new, xs, dense, hits, out,
+                                                                   observer, on_event);
+                                    });
+  if (out.stopped) x = hits.back().x;
+  return out;
+}
+
+// integrate_fixed with events, same contract as integrate_adaptive_events. A fixed-step method
+// has no dense output of its own order, so inside a step where some g changes sign the solution at
+// t_old + tau is the method's own step of size tau from the step's start (a copy of the stepper,
+// reset, does it). The event then carries the method's full order (a cubic Hermite interpolant
+// would cap it at 4 for gl6, gl8 and the compositions), and steps without a sign change cost
+// nothing extra; the re-steps' system calls are counted in the stats.
+template <class Stepper, class S, class Sys, class G, class Obs, class OnEvent>
+  requires FixedStepper<Stepper, Sys, S> && Observer<Obs, S> && std::invocable<OnEvent&, const EventHit<S>&>
+EventOutcome<S> integrate_fixed_events(Stepper& stepper, Sys& sys, State<S>& x, std::type_identity_t<S> t0,
+                                       std::type_identity_t<S> t1, std::type_identity_t<S> h, EventLocator<S>& events,
+                                       G& g, Obs&& observer, OnEvent&& on_event, const Limits& limits = {}) {
+  if (h == S(0) || (t1 - t0) * h < S(0))
+    throw std::invalid_argument("integrate_fixed_events: h must be non-zero with the sign of t1 - t0");
+  NoProgressChecker<S> checker(limits);
+  const std::size_t evals0 = stepper.rhs_evals();
+  Stepper probe(stepper);
+  const std::size_t probe0 = probe.rhs_evals();
+  checker.check_state(t0, x);
+  events.start(g, t0, static_cast<const State<S>&>(x));
+  observer(t0, static_cast<const State<S>&>(x));
+  EventOutcome<S> out;
+  out.t = t1;
+  std::vector<EventHit<S>> hits;
+  State<S> x_old = x;
+  S t_start = t0;
+  const auto restep = [&](S tau, State<S>& o) {
+    o = x_old;
+    if (tau == t_start) return;
+    probe.reset();
+    probe.do_step(sys, o, t_start, tau - t_start);
+  };
+  out.stats = detail::fixed_loop(stepper, sys, x, S(t0), S(t1), S(h), checker,
+                                 [&](S t, const State<S>& xs) {
+                                   t_start = t;
+                                   x_old = xs;
+                                 },
+                                 [&](S t_old, S t_new, const State<S>& xs) {
+                                   return detail::handle_events(events, g, t_old, t_new, xs, restep, hits, out,
+                                                                observer, on_event);
+                                 });
+  out.stats.rhs_evals = stepper.rhs_evals() - evals0 + (probe.rhs_evals() - probe0);
+  if (out.stopped) x = hits.back().x;
+  return out;
 }
 
 }  // namespace eomc::runtime

@@ -1,7 +1,11 @@
 #pragma once
 
 // The classical fourth-order Runge-Kutta method (Kutta 1901; [HNW] Table 1.2 of Sect. II.1),
-// a fixed-step stepper without error estimate.
+// a fixed-step stepper without error estimate. Optionally with compensated (Kahan) summation of
+// x += increment, as the symplectic methods do by default ([GNI] Sect. VIII.5): the bits each
+// update loses are carried into the next one, so round-off grows like a random walk in the
+// increments' errors rather than in eps |x| per step. The compensation is dropped when x differs
+// from what the last step returned (an edited state) or after reset().
 
 #include <cstddef>
 
@@ -30,14 +34,35 @@ class Rk4 {
     sys(t + h2, cy(), k3_);
     for (std::size_t i = 0; i < n; ++i) y_[i] = x[i] + h * k3_[i];
     sys(t + h, cy(), k4_);
-    for (std::size_t i = 0; i < n; ++i) x[i] += h6 * (k1_[i] + S(2) * (k2_[i] + k3_[i]) + k4_[i]);
+    if (compensated_) {
+      if (comp_.size() != n || x != x_last_) comp_.assign(n, S(0));
+      for (std::size_t i = 0; i < n; ++i) {
+        const S y = h6 * (k1_[i] + S(2) * (k2_[i] + k3_[i]) + k4_[i]) - comp_[i];
+        const S sum = x[i] + y;
+        comp_[i] = (sum - x[i]) - y;
+        x[i] = sum;
+      }
+      x_last_ = x;
+    } else {
+      for (std::size_t i = 0; i < n; ++i) x[i] += h6 * (k1_[i] + S(2) * (k2_[i] + k3_[i]) + k4_[i]);
+    }
     rhs_evals_ += 4;
   }
 
+  // Compensated summation of the update (off by default).
+  void set_compensated(bool on) {
+    compensated_ = on;
+    reset();
+  }
+  bool compensated() const { return compensated_; }
+
   // System calls made by this stepper since construction.
   std::size_t rhs_evals() const { return rhs_evals_; }
-  // Rk4 keeps no state between steps; provided so that drivers can treat steppers alike.
-  void reset() {}
+  // Forgets the compensation (the only state kept between steps).
+  void reset() {
+    comp_.clear();
+    x_last_.clear();
+  }
 
  private:
   const State<S>& cy() const { return y_; }
@@ -51,6 +76,8 @@ class Rk4 {
   }
 
   State<S> k1_, k2_, k3_, k4_, y_;
+  State<S> comp_, x_last_;  // compensation, and the state it belongs to
+  bool compensated_ = false;
   std::size_t rhs_evals_ = 0;
 };
 

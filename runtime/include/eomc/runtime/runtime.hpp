@@ -6,6 +6,7 @@
 #include "eomc/runtime/dop853.hpp"
 #include "eomc/runtime/dopri5.hpp"
 #include "eomc/runtime/errors.hpp"
+#include "eomc/runtime/events.hpp"
 #include "eomc/runtime/gauss_legendre.hpp"
 #include "eomc/runtime/integrate.hpp"
 #include "eomc/runtime/kepler.hpp"
