@@ -18,7 +18,7 @@ namespace {
 
 // Bumped whenever the C interface below changes; the loader refuses a library that reports
 // another value (a cache written by an older eomc).
-constexpr int adapter_abi = 2;
+constexpr int adapter_abi = 3;
 
 // The adapter: C functions over double, so that the host needs no knowledge of the kernel's
 // C++ types. Parameters travel by position in parameter_names order, never by member name
@@ -86,6 +86,16 @@ EOMC_EXPORT void eomc_invariants(double t, const double* x, double* out, const v
 }
 EOMC_EXPORT void eomc_outputs(double t, const double* x, double* out, const void* p) {
     K::outputs<double>(t, x, out, *static_cast<const P*>(p));
+}
+
+// Orbit kernels have altitude() (r − radius, for the re-entry stop); others do not.
+constexpr bool has_altitude = requires(const double* x, double* out, const P& p) { K::altitude(0.0, x, out, p); };
+EOMC_EXPORT int eomc_has_altitude() { return has_altitude ? 1 : 0; }
+EOMC_EXPORT double eomc_altitude(double t, const double* x, const void* p) {
+    double out = 0.0;
+    if constexpr (has_altitude) K::altitude<double>(t, x, &out, *static_cast<const P*>(p));
+    else (void)t, (void)x, (void)p;
+    return out;
 }
 )";
 
@@ -178,6 +188,8 @@ KernelLibrary KernelLibrary::load(const std::string& header_text, const std::str
     lib.rhs_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_rhs", p);
     lib.invariants_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_invariants", p);
     lib.outputs_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_outputs", p);
+    lib.has_altitude_ = symbol<int (*)()>(h, "eomc_has_altitude", p)() != 0;
+    lib.altitude_ = symbol<double (*)(double, const double*, const void*)>(h, "eomc_altitude", p);
     lib.seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return lib;
 }
@@ -210,6 +222,8 @@ KernelLibrary& KernelLibrary::operator=(KernelLibrary&& other) noexcept {
         rhs_ = other.rhs_;
         invariants_ = other.invariants_;
         outputs_ = other.outputs_;
+        has_altitude_ = other.has_altitude_;
+        altitude_ = other.altitude_;
     }
     return *this;
 }

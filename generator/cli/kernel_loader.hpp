@@ -54,6 +54,10 @@ public:
     // Quantities written beside the state (a free carrier's reactions), n_outputs doubles.
     void outputs(double t, const double* x, double* out, const Parameters& p) const { outputs_(t, x, out, p.get()); }
 
+    // Orbit kernels: the height above the central body's surface (r − radius).
+    bool has_altitude() const { return has_altitude_; }
+    double altitude(double t, const double* x, const Parameters& p) const { return altitude_(t, x, p.get()); }
+
     // How the library was obtained.
     const std::string& library_path() const { return path_; }
     bool cache_hit() const { return cache_hit_; }
@@ -76,6 +80,8 @@ private:
     void (*rhs_)(double, const double*, double*, const void*) = nullptr;
     void (*invariants_)(double, const double*, double*, const void*) = nullptr;
     void (*outputs_)(double, const double*, double*, const void*) = nullptr;
+    bool has_altitude_ = false;
+    double (*altitude_)(double, const double*, const void*) = nullptr;
 };
 
 // Exposed for tests: the adapter source for a struct, and the cache key (FNV-1a 64, hex) of

@@ -204,6 +204,24 @@ double track_max(double current_max, double drift) {
 
 std::string number(double v) { return fmt::format("{:.17g}", v); }
 
+// Thrown by the observer to end a run early (an orbit reaching its central body's surface).
+struct Stop {
+    double t;
+    State<double> x;
+    std::string reason;
+};
+
+// The state at θ ∈ [0, 1] of the step (t0, x0) → (t1, x1) by cubic Hermite interpolation with
+// the derivatives at both ends (accurate to O(h⁴), the order the stop time is found to).
+State<double> hermite(double t0, const State<double>& x0, const State<double>& f0, double t1, const State<double>& x1,
+                      const State<double>& f1, double theta) {
+    const double h = t1 - t0, th2 = theta * theta, th3 = th2 * theta;
+    const double h00 = 2 * th3 - 3 * th2 + 1, h10 = th3 - 2 * th2 + theta, h01 = -2 * th3 + 3 * th2, h11 = th3 - th2;
+    State<double> x(x0.size());
+    for (std::size_t i = 0; i < x0.size(); ++i) x[i] = h00 * x0[i] + h10 * h * f0[i] + h01 * x1[i] + h11 * h * f1[i];
+    return x;
+}
+
 std::string json_number(double v) { return std::isfinite(v) ? number(v) : "null"; }
 
 }  // namespace
@@ -246,7 +264,9 @@ SimulationResult simulate(const SimulationRequest& request) {
     CsvOutput csv(request.csv_path, columns);
     std::vector<double> outputs(lib.output_names().size());
 
+    std::size_t rhs_calls = 0, observed = 0;  // the statistics of a run that stops early
     auto system = [&](double t, const State<double>& xs, State<double>& dxdt) {
+        ++rhs_calls;
         lib.rhs(t, xs.data(), dxdt.data(), parameters);
     };
 
@@ -256,7 +276,7 @@ SimulationResult simulate(const SimulationRequest& request) {
     double t_last = 0.0;
     State<double> x_last = x;
     ProgressBar progress(request.progress, request.t_end);
-    auto observer = [&](double t, const State<double>& xs) {
+    auto record = [&](double t, const State<double>& xs) {
         lib.invariants(t, xs.data(), inv.data(), parameters);
         if (first) inv0 = inv, first = false;
         for (std::size_t i = 0; i < n_inv; ++i) max_drift[i] = track_max(max_drift[i], std::abs(inv[i] - inv0[i]));
@@ -266,10 +286,44 @@ SimulationResult simulate(const SimulationRequest& request) {
         x_last = xs;
         progress.update(t);
     };
+    // An orbit stops where its altitude r − radius reaches zero: the crossing is found on the
+    // step's Hermite interpolant by bisection and becomes the last row, instead of integrating on
+    // into the body (where drag grows without bound and r → 0 is singular).
+    auto observer = [&](double t, const State<double>& xs) {
+        ++observed;
+        if (lib.has_altitude()) {
+            const double altitude = lib.altitude(t, xs.data(), parameters);
+            if (!(altitude > 0) && first) {
+                record(t, xs);
+                throw Stop{t, xs, fmt::format("re-entered at t = {}: the initial state is at or below the central "
+                                              "body's surface (altitude {})",
+                                              number(t), number(altitude))};
+            }
+            if (!(altitude > 0)) {
+                State<double> f0(xs.size()), f1(xs.size());
+                lib.rhs(t_last, x_last.data(), f0.data(), parameters);
+                lib.rhs(t, xs.data(), f1.data(), parameters);
+                double lo = 0, hi = 1;
+                for (int k = 0; k < 200 && (hi - lo) * std::abs(t - t_last) > 4e-16 * std::abs(t); ++k) {
+                    const double mid = (lo + hi) / 2;
+                    const State<double> xm = hermite(t_last, x_last, f0, t, xs, f1, mid);
+                    (lib.altitude(t_last + mid * (t - t_last), xm.data(), parameters) > 0 ? lo : hi) = mid;
+                }
+                const double tc = t_last + hi * (t - t_last);
+                const State<double> xc = hermite(t_last, x_last, f0, t, xs, f1, hi);
+                record(tc, xc);
+                throw Stop{tc, xc, fmt::format("re-entered at t = {}: the orbit reached the central body's surface "
+                                               "(altitude 0)",
+                                               number(tc))};
+            }
+        }
+        record(t, xs);
+    };
 
     const auto start = Clock::now();
     runtime::Stats stats;
     try {
+      try {
         auto fixed_step = [&](auto&& stepper) {
             // The step count is the user's choice here, not a sign of no progress: the budget
             // must not stop a long fixed-step run short of t_end.
@@ -290,6 +344,15 @@ SimulationResult simulate(const SimulationRequest& request) {
         else if (name == "gl8") stats = fixed_step(runtime::Gl8<double>{});
         else if (name == "dop853") stats = adaptive(runtime::Dop853<double>{});
         else stats = adaptive(runtime::Dopri5<double>{});
+      } catch (const Stop& stop) {
+        // The drivers' statistics are lost with the unwinding: count what the observer and the
+        // system saw (rejected attempts are not counted).
+        x = stop.x;
+        result.stop_reason = stop.reason;
+        stats.accepted = observed > 0 ? observed - 1 : 0;
+        stats.rejected = 0;
+        stats.rhs_evals = rhs_calls;
+      }
     } catch (const runtime::IntegrationError& e) {
         // Say which variable failed and where the solution was last seen; `csv` removes its temporary.
         std::string message = fmt::format("simulating {} with {}: {}", lib.scene_name(), request.integrator, e.what());
@@ -332,6 +395,8 @@ void print_summary(const SimulationResult& r, const std::string& format, std::os
                          "\"cache_hit\": {}}}\n",
                          r.steps, r.rejected, r.rhs_evals, json_number(r.wall_s), json_number(r.compile_s),
                          r.cache_hit ? "true" : "false");
+        // A run that stopped early says why, as the last member.
+        if (!r.stop_reason.empty()) s.insert(s.size() - 2, fmt::format(", \"stop\": {}", json_string(r.stop_reason)));
         out << s;
         return;
     }
@@ -343,6 +408,7 @@ void print_summary(const SimulationResult& r, const std::string& format, std::os
     for (const auto& v : r.invariants) width = std::max(width, v.name.size());
 
     std::string s = fmt::format("{}: {} to t = {}\n", r.scene_name, r.integrator, number(r.t));
+    if (!r.stop_reason.empty()) s += fmt::format("stopped     {}\n", r.stop_reason);
     s += "final state\n";
     for (const auto& [n, v] : r.state) s += fmt::format("  {:<{}}  {:>24}\n", n, width, number(v));
     if (!r.invariants.empty()) {
@@ -353,7 +419,10 @@ void print_summary(const SimulationResult& r, const std::string& format, std::os
                              std::isnan(rel) && !std::isnan(v.max_abs_drift) ? "-" : fmt::format("{:.3g}", rel));
         }
     }
-    s += fmt::format("steps       {} accepted, {} rejected, {} rhs evaluations\n", r.steps, r.rejected, r.rhs_evals);
+    if (r.stop_reason.empty())
+        s += fmt::format("steps       {} accepted, {} rejected, {} rhs evaluations\n", r.steps, r.rejected, r.rhs_evals);
+    else
+        s += fmt::format("steps       {} accepted (rejected not counted), {} rhs evaluations\n", r.steps, r.rhs_evals);
     s += fmt::format("time        integration {:.3g} s; kernel {:.3g} s ({})\n", r.wall_s, r.compile_s,
                      r.cache_hit ? "cached: " + r.library_path : "compiled into " + r.library_path);
     if (!r.csv_path.empty()) s += fmt::format("csv         {} ({} rows)\n", r.csv_path, r.csv_rows);

@@ -49,6 +49,9 @@ struct SimulationResult {
     std::string library_path;
     std::string csv_path;    // "" when no CSV was written
     std::size_t csv_rows = 0;
+    // Why the run ended before t_end ("" when it reached t_end): an orbit that meets its central
+    // body's surface stops there ("re-entered at t = …"). Then `rejected` is not counted.
+    std::string stop_reason;
 
     // The final value of a state component by name; throws std::out_of_range if absent.
     double value(const std::string& name) const;

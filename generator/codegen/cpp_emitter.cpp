@@ -448,6 +448,16 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
             indent(body(ir.santilli_residuals, "out"), 8));
     }
 
+    // Orbit scenes only: the height above the central body, for the re-entry stop.
+    if (ir.has_altitude) {
+        accessors += fmt::format(
+            "\n    // r − radius: the height above the central body's surface; `eomc simulate` stops the run\n"
+            "    // where it reaches zero (re-entry).\n"
+            "    template <class S>\n"
+            "    static void altitude(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n",
+            indent(body(ir.altitude, "out"), 8));
+    }
+
     const std::string solve_note = ir.explicit_solution ? "u̇ is solved in closed form (n_velocities ≤ 2)."
                                                         : "M u̇ = f is solved at run time (Eigen LDLT).";
     const std::vector<std::pair<std::string, std::string>> fields{

@@ -69,6 +69,11 @@ struct KernelIR {
     // conditions S1–S5 of the fundamental form as residuals, one output per name.
     std::vector<std::string> santilli_residual_names;
     Block santilli_residuals;
+
+    // Orbit scenes only: the height above the central body's surface, r − radius (one output);
+    // `eomc simulate` stops where it reaches zero (re-entry).
+    bool has_altitude = false;
+    Block altitude;
 };
 
 // Common-subexpression elimination over all outputs of one function.

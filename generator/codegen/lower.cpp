@@ -138,6 +138,10 @@ KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form,
     }
     ir.outputs = eliminate_common_subexpressions(outputs, prefix);
     t.invariants = lap();
+    if (model.orbit) {
+        ir.has_altitude = true;
+        ir.altitude = eliminate_common_subexpressions({model.orbit->r - model.orbit->radius}, prefix);
+    }
     return ir;
 }
 

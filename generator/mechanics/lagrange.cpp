@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Dense>
 #include <Eigen/Eigenvalues>
 #include <fmt/format.h>
 
@@ -271,6 +272,35 @@ bool proven_conserved(const model::Model& model, const Equations& eqs, const ex&
 }
 
 
+// Whether h(t, q, q̇) is constant along the solutions: at random states q̈ is solved from
+// M q̈ = f numerically and dh/dt must vanish there, relative to the size of its terms
+// (round-off), far below any real rate. For coordinates without quasi-velocities only.
+bool proven_constant(const model::Model& model, const Equations& eqs, const ex& h) {
+    const std::size_t n = model.coordinates.size();
+    if (!model.quasi_velocities.empty()) return false;
+    for (auto point : probe_points(model, 6, 0xc0457)) {
+        Eigen::MatrixXd M(n, n);
+        Eigen::VectorXd f(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            f(Eigen::Index(i)) = evaluate(eqs.forcing[i], point);
+            for (std::size_t j = 0; j < n; ++j) M(Eigen::Index(i), Eigen::Index(j)) = evaluate(eqs.mass_matrix(unsigned(i), unsigned(j)), point);
+        }
+        const Eigen::VectorXd a = M.fullPivLu().solve(f);
+        double scale = 0;
+        for (std::size_t s = 0; s < n; ++s) {
+            const auto& c = model.coordinates[s];
+            point.values[c.q_ddot] = a(Eigen::Index(s));
+            point.rates[c.q_dot] = a(Eigen::Index(s));
+            scale += std::abs(evaluate(derivative(h, c.q), point) * point.values[c.q_dot]) +
+                     std::abs(evaluate(derivative(h, c.q_dot), point) * a(Eigen::Index(s)));
+        }
+        scale += std::abs(evaluate(derivative(h, model.t), point));
+        const double rate = evaluate_rate(h, point);
+        if (!std::isfinite(rate) || !std::isfinite(scale) || std::abs(rate) > 1e-9 * (1.0 + scale)) return false;
+    }
+    return true;
+}
+
 // M must be regular for the equations to be solvable for u̇. Checked numerically at
 // several random states with the default parameters; singular at all of them means
 // singular as a function (a degenerate kinetic energy), not an unlucky point.
@@ -482,11 +512,20 @@ Equations derive(const model::Model& model) {
     if (proven_conserved(model, eqs, h)) {
         eqs.invariants.push_back(
             {"energy", h,
-             !eqs.has_carrier ? "h = Σ q̇ ∂L/∂q̇ − L, the Jacobi integral (T + V when T is quadratic in q̇)"
+             model.orbit ? "h = |v|²/2 − μ/r − R = H0 − R (R independent of t, no non-conservative acceleration)"
+             : !eqs.has_carrier ? "h = Σ q̇ ∂L/∂q̇ − L, the Jacobi integral (T + V when T is quadratic in q̇)"
              : model.free_carrier() ? "h = T + V, the energy of carrier and carried bodies together"
              : std::all_of(model.keep.begin(), model.keep.end(), [](bool k) { return k; })
                  ? "Jacobi integral h = Σ q̇ ∂L/∂q̇ − L = T_r − T_e + V"
                  : "Jacobi integral of the kept equations"});
+    }
+    // An orbit's angular momentum about the central body's axis z: conserved when the
+    // perturbations are axisymmetric (zonal harmonics) and do no torque about z.
+    if (model.orbit) {
+        const auto& c = model.coordinates;
+        const ex h_z = c[0].q * c[1].q_dot - c[1].q * c[0].q_dot;
+        if (proven_constant(model, eqs, h_z))
+            eqs.invariants.push_back({"h_z", h_z, "h_z = x ẏ − y ẋ, the angular momentum about z (axisymmetric R)"});
     }
     return eqs;
 }
