@@ -88,15 +88,21 @@ EOMC_EXPORT void eomc_outputs(double t, const double* x, double* out, const void
     K::outputs<double>(t, x, out, *static_cast<const P*>(p));
 }
 
-// Orbit kernels have altitude() (r − radius, for the re-entry stop); others do not.
-constexpr bool has_altitude = requires(const double* x, double* out, const P& p) { K::altitude(0.0, x, out, p); };
-EOMC_EXPORT int eomc_has_altitude() { return has_altitude ? 1 : 0; }
-EOMC_EXPORT double eomc_altitude(double t, const double* x, const void* p) {
+// Orbit kernels have altitude() (r − radius, for the re-entry stop); others do not. The
+// check is a concept so that it is evaluated on the dependent type, not as a hard error.
+template <class T>
+concept HasAltitude = requires(const double* x, double* out, const typename T::Parameters& p) {
+    T::template altitude<double>(0.0, x, out, p);
+};
+template <class T>
+double altitude_of(double t, const double* x, const void* p) {
     double out = 0.0;
-    if constexpr (has_altitude) K::altitude<double>(t, x, &out, *static_cast<const P*>(p));
+    if constexpr (HasAltitude<T>) T::template altitude<double>(t, x, &out, *static_cast<const typename T::Parameters*>(p));
     else (void)t, (void)x, (void)p;
     return out;
 }
+EOMC_EXPORT int eomc_has_altitude() { return HasAltitude<K> ? 1 : 0; }
+EOMC_EXPORT double eomc_altitude(double t, const double* x, const void* p) { return altitude_of<K>(t, x, p); }
 )";
 
 std::string replace_all(std::string text, const std::string& from, const std::string& to) {
