@@ -115,6 +115,10 @@ void print_orbit_text(const model::Model& model, std::ostream& out) {
             out << "  ∂R/∂" << c[k].name << " = "
                 << text(display_form(mechanics::derivative(o.R, GiNaC::ex_to<GiNaC::symbol>(ex(c[k].q))))) << "\n";
     }
+    if (o.formulation == "equinoctial")
+        out << "Formulation equinoctial: the kernel integrates (p, f, g, h, k, L) by Gauss's equations (Betts eq. 6.37)\n"
+               "  with the acceleration ∇R + a below, evaluated at the Cartesian state of the elements and taken\n"
+               "  in radial, transverse and normal axes; the Cowell equations below give the same motion\n";
     out << "Non-conservative accelerations a (generalized forces Q = a)\n";
     if (o.accelerations.empty()) out << "  none\n";
     for (const auto& a : o.accelerations)

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -48,6 +49,10 @@ struct FirstOrderForm {
     std::vector<Invariant> invariants;
     // Quantities written beside the state (a free carrier's reactions): functions of (t, x, u̇).
     std::vector<NamedExpression> outputs;
+
+    // Orbit scenes: the height above the central body, r − radius, in the state's variables
+    // (unset: the Cartesian r of the model).
+    std::optional<GiNaC::ex> altitude;
 
     // q̈ = a(t, q) alone, M constant: the symplectic splitting methods apply.
     bool separable = false;

@@ -230,6 +230,16 @@ void build_orbit(const scene::Scene& scene, SymbolTable& symbols, Model& model) 
     const scene::Orbit& given = *scene.orbit;
     Orbit orbit;
     orbit.formulation = given.formulation;
+    orbit.formulation_pos = given.formulation_pos.known() ? given.formulation_pos : given.pos;
+    // The equinoctial kernel's state names must stay free.
+    if (given.formulation == "equinoctial")
+        for (const auto& p : model.parameters)
+            for (const char* element : {"p", "f", "g", "h", "k", "L"})
+                if (p.name == element)
+                    throw InputError(orbit.formulation_pos,
+                                     fmt::format("the equinoctial formulation's state has an element '{}', which names a "
+                                                 "parameter of this scene; rename the parameter",
+                                                 element));
     orbit.mu = symbols.parse(given.mu, unsigned(SymbolKind::parameter), "the central body's mu");
     orbit.radius = symbols.parse(given.radius, unsigned(SymbolKind::parameter), "the central body's radius");
     const double mu = at_defaults(orbit.mu, model, given.mu, "the central body's mu");

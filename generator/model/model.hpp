@@ -102,6 +102,7 @@ struct Orbit {
     GiNaC::ex R = 0;                             // Σ disturbing
     Vec3 acceleration{0, 0, 0};                  // Σ accelerations
     std::string formulation = "cowell";
+    SourcePos formulation_pos;                   // the [orbit] formulation key (or the [orbit] table)
     GiNaC::ex r;                                 // √(x² + y² + z²)
 };
 

@@ -721,10 +721,10 @@ private:
                                          near.empty() ? fmt::format("expected one of {}", fmt::join(names, ", "))
                                                       : fmt::format("did you mean '{}'?", near)));
             }
-            if (o.formulation != "cowell")
+            if (o.formulation != "cowell" && o.formulation != "equinoctial")
                 fail(at(*f), fmt::format("the orbit formulation '{}' is not available yet; use \"cowell\" (Cartesian "
                                          "equations; [formulation] kind = \"hamiltonian\" gives Hamilton's equations "
-                                         "of H = H0 - R)",
+                                         "of H = H0 - R) or \"equinoctial\"",
                                          o.formulation));
         }
         s.orbit = std::move(o);

@@ -120,7 +120,7 @@ struct Effects {
 // An orbit scene's perturbation library ([effects] keep in a scene with [orbit]); each names the
 // parameters it reads (docs/scene-format.md).
 inline constexpr std::array<std::string_view, 5> orbit_effect_names{"J2", "J3", "J4", "drag", "third_body"};
-// The formulations of an orbit scene's equations; only "cowell" is built so far.
+// The formulations of an orbit scene's equations; "cowell" and "equinoctial" are built so far.
 inline constexpr std::array<std::string_view, 7> orbit_formulation_names{"cowell",   "encke",       "lagrange", "gauss",
                                                                          "delaunay", "equinoctial", "mean"};
 

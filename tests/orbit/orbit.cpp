@@ -173,10 +173,10 @@ BOOST_AUTO_TEST_CASE(a_missing_effect_parameter_is_named_at_the_effect) {
 }
 
 BOOST_AUTO_TEST_CASE(orbit_tables_are_checked) {
-    // Only the Cowell formulation is built; the others are refused at the key, typos get a suggestion.
+    // Cowell and equinoctial are built; the others are refused at the key, typos get a suggestion.
     BOOST_TEST(error_of(orbit_scene("s", "", "", "elements = { a = 7000.0, e = 0.0 }\nformulation = \"gauss\"")) ==
                "9:15: the orbit formulation 'gauss' is not available yet; use \"cowell\" (Cartesian equations; "
-               "[formulation] kind = \"hamiltonian\" gives Hamilton's equations of H = H0 - R)");
+               "[formulation] kind = \"hamiltonian\" gives Hamilton's equations of H = H0 - R) or \"equinoctial\"");
     BOOST_TEST(error_of(orbit_scene("s", "", "", "elements = { a = 7000.0, e = 0.0 }\nformulation = \"cowel\"")) ==
                "9:15: unknown orbit formulation 'cowel'; did you mean 'cowell'?");
     BOOST_TEST(error_of(orbit_scene("s", "", "", "elements = { a = 7000.0, e = 1.5 }")) ==
@@ -456,4 +456,87 @@ BOOST_AUTO_TEST_CASE(third_body_conserves_the_jacobi_like_constant) {
                                                                      << "), H0 - R drifts " << drift_e);
     BOOST_TEST(drift_c <= bound);
     BOOST_TEST(drift_e > 100 * bound);  // the time dependence is real: H0 − R alone is not conserved
+}
+
+// ---------------------------------------------------------------------------------------------
+// The equinoctial formulation against Cowell's on the same scene.
+
+namespace {
+
+// Final Cartesian state of a run: the state itself (Cowell) or the kernel's outputs, the last
+// CSV row's last six columns (equinoctial).
+std::vector<double> final_cartesian(const std::string& toml, const std::string& name, double t_end, double rtol,
+                                    double atol, std::size_t& steps) {
+    const fs::path dir = fresh_dir(name);
+    SimulationRequest req = request(generate(toml), t_end, rtol, atol);
+    req.csv_path = (dir / "run.csv").string();
+    const SimulationResult r = eomc::cli::simulate(req);
+    steps = r.steps;
+    const auto rows = read_csv(dir / "run.csv");
+    BOOST_REQUIRE(!rows.empty());
+    const auto& last = rows.back();
+    BOOST_REQUIRE(last.size() >= 7u);
+    if (r.state[0].first == "x") return std::vector<double>(last.begin() + 1, last.begin() + 7);
+    return std::vector<double>(last.end() - 6, last.end());
+}
+
+// Both runs integrate the same motion; each one's local errors are bounded by the controller,
+// √6 (atol + rtol |y|) per step and component. Mapped to the position: a Cartesian component
+// error as it is; an element error through |∂r/∂p| = r/p ≤ 1/(1 − e) ≤ 2 and |∂r/∂(f, g, h, k,
+// L)| ≤ 2r. Summed linearly over the steps — a derived, not a tight, bound (the Kepler shear
+// grows an along-track error only about linearly over a day). An O(1) mistake in a Gauss
+// equation moves the orbit by kilometres.
+void check_same_motion(const std::string& cowell, const std::string& equinoctial, const std::string& what, double r_max) {
+    const double rtol = 1e-12, atol = 1e-10, t_end = 86400;
+    std::size_t steps_c = 0, steps_e = 0;
+    const auto c = final_cartesian(cowell, "cowell_" + what, t_end, rtol, atol, steps_c);
+    const auto e = final_cartesian(equinoctial, "equinoctial_" + what, t_end, rtol, atol, steps_e);
+    const double L_max = 2 * std::numbers::pi * (t_end / 5000 + 2);  // about one revolution per 5000 s or more
+    // Cowell: each of the 6 components at most atol + rtol r_max (velocities are smaller), 1:1 in
+    // position. Equinoctial: p at most atol + rtol r_max, through r/p ≤ 2; f, g, h, k (≤ 1) and L
+    // (≤ L_max) through ≤ 2 r_max each.
+    const double per_step_c = std::sqrt(6.0) * 6 * (atol + rtol * r_max);
+    const double per_step_e = std::sqrt(6.0) * ((atol + rtol * r_max) * 2 + 4 * (atol + rtol) * 2 * r_max +
+                                                (atol + rtol * L_max) * 2 * r_max);
+    const double bound = double(steps_c) * per_step_c + double(steps_e) * per_step_e;
+    double worst = 0;
+    for (std::size_t i = 0; i < 3; ++i) worst = std::max(worst, std::abs(c[i] - e[i]));
+    BOOST_TEST_MESSAGE(what << ": Cowell (" << steps_c << " steps) and equinoctial (" << steps_e
+                            << " steps) positions differ by " << worst << " km after one day (bound " << bound << ")");
+    BOOST_TEST(worst <= bound);
+    for (double v : e) BOOST_TEST(std::isfinite(v));
+}
+
+std::string with_formulation(std::string toml, const std::string& name, const std::string& formulation) {
+    toml.replace(toml.find("name = \"orb\""), 12, "name = \"" + name + "\"");
+    const auto at = toml.find("[effects]");
+    return toml.substr(0, at) + "formulation = \"" + formulation + "\"\n" + toml.substr(at);
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(equinoctial_matches_cowell_with_j2_j3_and_an_acceleration) {
+    // J2, J3 and a small along-track push (a custom acceleration), on an inclined eccentric orbit.
+    const std::string scene =
+        orbit_scene("orb", j2_parameters + "J3 = -2.53265649e-6\n",
+                    "[effects]\nkeep = [\"J2\", \"J3\"]\n[effects.custom]\nacceleration = [\"1e-8*x_dot\", "
+                    "\"1e-8*y_dot\", \"1e-8*z_dot\"]\n",
+                    "elements = { a = 8000.0, e = 0.1, i = 63.0, raan = 40.0, argp = 20.0, mean_anomaly = 10.0 }");
+    check_same_motion(with_formulation(scene, "orb_c", "cowell"), with_formulation(scene, "orb_e", "equinoctial"),
+                      "inclined", 8000 * 1.1);
+}
+
+// e = 0 and i = 0: the classical angles are undefined, the equinoctial elements are not (f = g
+// = h = k = 0); J2 keeps the orbit equatorial and circular in shape while it speeds it up.
+BOOST_AUTO_TEST_CASE(equinoctial_is_regular_at_zero_eccentricity_and_inclination) {
+    const std::string scene = orbit_scene("orb", j2_parameters, "[effects]\nkeep = [\"J2\"]\n",
+                                          "elements = { a = 7000.0, e = 0.0, i = 0.0 }");
+    check_same_motion(with_formulation(scene, "eq0_c", "cowell"), with_formulation(scene, "eq0_e", "equinoctial"),
+                      "equatorial circular", 7000 * 1.01);
+}
+
+BOOST_AUTO_TEST_CASE(equinoctial_state_names_must_be_free) {
+    BOOST_TEST(error_of(orbit_scene("s", "h = 1\n", "", "elements = { a = 7000.0, e = 0.0 }\nformulation = \"equinoctial\"")) ==
+               "10:15: the equinoctial formulation's state has an element 'h', which names a parameter of this scene; "
+               "rename the parameter");
 }
