@@ -84,7 +84,13 @@ Pipeline front_end(const std::string& scene_path, bool hamiltonian, StageClock* 
     Pipeline p{model::build_model(scene), {}, std::nullopt};
     if (clock) clock->lap("parse");
     p.equations = mechanics::derive(p.model);
+    const bool equinoctial = p.model.orbit && p.model.orbit->formulation == "equinoctial";
+    if (equinoctial && (hamiltonian || p.model.hamiltonian))
+        throw InputError(p.model.orbit->formulation_pos,
+                         "the equinoctial formulation integrates Gauss's equations, not Hamilton's; use formulation = "
+                         "\"cowell\" with the Hamiltonian formulation");
     if (hamiltonian || p.model.hamiltonian) p.canonical = mechanics::canonical_equations(p.model, p.equations);
+
     if (clock) clock->lap("derive");
     return p;
 }

@@ -512,7 +512,8 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
             indent(body(ir.santilli_residuals, "out"), 8));
     }
 
-    const std::string solve_note = ir.explicit_solution ? "u̇ is solved in closed form (n_velocities ≤ 2)."
+    const std::string solve_note = nu == 0 ? "Every rate is explicit."
+                                   : ir.explicit_solution ? "u̇ is solved in closed form (n_velocities ≤ 2)."
                                                         : "M u̇ = f is solved at run time (Eigen LDLT).";
     const std::vector<std::pair<std::string, std::string>> fields{
         {"version", options.generator_version},

@@ -7,6 +7,7 @@
 #include "codegen/expression_text.hpp"
 #include "codegen/inverse_printer.hpp"
 #include "codegen/kernel_ir.hpp"
+#include "mechanics/differentiation.hpp"
 #include "support/json.hpp"
 
 namespace eomc::codegen {
@@ -88,6 +89,32 @@ std::string vector_text(const model::Vec3& v) {
     return fmt::format("({}, {}, {})", text(v[0]), text(v[1]), text(v[2]));
 }
 
+// An orbit scene: the central body, each disturbing function and acceleration, then
+// R = Σ R_k and its gradient (the perturbing acceleration +∇R, FORMULAS §2).
+void print_orbit_text(const model::Model& model, std::ostream& out) {
+    const model::Orbit& o = *model.orbit;
+    const auto& c = model.coordinates;
+    out << "Orbit (" << o.formulation << "): inertial x, y, z about a central body with μ = " << text(o.mu)
+        << ", radius " << text(o.radius) << "; r = " << text(o.r) << "\n";
+    out << "Disturbing function R (acceleration = −μ r/r³ + ∇R + a)\n";
+    if (o.disturbing.empty()) out << "  none\n";
+    for (const auto& term : o.disturbing) out << "  R_" << term.effect << " = " << text(display_form(term.value)) << "\n";
+    if (!o.disturbing.empty()) {
+        for (std::size_t k = 0; k < 3; ++k)
+            out << "  ∂R/∂" << c[k].name << " = "
+                << text(display_form(mechanics::derivative(o.R, GiNaC::ex_to<GiNaC::symbol>(ex(c[k].q))))) << "\n";
+    }
+    if (o.formulation == "equinoctial")
+        out << "Formulation equinoctial: the kernel integrates (p, f, g, h, k, L) by Gauss's equations (Betts eq. 6.37)\n"
+               "  with the acceleration ∇R + a below, evaluated at the Cartesian state of the elements and taken\n"
+               "  in radial, transverse and normal axes; the Cowell equations below give the same motion\n";
+    out << "Non-conservative accelerations a (generalized forces Q = a)\n";
+    if (o.accelerations.empty()) out << "  none\n";
+    for (const auto& a : o.accelerations)
+        out << "  a_" << a.effect << " = " << vector_text({display_form(a.value[0]), display_form(a.value[1]), display_form(a.value[2])})
+            << "\n";
+}
+
 void print_text(const model::Model& model, const mechanics::Equations& eqs, std::ostream& out) {
     out << "Scene " << model.name << (model.summary.empty() ? "" : " — " + model.summary) << "\n";
     out << "Coordinates q_s:";
@@ -117,6 +144,8 @@ void print_text(const model::Model& model, const mechanics::Equations& eqs, std:
                 << vector_text(rotation.relative_angular_velocity) << "\n";
         }
     }
+
+    if (model.orbit) print_orbit_text(model, out);
 
     out << "\nKinetic energy\n";
     if (eqs.from_particles) {
@@ -206,6 +235,22 @@ void print_latex(const model::Model& model, const mechanics::Equations& eqs, std
             << latex(model.carrier->pole_velocity[1]) << ",\\ " << latex(model.carrier->pole_velocity[2])
             << "\\right)\n\\end{align*}\n";
     }
+    if (model.orbit) {
+        const model::Orbit& o = *model.orbit;
+        out << "\\subsection*{Disturbing function}\nAcceleration $= -\\mu\\,\\mathbf r/r^3 + \\nabla R + \\mathbf a$, "
+            << "$\\mu = " << latex(o.mu) << "$, $r = " << latex(o.r) << "$.\n\\begin{align*}\n";
+        for (const auto& term : o.disturbing)
+            out << "R_{\\text{" << latex_escape(term.effect) << "}} &= " << latex(display_form(term.value)) << "\\\\\n";
+        for (std::size_t k = 0; k < 3; ++k)
+            out << "\\frac{\\partial R}{\\partial " << latex(model.coordinates[k].q) << "} &= "
+                << latex(display_form(mechanics::derivative(o.R, GiNaC::ex_to<GiNaC::symbol>(ex(model.coordinates[k].q)))))
+                << (k < 2 || !o.accelerations.empty() ? "\\\\\n" : "\n");
+        for (const auto& a : o.accelerations)
+            out << "\\mathbf a_{\\text{" << latex_escape(a.effect) << "}} &= \\left(" << latex(display_form(a.value[0]))
+                << ",\\ " << latex(display_form(a.value[1])) << ",\\ " << latex(display_form(a.value[2])) << "\\right)"
+                << (&a == &o.accelerations.back() ? "\n" : "\\\\\n");
+        out << "\\end{align*}\n";
+    }
     out << "\\subsection*{Kinetic energy}\n\\begin{align*}\n";
     if (eqs.from_particles) {
         out << "T &= T_e + T_m + T_r\\\\\n"
@@ -260,7 +305,24 @@ void print_json(const model::Model& model, const mechanics::Equations& eqs, std:
     out << "},\n  \"kinetic_energy\": {\"T\": " << json_ex(eqs.T);
     if (eqs.from_particles)
         out << ", \"T_e\": " << json_ex(eqs.T_e) << ", \"T_m\": " << json_ex(eqs.T_m) << ", \"T_r\": " << json_ex(eqs.T_r);
-    out << "},\n  \"potential\": " << json_ex(eqs.V) << ",\n  \"equations\": [\n";
+    out << "},\n  \"potential\": " << json_ex(eqs.V) << ",\n";
+    if (model.orbit) {
+        const model::Orbit& o = *model.orbit;
+        out << "  \"orbit\": {\"formulation\": " << json_string(o.formulation) << ", \"mu\": " << json_ex(o.mu)
+            << ", \"radius\": " << json_ex(o.radius) << ", \"disturbing_function\": {";
+        for (std::size_t k = 0; k < o.disturbing.size(); ++k)
+            out << (k ? ", " : "") << json_string(o.disturbing[k].effect) << ": " << json_ex(o.disturbing[k].value);
+        out << "}, \"R\": " << json_ex(o.R) << ", \"gradient\": [";
+        for (std::size_t k = 0; k < 3; ++k)
+            out << (k ? ", " : "")
+                << json_ex(mechanics::derivative(o.R, GiNaC::ex_to<GiNaC::symbol>(ex(model.coordinates[k].q))));
+        out << "], \"accelerations\": {";
+        for (std::size_t k = 0; k < o.accelerations.size(); ++k)
+            out << (k ? ", " : "") << json_string(o.accelerations[k].effect) << ": [" << json_ex(o.accelerations[k].value[0])
+                << ", " << json_ex(o.accelerations[k].value[1]) << ", " << json_ex(o.accelerations[k].value[2]) << "]";
+        out << "}},\n";
+    }
+    out << "  \"equations\": [\n";
     for (std::size_t s = 0; s < n; ++s) {
         const auto& eq = eqs.equations[s];
         out << "    {\"name\": " << json_string(eq.coordinate) << ", \"lhs\": " << json_ex(eq.lhs)

@@ -95,7 +95,8 @@ struct LoweringTimes {
 
 // A first-order form → kernel IR. Deterministic: the same scene gives the same IR.
 KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form, LoweringTimes* times = nullptr);
-// Lagrange's equations of the model, through mechanics::first_order_form.
+// Lagrange's equations of the model, through mechanics::first_order_form (an orbit scene with
+// formulation = "equinoctial": through mechanics::equinoctial_form).
 KernelIR lower(const model::Model& model, const mechanics::Equations& equations, LoweringTimes* times = nullptr);
 
 }  // namespace eomc::codegen

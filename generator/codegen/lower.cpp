@@ -7,6 +7,7 @@
 
 #include "codegen/kernel_ir.hpp"
 #include "mechanics/differentiation.hpp"
+#include "mechanics/equinoctial.hpp"
 #include "mechanics/inverse_problem.hpp"
 
 namespace eomc::codegen {
@@ -151,6 +152,10 @@ KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form,
 }
 
 KernelIR lower(const model::Model& model, const mechanics::Equations& equations, LoweringTimes* times) {
+    // An orbit scene's formulation decides what the kernel integrates; the equations derived
+    // (Cowell's) are the same either way.
+    if (model.orbit && model.orbit->formulation == "equinoctial")
+        return lower(model, mechanics::equinoctial_form(model, equations), times);
     const mechanics::FirstOrderForm form = mechanics::first_order_form(model, equations);
     KernelIR ir = lower(model, form, times);
     // A scene given by its equations carries the residuals of its self-adjointness

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Dense>
 #include <Eigen/Eigenvalues>
 #include <fmt/format.h>
 
@@ -271,6 +272,65 @@ bool proven_conserved(const model::Model& model, const Equations& eqs, const ex&
 }
 
 
+// Whether h(t, q, q̇) is constant along the solutions: at random states q̈ is solved from
+// M q̈ = f numerically and dh/dt must vanish there, relative to the size of its terms
+// (round-off), far below any real rate. For coordinates without quasi-velocities only.
+bool proven_constant(const model::Model& model, const Equations& eqs, const ex& h) {
+    const std::size_t n = model.coordinates.size();
+    if (!model.quasi_velocities.empty()) return false;
+    for (auto point : probe_points(model, 6, 0xc0457)) {
+        Eigen::MatrixXd M(n, n);
+        Eigen::VectorXd f(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            f(Eigen::Index(i)) = evaluate(eqs.forcing[i], point);
+            for (std::size_t j = 0; j < n; ++j) M(Eigen::Index(i), Eigen::Index(j)) = evaluate(eqs.mass_matrix(unsigned(i), unsigned(j)), point);
+        }
+        const Eigen::VectorXd a = M.fullPivLu().solve(f);
+        double scale = 0;
+        for (std::size_t s = 0; s < n; ++s) {
+            const auto& c = model.coordinates[s];
+            point.values[c.q_ddot] = a(Eigen::Index(s));
+            point.rates[c.q_dot] = a(Eigen::Index(s));
+            scale += std::abs(evaluate(derivative(h, c.q), point) * point.values[c.q_dot]) +
+                     std::abs(evaluate(derivative(h, c.q_dot), point) * a(Eigen::Index(s)));
+        }
+        scale += std::abs(evaluate(derivative(h, model.t), point));
+        const double rate = evaluate_rate(h, point);
+        if (!std::isfinite(rate) || !std::isfinite(scale) || std::abs(rate) > 1e-9 * (1.0 + scale)) return false;
+    }
+    return true;
+}
+
+// The checks above compare a rate with the size of all its terms. In an orbit the Kepler term
+// dwarfs a perturbation by many orders of magnitude (a third body's R is 1e-13 of μ/r at the
+// probe points), so a perturbation that breaks an integral could pass them. The perturbation is
+// therefore judged on its own: the energy H0 − R needs R independent of t and no
+// non-conservative acceleration (a conservative reading: an acceleration that does no work
+// is not looked for).
+bool orbit_energy_conserved(const model::Model& model) {
+    const model::Orbit& o = *model.orbit;
+    if (!derivative(o.R, model.t).expand().is_zero()) return false;
+    return std::all_of(o.acceleration.begin(), o.acceleration.end(), [](const ex& a) { return a.is_zero(); });
+}
+
+// h_z needs no torque about z from R and from the accelerations: x ∂R/∂y − y ∂R/∂x and
+// x a_y − y a_x vanish, judged against the size of their own two terms.
+bool orbit_axisymmetric(const model::Model& model) {
+    const model::Orbit& o = *model.orbit;
+    const auto& c = model.coordinates;
+    const ex x = c[0].q, y = c[1].q;
+    const std::pair<ex, ex> torques[] = {{x * derivative(o.R, c[1].q), y * derivative(o.R, c[0].q)},
+                                         {x * o.acceleration[1], y * o.acceleration[0]}};
+    for (const auto& point : probe_points(model, 6, 0xa215)) {
+        for (const auto& [a, b] : torques) {
+            const double va = evaluate(a, point), vb = evaluate(b, point);
+            if (!std::isfinite(va) || !std::isfinite(vb) || std::abs(va - vb) > 1e-12 * (std::abs(va) + std::abs(vb)))
+                return false;
+        }
+    }
+    return true;
+}
+
 // M must be regular for the equations to be solvable for u̇. Checked numerically at
 // several random states with the default parameters; singular at all of them means
 // singular as a function (a degenerate kinetic energy), not an unlucky point.
@@ -479,14 +539,23 @@ Equations derive(const model::Model& model) {
     require_regular_mass_matrix(model, eqs.mass_matrix);
 
     const ex h = jacobi_candidate(model, eqs, carrier, particles);
-    if (proven_conserved(model, eqs, h)) {
+    if (proven_conserved(model, eqs, h) && (!model.orbit || orbit_energy_conserved(model))) {
         eqs.invariants.push_back(
             {"energy", h,
-             !eqs.has_carrier ? "h = Σ q̇ ∂L/∂q̇ − L, the Jacobi integral (T + V when T is quadratic in q̇)"
+             model.orbit ? "h = |v|²/2 − μ/r − R = H0 − R (R independent of t, no non-conservative acceleration)"
+             : !eqs.has_carrier ? "h = Σ q̇ ∂L/∂q̇ − L, the Jacobi integral (T + V when T is quadratic in q̇)"
              : model.free_carrier() ? "h = T + V, the energy of carrier and carried bodies together"
              : std::all_of(model.keep.begin(), model.keep.end(), [](bool k) { return k; })
                  ? "Jacobi integral h = Σ q̇ ∂L/∂q̇ − L = T_r − T_e + V"
                  : "Jacobi integral of the kept equations"});
+    }
+    // An orbit's angular momentum about the central body's axis z: conserved when the
+    // perturbations are axisymmetric (zonal harmonics) and do no torque about z.
+    if (model.orbit) {
+        const auto& c = model.coordinates;
+        const ex h_z = c[0].q * c[1].q_dot - c[1].q * c[0].q_dot;
+        if (orbit_axisymmetric(model) && proven_constant(model, eqs, h_z))
+            eqs.invariants.push_back({"h_z", h_z, "h_z = x ẏ − y ẋ, the angular momentum about z (axisymmetric R)"});
     }
     return eqs;
 }

@@ -1,10 +1,12 @@
 #include "model/model.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cctype>
 
 #include <fmt/format.h>
 
+#include "eomc/runtime/orbital_elements.hpp"
 #include "model/expression_parser.hpp"
 #include "support/diagnostic.hpp"
 
@@ -188,6 +190,164 @@ Newtonian build_newtonian(const SymbolTable& symbols, const scene::Newtonian& gi
     return n;
 }
 
+// The value of an expression of the parameters at their defaults (for the initial state).
+double at_defaults(const ex& e, const Model& model, const scene::Expr& where, const std::string& what) {
+    GiNaC::exmap defaults;
+    for (const auto& p : model.parameters) defaults[p.symbol] = GiNaC::numeric(p.value);
+    const ex value = e.subs(defaults).evalf();
+    if (!GiNaC::is_a<GiNaC::numeric>(value) || !GiNaC::ex_to<GiNaC::numeric>(value).is_real())
+        throw InputError(where.pos, fmt::format("{} does not evaluate to a real number", what));
+    return GiNaC::ex_to<GiNaC::numeric>(value).to_double();
+}
+
+// The parameters each library effect reads, by fixed name (docs/scene-format.md).
+struct EffectParameters {
+    const char* effect;
+    std::vector<std::pair<const char*, const char*>> parameters;  // name, meaning
+};
+const std::vector<EffectParameters>& orbit_effect_parameters() {
+    static const std::vector<EffectParameters> table{
+        {"J2", {{"J2", "the zonal coefficient J2"}}},
+        {"J3", {{"J3", "the zonal coefficient J3"}}},
+        {"J4", {{"J4", "the zonal coefficient J4"}}},
+        {"drag",
+         {{"rho0", "the density at the reference altitude, kg/m^3"},
+          {"h0", "the reference altitude, km"},
+          {"H", "the scale height, km"},
+          {"CdA_m", "the ballistic coefficient Cd*A/m, m^2/kg"},
+          {"omega", "the central body's (and its atmosphere's) rotation rate about z, rad/s"}}},
+        {"third_body",
+         {{"mu3", "the third body's gravitational parameter, km^3/s^2"},
+          {"a3", "the radius of its circular orbit, km"},
+          {"i3", "the inclination of its orbit to the x-y plane, radians"}}},
+    };
+    return table;
+}
+
+// [orbit] and an orbit scene's [effects]: coordinates x, y, z with the initial state, T, V and
+// the non-conservative accelerations. Each library effect is only its potential or its
+// acceleration; the equations follow by differentiation like any other scene's.
+void build_orbit(const scene::Scene& scene, SymbolTable& symbols, Model& model) {
+    const scene::Orbit& given = *scene.orbit;
+    Orbit orbit;
+    orbit.formulation = given.formulation;
+    orbit.formulation_pos = given.formulation_pos.known() ? given.formulation_pos : given.pos;
+    // The equinoctial kernel's state names must stay free.
+    if (given.formulation == "equinoctial")
+        for (const auto& p : model.parameters)
+            for (const char* element : {"p", "f", "g", "h", "k", "L"})
+                if (p.name == element)
+                    throw InputError(orbit.formulation_pos,
+                                     fmt::format("the equinoctial formulation's state has an element '{}', which names a "
+                                                 "parameter of this scene; rename the parameter",
+                                                 element));
+    orbit.mu = symbols.parse(given.mu, unsigned(SymbolKind::parameter), "the central body's mu");
+    orbit.radius = symbols.parse(given.radius, unsigned(SymbolKind::parameter), "the central body's radius");
+    const double mu = at_defaults(orbit.mu, model, given.mu, "the central body's mu");
+    if (!(mu > 0)) throw InputError(given.mu.pos, fmt::format("the central body's mu must be positive, got {}", mu));
+    if (!(at_defaults(orbit.radius, model, given.radius, "the central body's radius") > 0))
+        throw InputError(given.radius.pos, "the central body's radius must be positive");
+
+    // The initial state: given, or from classical elements by the runtime's own conversion.
+    std::array<double, 6> x0{};
+    if (given.state) {
+        x0 = *given.state;
+    } else {
+        const auto& el = *given.elements;
+        try {
+            x0 = runtime::cartesian_from_classical(runtime::ClassicalElements<double>{el[0], el[1], el[2], el[3], el[4], el[5]},
+                                                   mu);
+        } catch (const runtime::KeplerError& e) {
+            throw InputError(given.initial_pos, fmt::format("the orbit's elements give no state: {}", e.what()));
+        }
+    }
+    const char* names[] = {"x", "y", "z"};
+    for (int k = 0; k < 3; ++k)
+        model.coordinates.push_back({names[k], symbols.declare(names[k], SymbolKind::coordinate),
+                                     symbols.declare(std::string(names[k]) + "_dot", SymbolKind::velocity),
+                                     symbols.declare(std::string(names[k]) + "_ddot", SymbolKind::acceleration),
+                                     x0[std::size_t(k)], x0[std::size_t(k) + 3]});
+    const ex x = model.coordinates[0].q, y = model.coordinates[1].q, z = model.coordinates[2].q;
+    const ex vx = model.coordinates[0].q_dot, vy = model.coordinates[1].q_dot, vz = model.coordinates[2].q_dot;
+    const ex r = GiNaC::sqrt(x * x + y * y + z * z);
+    orbit.r = r;
+    // Below the surface the model means nothing (drag grows without bound, r → 0 is singular).
+    const double radius = at_defaults(orbit.radius, model, given.radius, "the central body's radius");
+    if (!(std::hypot(x0[0], x0[1], x0[2]) > radius))
+        throw InputError(given.initial_pos,
+                         fmt::format("the orbit starts at r = {} km, at or below the central body's surface (radius {})",
+                                     std::hypot(x0[0], x0[1], x0[2]), radius));
+
+    // Each kept effect's parameters, found by name; a missing one is an error at the effect.
+    auto parameter = [&](const std::string& effect, const SourcePos& pos, const char* name) -> ex {
+        for (const auto& p : model.parameters)
+            if (p.name == name) return p.symbol;
+        std::string meaning;
+        std::string all;
+        for (const auto& e : orbit_effect_parameters())
+            if (effect == e.effect)
+                for (const auto& [n, m] : e.parameters) {
+                    if (std::string(n) == name) meaning = m;
+                    all += (all.empty() ? "" : ", ") + std::string(n);
+                }
+        throw InputError(pos, fmt::format("effect '{}' needs the parameter '{}' ({}), which [parameters] does not "
+                                          "declare (the effect reads: {})",
+                                          effect, name, meaning, all));
+    };
+    const ex& Re = orbit.radius;
+    const ex s = z / r;
+    for (std::size_t k = 0; k < scene.effects.keep.size(); ++k) {
+        const std::string& e = scene.effects.keep[k];
+        const SourcePos& pos = scene.effects.keep_pos[k];
+        auto P = [&](const char* name) { return parameter(e, pos, name); };
+        // Zonal harmonics: U = (μ/r)[1 − Σ J_n (R_e/r)^n P_n(z/r)], so R_n = −(μ/r) J_n (R_e/r)^n P_n
+        // (FORMULAS §2 for n = 2; Vallado, eq. 8-19).
+        if (e == "J2") {
+            orbit.disturbing.push_back({e, -orbit.mu / r * P("J2") * GiNaC::pow(Re / r, 2) * (3 * s * s - 1) / 2});
+        } else if (e == "J3") {
+            orbit.disturbing.push_back(
+                {e, -orbit.mu / r * P("J3") * GiNaC::pow(Re / r, 3) * (5 * GiNaC::pow(s, 3) - 3 * s) / 2});
+        } else if (e == "J4") {
+            orbit.disturbing.push_back(
+                {e, -orbit.mu / r * P("J4") * GiNaC::pow(Re / r, 4) * (35 * GiNaC::pow(s, 4) - 30 * s * s + 3) / 8});
+        } else if (e == "third_body") {
+            // A third body on a circular orbit of radius a3 inclined by i3 (node on x), mean motion
+            // n3 = √((μ + μ3)/a3³), at the node at t = 0. Direct and indirect terms:
+            // R = μ3 (1/|r3 − r| − r·r3/|r3|³).
+            const ex mu3 = P("mu3"), a3 = P("a3"), i3 = P("i3");
+            const ex n3 = GiNaC::sqrt((orbit.mu + mu3) / GiNaC::pow(a3, 3));
+            const ex u = n3 * model.t;
+            const ex x3 = a3 * GiNaC::cos(u), y3 = a3 * GiNaC::cos(i3) * GiNaC::sin(u), z3 = a3 * GiNaC::sin(i3) * GiNaC::sin(u);
+            const ex d = GiNaC::sqrt(GiNaC::pow(x3 - x, 2) + GiNaC::pow(y3 - y, 2) + GiNaC::pow(z3 - z, 2));
+            orbit.disturbing.push_back({e, mu3 * (1 / d - (x * x3 + y * y3 + z * z3) / GiNaC::pow(a3, 3))});
+        } else if (e == "drag") {
+            // Exponential atmosphere co-rotating with the body at ω about z: v_rel = v − ω ẑ × r,
+            // a = −½ ρ(h) (Cd A/m) |v_rel| v_rel, h = r − R_e. ρ in kg/m³ times Cd A/m in m²/kg is
+            // per metre; the factor 1000 m/km makes it per km, the scene's length unit.
+            const ex rho0 = P("rho0"), h0 = P("h0"), H = P("H"), B = P("CdA_m"), w = P("omega");
+            const ex rho = rho0 * GiNaC::exp(-(r - Re - h0) / H);
+            const Vec3 v_rel{vx + w * y, vy - w * x, vz};
+            const ex speed = GiNaC::sqrt(v_rel[0] * v_rel[0] + v_rel[1] * v_rel[1] + v_rel[2] * v_rel[2]);
+            const ex k = -ex(1000) / 2 * rho * B * speed;
+            orbit.accelerations.push_back({e, {k * v_rel[0], k * v_rel[1], k * v_rel[2]}});
+        }
+    }
+    if (scene.effects.disturbing_function)
+        orbit.disturbing.push_back({"custom", symbols.parse(*scene.effects.disturbing_function, configuration,
+                                                            "the custom disturbing function R(x, y, z, t)")});
+    if (scene.effects.acceleration)
+        orbit.accelerations.push_back(
+            {"custom", parse_vector(symbols, *scene.effects.acceleration, phase, "the custom acceleration")});
+    for (const auto& term : orbit.disturbing) orbit.R += term.value;
+    for (const auto& a : orbit.accelerations)
+        for (int i = 0; i < 3; ++i) orbit.acceleration[std::size_t(i)] += a.value[std::size_t(i)];
+
+    model.kinetic_energy = (vx * vx + vy * vy + vz * vz) / 2;
+    model.potential = -orbit.mu / r - orbit.R;
+    model.kinetic_pos = given.pos;
+    model.orbit = std::move(orbit);
+}
+
 }  // namespace
 
 Model build_model(const scene::Scene& scene) {
@@ -204,6 +364,7 @@ Model build_model(const scene::Scene& scene) {
     model.t = symbols.declare("t", SymbolKind::time);
     for (const auto& p : scene.parameters)
         model.parameters.push_back({p.name, symbols.declare(p.name, SymbolKind::parameter), p.value});
+    if (scene.orbit) build_orbit(scene, symbols, model);
     for (const auto& c : scene.coordinates) {
         model.coordinates.push_back({c.name, symbols.declare(c.name, SymbolKind::coordinate),
                                      symbols.declare(c.name + "_dot", SymbolKind::velocity),
@@ -267,6 +428,10 @@ Model build_model(const scene::Scene& scene) {
         model.generalized_forces[s] =
             symbols.parse(q.value, phase, fmt::format("the generalized force on '{}'", q.coordinate));
     }
+    // An orbit's non-conservative accelerations are its generalized forces per unit mass
+    // (x, y, z are Cartesian, so Q_s = a · ∂r/∂q_s = a_s).
+    if (model.orbit)
+        for (std::size_t s = 0; s < 3; ++s) model.generalized_forces[s] = model.orbit->acceleration[s];
 
     if (scene.reference) {
         // The reference is the Lagrangian state (q, q_dot); kernels of other states would be judged
@@ -293,13 +458,21 @@ Model build_model(const scene::Scene& scene) {
     for (const auto& e : scene.events)
         model.events.push_back({e.name, symbols.parse(e.when, phase, fmt::format("event '{}'", e.name)),
                                 e.direction == "up" ? 1 : (e.direction == "down" ? -1 : 0), e.terminal, e.pos});
+    // Every orbit ends where it reaches the central body's surface: a terminal event, located
+    // like any other, instead of integrating on into the body.
+    if (model.orbit) {
+        for (const auto& e : model.events)
+            if (e.name == "re_entry")
+                throw InputError(e.pos, "'re_entry' is the orbit's own event (r = radius); give this event another name");
+        model.events.push_back({"re_entry", model.orbit->r - model.orbit->radius, -1, true, scene.orbit->pos});
+    }
 
     if (scene.newtonian) {
         model.newtonian = build_newtonian(symbols, *scene.newtonian, model);
         model.kinetic_pos = scene.newtonian->pos;
     }
 
-    if (scene.effects.given) {
+    if (scene.effects.given && !scene.orbit) {  // an orbit scene's names are perturbations (build_orbit)
         model.keep.fill(false);
         for (const auto& e : scene.effects.keep)
             for (Effect k : all_effects)

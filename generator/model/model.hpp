@@ -94,6 +94,28 @@ struct Event {
     SourcePos pos;      // the key in [events]
 };
 
+// An orbit scene ([orbit]): a point mass about a central body in inertial Cartesian axes,
+// T = |v|²/2, V = −μ/r − R with R the sum of the kept disturbing functions (acceleration =
+// +∇R, FORMULAS §2), and the non-conservative accelerations as generalized forces.
+struct OrbitTerm {
+    std::string effect;  // "J2", …, "custom"
+    GiNaC::ex value;     // a disturbing function R(x, y, z, t)
+};
+struct OrbitAcceleration {
+    std::string effect;  // "drag" or "custom"
+    Vec3 value;          // inertial axes, functions of (t, x, y, z, x_dot, y_dot, z_dot)
+};
+struct Orbit {
+    GiNaC::ex mu, radius;                        // the central body's μ and radius (parameters)
+    std::vector<OrbitTerm> disturbing;           // in library order, then custom
+    std::vector<OrbitAcceleration> accelerations;
+    GiNaC::ex R = 0;                             // Σ disturbing
+    Vec3 acceleration{0, 0, 0};                  // Σ accelerations
+    std::string formulation = "cowell";
+    SourcePos formulation_pos;                   // the [orbit] formulation key (or the [orbit] table)
+    GiNaC::ex r;                                 // √(x² + y² + z²)
+};
+
 struct Model {
     std::string name;         // scene name, e.g. disk_tube_ball
     std::string struct_name;  // DiskTubeBall
@@ -121,6 +143,7 @@ struct Model {
     std::vector<GiNaC::ex> reference;
     std::optional<Newtonian> newtonian;  // equations instead of energies (no particles, no T)
     std::vector<Event> events;           // [events], in file order
+    std::optional<Orbit> orbit;          // an orbit scene: coordinates x, y, z, T and V built from [orbit]
     scene::Inverse inverse;
 
     bool keeps(Effect e) const { return keep[static_cast<int>(e)]; }

@@ -108,10 +108,11 @@ public:
     Scene read() {
         Scene s;
         check_keys(root_, {"scene", "parameters", "coordinates", "carrier", "body", "lagrangian", "forces",
-                           "effects", "simulate", "events", "formulation", "reference", "newtonian", "inverse"},
+                           "effects", "simulate", "events", "formulation", "reference", "newtonian", "inverse", "orbit"},
                    "at the top level");
         read_scene(s);
         read_parameters(s);
+        read_orbit(s);
         read_coordinates(s);
         check_name_clashes(s);
         read_carrier(s);
@@ -125,6 +126,7 @@ public:
         read_reference(s);
         read_newtonian(s);
         read_inverse(s);
+        check_orbit_structure();
         check_newtonian_structure();
         check_structure();
         return s;
@@ -359,6 +361,12 @@ private:
 
     void read_coordinates(Scene& s) const {
         const toml::node* node = root_.get("coordinates");
+        if (s.orbit) {
+            if (node)
+                fail(at(*node), "[coordinates] cannot be combined with [orbit]: an orbit scene's coordinates are the "
+                                "inertial x, y, z of the orbiting body");
+            return;
+        }
         if (!node) fail(top(), "missing required table [coordinates]: the scene needs at least one coordinate");
         const toml::table& t = as_table(*node, "coordinates");
         if (t.empty()) fail(at(t), "[coordinates] declares no coordinate; the scene needs at least one");
@@ -376,6 +384,11 @@ private:
     }
 
     void check_name_clashes(const Scene& s) const {
+        if (s.orbit)
+            for (const Parameter& p : s.parameters)
+                if (p.name == "x" || p.name == "y" || p.name == "z")
+                    fail(p.pos, fmt::format("parameter '{}' has the name of a coordinate of the orbit scene (x, y, z)",
+                                            p.name));
         for (const Coordinate& c : s.coordinates) {
             for (const Parameter& p : s.parameters) {
                 if (p.name != c.name) continue;
@@ -408,12 +421,13 @@ private:
                                  lagrangian_later ? "[lagrangian]" : title, lagrangian_later ? title : "[lagrangian]",
                                  at(earlier).line));
             }
-        } else if (!body && !root_.get("newtonian")) {
-            fail(top(), "the scene has neither [[body]] nor [lagrangian] nor [newtonian]; give carried bodies, a "
-                        "lagrangian L = T - V, or the equations of motion");
+        } else if (!body && !root_.get("newtonian") && !root_.get("orbit")) {
+            fail(top(), "the scene has neither [[body]] nor [lagrangian] nor [newtonian] nor [orbit]; give carried "
+                        "bodies, a lagrangian L = T - V, the equations of motion, or an orbit");
         }
-        if (effects && !carrier)
-            fail(at(*effects), "[effects] requires a [carrier]: inertial effects exist only in a moving frame");
+        if (effects && !carrier && !root_.get("orbit"))
+            fail(at(*effects), "[effects] requires a [carrier] (inertial effects of a moving frame) or an [orbit] "
+                               "(perturbations of an orbit)");
     }
 
     void read_carrier(Scene& s) const {
@@ -608,21 +622,36 @@ private:
         const toml::node* node = root_.get("effects");
         if (!node) return;
         const toml::table& t = as_table(*node, "effects");
-        check_keys(t, {"keep"}, "in [effects]");
+        s.effects.pos = at(t);
+        const bool orbit = s.orbit.has_value();
+        if (orbit) check_keys(t, {"keep", "custom"}, "in [effects]");
+        else check_keys(t, {"keep"}, "in [effects]");
+        if (const toml::node* custom = t.get("custom")) read_custom_effects(s, as_table(*custom, "effects.custom"));
         const toml::node* keep = t.get("keep");
         if (!keep) return;
         const toml::array* a = keep->as_array();
         if (!a) fail(at(*keep), fmt::format("'effects.keep': expected an array of effect names, got {}", type_name(*keep)));
         s.effects.given = true;
+        // The two effect vocabularies never mix: an orbit scene keeps perturbations, a carrier
+        // scene keeps inertial effects; a name from the other list says which scene it belongs to.
+        const std::vector<std::string> own = orbit ? std::vector<std::string>(orbit_effect_names.begin(), orbit_effect_names.end())
+                                                   : std::vector<std::string>(effect_names.begin(), effect_names.end());
+        const std::vector<std::string> other = orbit ? std::vector<std::string>(effect_names.begin(), effect_names.end())
+                                                     : std::vector<std::string>(orbit_effect_names.begin(), orbit_effect_names.end());
         for (std::size_t i = 0; i < a->size(); ++i) {
             const toml::node& entry = *a->get(i);
             const std::string name = read_string(entry, fmt::format("effects.keep[{}]", i));
-            if (std::find(effect_names.begin(), effect_names.end(), name) == effect_names.end()) {
-                const std::string near = nearest_name(
-                    name, {"relative", "translation", "euler", "centrifugal", "coriolis"});
+            if (std::find(own.begin(), own.end(), name) == own.end()) {
+                if (std::find(other.begin(), other.end(), name) != other.end())
+                    fail(at(entry), orbit ? fmt::format("'{}' in effects.keep is an inertial effect of a [carrier] scene; "
+                                                        "an [orbit] scene keeps perturbations: {}",
+                                                        name, fmt::join(own, ", "))
+                                          : fmt::format("'{}' in effects.keep is a perturbation of an [orbit] scene; this "
+                                                        "scene keeps inertial effects of its carrier: {}",
+                                                        name, fmt::join(own, ", ")));
+                const std::string near = nearest_name(name, own);
                 fail(at(entry), fmt::format("unknown effect '{}' in effects.keep; {}", name,
-                                            near.empty() ? std::string("expected one of: relative, translation, "
-                                                                       "euler, centrifugal, coriolis")
+                                            near.empty() ? fmt::format("expected one of: {}", fmt::join(own, ", "))
                                                          : fmt::format("did you mean '{}'?", near)));
             }
             for (std::size_t j = 0; j < s.effects.keep.size(); ++j)
@@ -631,6 +660,128 @@ private:
                                                 name, s.effects.keep_pos[j].line, s.effects.keep_pos[j].column));
             s.effects.keep.push_back(name);
             s.effects.keep_pos.push_back(at(entry));
+        }
+    }
+
+    // [effects.custom] of an orbit scene: a disturbing function and/or an acceleration.
+    void read_custom_effects(Scene& s, const toml::table& t) const {
+        check_keys(t, {"disturbing_function", "acceleration"}, "in [effects.custom]");
+        if (const toml::node* r = t.get("disturbing_function"))
+            s.effects.disturbing_function = read_expr(*r, "effects.custom.disturbing_function");
+        if (const toml::node* a = t.get("acceleration"))
+            s.effects.acceleration = read_vec3(*a, "effects.custom.acceleration");
+        if (!s.effects.disturbing_function && !s.effects.acceleration)
+            fail(at(t), "[effects.custom] gives neither 'disturbing_function' nor 'acceleration'");
+    }
+
+    // [orbit]: the central body, the initial orbit (classical elements in degrees, or a state),
+    // and the formulation of the equations.
+    void read_orbit(Scene& s) const {
+        const toml::node* node = root_.get("orbit");
+        if (!node) return;
+        const toml::table& t = as_table(*node, "orbit");
+        check_keys(t, {"central_body", "elements", "state", "formulation"}, "in [orbit]");
+        Orbit o;
+        o.pos = at(t);
+        const toml::node& body = require(t, "central_body", "[orbit]");
+        const toml::table& b = as_table(body, "orbit.central_body");
+        check_keys(b, {"mu", "radius"}, "in 'orbit.central_body'");
+        o.central_body_pos = at(body);
+        o.mu = read_expr(require(b, "mu", "'orbit.central_body'"), "orbit.central_body.mu");
+        o.radius = read_expr(require(b, "radius", "'orbit.central_body'"), "orbit.central_body.radius");
+        const toml::node* elements = t.get("elements");
+        const toml::node* state = t.get("state");
+        if (elements && state)
+            fail(at(before(at(*elements), at(*state)) ? *state : *elements),
+                 "[orbit] gives both 'elements' and 'state'; give one initial orbit");
+        if (!elements && !state)
+            fail(o.pos, "missing required key 'elements' (or 'state') in [orbit]");
+        if (elements) {
+            o.initial_pos = at(*elements);
+            o.elements = read_elements(as_table(*elements, "orbit.elements"));
+        } else {
+            o.initial_pos = at(*state);
+            const toml::table& st = as_table(*state, "orbit.state");
+            check_keys(st, {"r", "v"}, "in 'orbit.state'");
+            std::array<double, 6> x{};
+            for (const auto& [key, offset] : {std::pair{"r", 0}, std::pair{"v", 3}}) {
+                const std::string path = std::string("orbit.state.") + key;
+                const toml::node& n = require(st, key, "'orbit.state'");
+                const toml::array* a = n.as_array();
+                if (!a) fail(at(n), fmt::format("'{}': expected an array of 3 numbers, got {}", path, type_name(n)));
+                if (a->size() != 3) fail(at(n), fmt::format("'{}': expected 3 components, got {}", path, a->size()));
+                for (std::size_t i = 0; i < 3; ++i)
+                    x[std::size_t(offset) + i] = read_number(*a->get(i), fmt::format("{}[{}]", path, i));
+            }
+            if (x[0] == 0 && x[1] == 0 && x[2] == 0)
+                fail(at(require(st, "r", "'orbit.state'")), "'orbit.state.r' is the centre of the central body");
+            o.state = x;
+        }
+        if (const toml::node* f = t.get("formulation")) {
+            o.formulation = read_string(*f, "orbit.formulation");
+            o.formulation_pos = at(*f);
+            const std::vector<std::string> names(orbit_formulation_names.begin(), orbit_formulation_names.end());
+            if (std::find(names.begin(), names.end(), o.formulation) == names.end()) {
+                const std::string near = nearest_name(o.formulation, names);
+                fail(at(*f), fmt::format("unknown orbit formulation '{}'; {}", o.formulation,
+                                         near.empty() ? fmt::format("expected one of {}", fmt::join(names, ", "))
+                                                      : fmt::format("did you mean '{}'?", near)));
+            }
+            if (o.formulation != "cowell" && o.formulation != "equinoctial")
+                fail(at(*f), fmt::format("the orbit formulation '{}' is not available yet; use \"cowell\" (Cartesian "
+                                         "equations; [formulation] kind = \"hamiltonian\" gives Hamilton's equations "
+                                         "of H = H0 - R) or \"equinoctial\"",
+                                         o.formulation));
+        }
+        s.orbit = std::move(o);
+    }
+
+    // Classical elements: a and e required; the angles (degrees) default to 0.
+    std::array<double, 6> read_elements(const toml::table& t) const {
+        check_keys(t, {"a", "e", "i", "raan", "argp", "mean_anomaly"}, "in 'orbit.elements'");
+        const double a = read_number(require(t, "a", "'orbit.elements'"), "orbit.elements.a");
+        const toml::node& en = require(t, "e", "'orbit.elements'");
+        const double e = read_number(en, "orbit.elements.e");
+        if (e < 0) fail(at(en), fmt::format("'orbit.elements.e' must not be negative, got {}", number_text(en)));
+        if (e == 1)
+            fail(at(en), "'orbit.elements.e' = 1 is a parabola, which classical elements with a cannot describe; give "
+                         "'orbit.state'");
+        if ((e < 1) != (a > 0))
+            fail(at(*t.get("a")), fmt::format("'orbit.elements.a' = {} does not fit e = {}: an ellipse (e < 1) has a > 0, "
+                                              "a hyperbola (e > 1) a < 0",
+                                              number_text(*t.get("a")), number_text(en)));
+        constexpr double degree = 3.14159265358979323846 / 180.0;
+        std::array<double, 6> el{a, e, 0, 0, 0, 0};
+        const char* angles[] = {"i", "raan", "argp", "mean_anomaly"};
+        for (std::size_t k = 0; k < 4; ++k) {
+            if (const toml::node* n = t.get(angles[k])) {
+                const double deg = read_number(*n, std::string("orbit.elements.") + angles[k]);
+                if (k == 0 && (deg < 0 || deg > 180))
+                    fail(at(*n), fmt::format("'orbit.elements.i' is an inclination in degrees, 0 to 180; got {}",
+                                             number_text(*n)));
+                el[2 + k] = deg * degree;
+            }
+        }
+        return el;
+    }
+
+    // An orbit scene describes its body by [orbit] alone: no carried bodies, energies, equations or
+    // forces beside it (perturbations go in [effects]).
+    void check_orbit_structure() const {
+        const toml::node* orbit = root_.get("orbit");
+        if (!orbit) return;
+        const std::pair<const char*, const char*> others[] = {
+            {"body", "[[body]]"},   {"lagrangian", "[lagrangian]"}, {"newtonian", "[newtonian]"},
+            {"carrier", "[carrier]"}, {"forces", "[forces]"},       {"reference", "[reference]"}};
+        for (const auto& [key, title] : others) {
+            const toml::node* other = root_.get(key);
+            if (!other) continue;
+            const bool orbit_later = before(at(*other), at(*orbit));
+            fail(at(orbit_later ? *orbit : *other),
+                 fmt::format("{} cannot be combined with {} (line {}); an orbit scene describes its body by [orbit] and "
+                             "its perturbations by [effects]",
+                             orbit_later ? "[orbit]" : title, orbit_later ? title : "[orbit]",
+                             at(orbit_later ? *other : *orbit).line));
         }
     }
 

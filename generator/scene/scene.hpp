@@ -108,8 +108,34 @@ inline constexpr std::array<std::string_view, 5> effect_names{"relative", "trans
 
 struct Effects {
     bool given = false;                  // false: keep all
-    std::vector<std::string> keep;       // each one of effect_names, no duplicates
+    std::vector<std::string> keep;       // each one of effect_names (orbit_effect_names in an orbit scene), no duplicates
     std::vector<SourcePos> keep_pos;     // position of each entry
+    // An orbit scene's [effects.custom]: a disturbing function R(x, y, z, t) (acceleration += ∇R)
+    // and a non-conservative acceleration in inertial axes (may use the velocity).
+    std::optional<Expr> disturbing_function;
+    std::optional<Vec3> acceleration;
+    SourcePos pos;                       // the [effects] table
+};
+
+// An orbit scene's perturbation library ([effects] keep in a scene with [orbit]); each names the
+// parameters it reads (docs/scene-format.md).
+inline constexpr std::array<std::string_view, 5> orbit_effect_names{"J2", "J3", "J4", "drag", "third_body"};
+// The formulations of an orbit scene's equations; "cowell" and "equinoctial" are built so far.
+inline constexpr std::array<std::string_view, 7> orbit_formulation_names{"cowell",   "encke",       "lagrange", "gauss",
+                                                                         "delaunay", "equinoctial", "mean"};
+
+// [orbit]: a point mass about a central body. The model's coordinates are the inertial
+// Cartesian x, y, z; the initial state comes from classical elements or is given directly.
+struct Orbit {
+    Expr mu, radius;                       // central_body: expressions of the parameters
+    SourcePos central_body_pos;
+    // a, e, i, raan, argp, mean_anomaly; the angles in radians (degrees in the file).
+    std::optional<std::array<double, 6>> elements;
+    std::optional<std::array<double, 6>> state;  // x, y, z, vx, vy, vz
+    SourcePos initial_pos;                 // the elements or state value
+    std::string formulation = "cowell";    // one of orbit_formulation_names
+    SourcePos formulation_pos;
+    SourcePos pos;                         // the [orbit] table
 };
 
 // The integrators `eomc simulate` offers: fixed-step ones take a step, adaptive ones tolerances.
@@ -206,6 +232,7 @@ struct Scene {
     SourcePos formulation_pos;
     std::optional<Reference> reference;
     std::optional<Newtonian> newtonian;  // instead of [[body]] or [lagrangian]
+    std::optional<Orbit> orbit;          // instead of [coordinates] and [[body]] / [lagrangian]
     Inverse inverse;
 };
 
