@@ -18,7 +18,7 @@ namespace {
 
 // Bumped whenever the C interface below changes; the loader refuses a library that reports
 // another value (a cache written by an older eomc).
-constexpr int adapter_abi = 3;  // 3: acceleration and events
+constexpr int adapter_abi = 4;  // 3: acceleration and events; 4: project
 
 // The adapter: C functions over double, so that the host needs no knowledge of the kernel's
 // C++ types. Parameters travel by position in parameter_names order, never by member name
@@ -64,6 +64,15 @@ concept HasEvents = requires(double t, const double* x, double* out, const typen
     M::event_terminal;
     M::template events<double>(t, x, out, p);
 };
+
+// Kernels whose state holds a unit quaternion have project().
+template <class M>
+concept HasProjection = requires(double* x) { M::template project<double>(x); };
+template <class M>
+void project(double* x) {
+    if constexpr (HasProjection<M>) M::template project<double>(x);
+    else (void)x;
+}
 
 template <class M>
 void acceleration(double t, const double* q, double* a, const void* p) {
@@ -135,6 +144,8 @@ EOMC_EXPORT void eomc_outputs(double t, const double* x, double* out, const void
 }
 
 EOMC_EXPORT int eomc_separable() { return HasAcceleration<K> ? 1 : 0; }
+EOMC_EXPORT int eomc_projects() { return HasProjection<K> ? 1 : 0; }
+EOMC_EXPORT void eomc_project(double* x) { project<K>(x); }
 EOMC_EXPORT void eomc_acceleration(double t, const double* q, double* a, const void* p) { acceleration<K>(t, q, a, p); }
 EOMC_EXPORT int eomc_n_events() { return n_events<K>(); }
 EOMC_EXPORT const char* eomc_event_name(int i) { return event_name<K>(i); }
@@ -233,6 +244,8 @@ KernelLibrary KernelLibrary::load(const std::string& header_text, const std::str
     lib.invariants_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_invariants", p);
     lib.outputs_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_outputs", p);
     lib.separable_ = symbol<int (*)()>(h, "eomc_separable", p)() != 0;
+    lib.projects_ = symbol<int (*)()>(h, "eomc_projects", p)() != 0;
+    lib.project_ = symbol<void (*)(double*)>(h, "eomc_project", p);
     lib.acceleration_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_acceleration", p);
     const int n_ev = symbol<int (*)()>(h, "eomc_n_events", p)();
     const auto event_name = symbol<const char* (*)(int)>(h, "eomc_event_name", p);
@@ -277,6 +290,8 @@ KernelLibrary& KernelLibrary::operator=(KernelLibrary&& other) noexcept {
         invariants_ = other.invariants_;
         outputs_ = other.outputs_;
         separable_ = other.separable_;
+        projects_ = other.projects_;
+        project_ = other.project_;
         acceleration_ = other.acceleration_;
         event_names_ = std::move(other.event_names_);
         event_directions_ = std::move(other.event_directions_);

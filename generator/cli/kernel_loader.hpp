@@ -54,6 +54,11 @@ public:
     // Quantities written beside the state (a free carrier's reactions), n_outputs doubles.
     void outputs(double t, const double* x, double* out, const Parameters& p) const { outputs_(t, x, out, p.get()); }
 
+    // Kernels whose state holds a unit quaternion (a free carrier's attitude) put it back on
+    // |e| = 1 in place; project() does nothing for the others.
+    bool projects() const { return projects_; }
+    void project(double* x) const { project_(x); }
+
     // q̈ = a(t, q) for separable systems (the splitting methods): q and a of n_coordinates =
     // n_state / 2 doubles. Only when separable(); otherwise the kernel has no acceleration().
     bool separable() const { return separable_; }
@@ -89,6 +94,8 @@ private:
     void (*invariants_)(double, const double*, double*, const void*) = nullptr;
     void (*outputs_)(double, const double*, double*, const void*) = nullptr;
     bool separable_ = false;
+    bool projects_ = false;
+    void (*project_)(double*) = nullptr;
     void (*acceleration_)(double, const double*, double*, const void*) = nullptr;
     std::vector<std::string> event_names_;
     std::vector<int> event_directions_;

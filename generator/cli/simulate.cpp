@@ -267,9 +267,20 @@ SimulationResult simulate(const SimulationRequest& request) {
     CsvOutput csv(request.csv_path, columns);
     std::vector<double> outputs(lib.output_names().size());
 
-    auto system = [&](double t, const State<double>& xs, State<double>& dxdt) {
-        lib.rhs(t, xs.data(), dxdt.data(), parameters);
+    // The kernel as a runtime system. One whose state holds a unit quaternion puts it back on
+    // |e| = 1 after every step (runtime::Projecting); for the others project() changes nothing,
+    // and an unchanged state costs the steppers nothing.
+    struct KernelSystem {
+        const KernelLibrary& lib;
+        const KernelLibrary::Parameters& parameters;
+        void operator()(double t, const State<double>& xs, State<double>& dxdt) const {
+            lib.rhs(t, xs.data(), dxdt.data(), parameters);
+        }
+        void project(State<double>& xs) const {
+            if (lib.projects()) lib.project(xs.data());
+        }
     };
+    KernelSystem system{lib, parameters};
     auto acceleration = [&](double t, const State<double>& q, State<double>& a) {
         lib.acceleration(t, q.data(), a.data(), parameters);
     };

@@ -27,6 +27,13 @@ concept FixedStepper = System<Sys, S> && requires(Stepper& st, Sys& sys, State<S
   { st.rhs_evals() } -> std::convertible_to<std::size_t>;
 };
 
+// A system that keeps its state on a manifold (a unit quaternion): project(x) maps x back onto
+// it. The drivers call it after every accepted step, once the observer and the events have seen
+// the step as integrated (the dense output describes that one). The steppers notice the edited
+// state and recompute their first-same-as-last derivative and drop the compensation.
+template <class Sys, class S>
+concept Projecting = requires(Sys& sys, State<S>& x) { sys.project(x); };
+
 namespace detail {
 
 // on_step(t_old, t_new, x) may return void, or bool: false stops the loop after that step.
@@ -62,7 +69,9 @@ Stats fixed_loop(Stepper& stepper, Sys& sys, State<S>& x, S t0, S t1, S h, NoPro
     t = t_next;
     ++stats.accepted;
     checker.check_state(t, x);
-    if (!keep_going(on_step, t_old, t, static_cast<const State<S>&>(x)) || last) break;
+    const bool go_on = keep_going(on_step, t_old, t, static_cast<const State<S>&>(x));
+    if constexpr (Projecting<Sys, S>) sys.project(x);
+    if (!go_on || last) break;
   }
   return stats;
 }
@@ -133,7 +142,9 @@ Stats adaptive_loop(Stepper<S>& stepper, Sys& sys, State<S>& x, S t0, S t1, S h0
       if (last) t = t1;  // t_old + (t1 - t_old) can miss t1 by an ulp
       checker.check_state(t, x);
       checker.check_derivative(t, stepper.derivative());
-      if (!keep_going(on_accept, t_old, t, static_cast<const State<S>&>(x)) || last) break;
+      const bool go_on = keep_going(on_accept, t_old, t, static_cast<const State<S>&>(x));
+      if constexpr (Projecting<Sys, S>) sys.project(x);
+      if (!go_on || last) break;
     } else {
       ++stats.rejected;
     }
