@@ -92,8 +92,10 @@ void apply_overrides(const SimulationRequest& r, const KernelLibrary& lib, std::
     }
 }
 
-// The CSV goes to a temporary file next to the target and is renamed over it only after a
-// successful integration: a failed run leaves neither a half-written file nor a clobbered old one.
+// The CSV goes to a temporary file next to the target and is renamed over it when the run ends:
+// after a successful integration, or after one that failed mid-run (a collision, a step-size
+// collapse), when it holds every row up to the last accepted state. A run that fails in any other
+// way (bad input, an I/O error) leaves neither a half-written file nor a clobbered old one.
 class CsvOutput {
 public:
     CsvOutput(const std::string& path, const std::vector<std::string>& columns) : path_(path) {
@@ -353,13 +355,18 @@ SimulationResult simulate(const SimulationRequest& request) {
         else if (name == "dop853") outcome = adaptive(runtime::Dop853<double>{});
         else outcome = adaptive(runtime::Dopri5<double>{});
     } catch (const runtime::IntegrationError& e) {
-        // Say which variable failed and where the solution was last seen; `csv` removes its temporary.
+        // Say which variable failed and where the solution was last seen; the rows up to there are
+        // a valid trajectory, kept for the post-mortem.
         std::string message = fmt::format("simulating {} with {}: {}", lib.scene_name(), request.integrator, e.what());
         if (e.component() < lib.state_names().size())
             message += fmt::format("; component {} is {}", e.component(), lib.state_names()[e.component()]);
         message += fmt::format("; last accepted state at t = {}:", number(t_last));
         for (std::size_t i = 0; i < x_last.size(); ++i)
             message += fmt::format(" {} = {}", lib.state_names()[i], number(x_last[i]));
+        if (!request.csv_path.empty()) {
+            csv.commit();
+            message += fmt::format("; {} holds the {} rows up to t = {}", request.csv_path, csv.rows(), number(t_last));
+        }
         throw runtime::IntegrationError(e.kind(), e.t(), message, e.component());
     }
     result.wall_s = seconds_since(start);
