@@ -18,7 +18,7 @@ namespace {
 
 // Bumped whenever the C interface below changes; the loader refuses a library that reports
 // another value (a cache written by an older eomc).
-constexpr int adapter_abi = 4;  // 3: acceleration and events; 4: project
+constexpr int adapter_abi = 5;  // 3: acceleration and events; 4: project; 5: variational_rhs
 
 // The adapter: C functions over double, so that the host needs no knowledge of the kernel's
 // C++ types. Parameters travel by position in parameter_names order, never by member name
@@ -64,6 +64,18 @@ concept HasEvents = requires(double t, const double* x, double* out, const typen
     M::event_terminal;
     M::template events<double>(t, x, out, p);
 };
+
+// Kernels generated with --variational have variational_rhs() over (x, Φ).
+template <class M>
+concept HasVariational = requires(double t, const double* y, double* dydt, const typename M::Parameters& p) {
+    M::n_variational;
+    M::template variational_rhs<double>(t, y, dydt, p);
+};
+template <class M>
+void variational_rhs(double t, const double* y, double* dydt, const void* p) {
+    if constexpr (HasVariational<M>) M::template variational_rhs<double>(t, y, dydt, *static_cast<const typename M::Parameters*>(p));
+    else (void)t, (void)y, (void)dydt, (void)p;
+}
 
 // Kernels whose state holds a unit quaternion have project().
 template <class M>
@@ -145,6 +157,10 @@ EOMC_EXPORT void eomc_outputs(double t, const double* x, double* out, const void
 
 EOMC_EXPORT int eomc_separable() { return HasAcceleration<K> ? 1 : 0; }
 EOMC_EXPORT int eomc_projects() { return HasProjection<K> ? 1 : 0; }
+EOMC_EXPORT int eomc_variational() { return HasVariational<K> ? 1 : 0; }
+EOMC_EXPORT void eomc_variational_rhs(double t, const double* y, double* dydt, const void* p) {
+    variational_rhs<K>(t, y, dydt, p);
+}
 EOMC_EXPORT void eomc_project(double* x) { project<K>(x); }
 EOMC_EXPORT void eomc_acceleration(double t, const double* q, double* a, const void* p) { acceleration<K>(t, q, a, p); }
 EOMC_EXPORT int eomc_n_events() { return n_events<K>(); }
@@ -245,6 +261,8 @@ KernelLibrary KernelLibrary::load(const std::string& header_text, const std::str
     lib.outputs_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_outputs", p);
     lib.separable_ = symbol<int (*)()>(h, "eomc_separable", p)() != 0;
     lib.projects_ = symbol<int (*)()>(h, "eomc_projects", p)() != 0;
+    lib.variational_ = symbol<int (*)()>(h, "eomc_variational", p)() != 0;
+    lib.variational_rhs_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_variational_rhs", p);
     lib.project_ = symbol<void (*)(double*)>(h, "eomc_project", p);
     lib.acceleration_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_acceleration", p);
     const int n_ev = symbol<int (*)()>(h, "eomc_n_events", p)();
@@ -291,6 +309,8 @@ KernelLibrary& KernelLibrary::operator=(KernelLibrary&& other) noexcept {
         outputs_ = other.outputs_;
         separable_ = other.separable_;
         projects_ = other.projects_;
+        variational_ = other.variational_;
+        variational_rhs_ = other.variational_rhs_;
         project_ = other.project_;
         acceleration_ = other.acceleration_;
         event_names_ = std::move(other.event_names_);

@@ -54,6 +54,12 @@ public:
     // Quantities written beside the state (a free carrier's reactions), n_outputs doubles.
     void outputs(double t, const double* x, double* out, const Parameters& p) const { outputs_(t, x, out, p.get()); }
 
+    // Kernels generated with --variational: the rates of y = (x, Φ), Φ row-major n_state × n_state.
+    bool variational() const { return variational_; }
+    void variational_rhs(double t, const double* y, double* dydt, const Parameters& p) const {
+        variational_rhs_(t, y, dydt, p.get());
+    }
+
     // Kernels whose state holds a unit quaternion (a free carrier's attitude) put it back on
     // |e| = 1 in place; project() does nothing for the others.
     bool projects() const { return projects_; }
@@ -95,6 +101,8 @@ private:
     void (*outputs_)(double, const double*, double*, const void*) = nullptr;
     bool separable_ = false;
     bool projects_ = false;
+    bool variational_ = false;
+    void (*variational_rhs_)(double, const double*, double*, const void*) = nullptr;
     void (*project_)(double*) = nullptr;
     void (*acceleration_)(double, const double*, double*, const void*) = nullptr;
     std::vector<std::string> event_names_;

@@ -177,6 +177,7 @@ cli::SimulationRequest simulation_request(const Pipeline& p, const std::string& 
     r.t_end = o.t_end.value_or(d.t_end);
     r.integrator = o.integrator.empty() ? d.integrator : o.integrator;
     r.integrator_pos = o.integrator.empty() ? d.integrator_pos : SourcePos{"--integrator"};
+    r.variational = p.variational;
     if (!o.compensated.empty()) r.compensated = o.compensated == "on";
     else r.compensated = d.compensated;
     r.rtol = o.rtol.value_or(d.rtol);
@@ -328,15 +329,16 @@ int main(int argc, char** argv) {
     generate->add_flag("--timings", timings, "print the time of each stage on stderr (`timing <stage> <seconds>`)");
     add_hamiltonian_flag(generate);
     bool variational = false;
-    generate->add_flag("--variational", variational,
-                       "also emit variational_rhs: the state extended by the state-transition matrix, "
-                       "Φ̇ = (∂ẋ/∂x) Φ (seed §2.9)");
+    auto add_variational_flag = [&](CLI::App* cmd, const char* what) { cmd->add_flag("--variational", variational, what); };
+    add_variational_flag(generate, "also emit variational_rhs: the state extended by the state-transition matrix, "
+                                   "Φ̇ = (∂ẋ/∂x) Φ (seed §2.9)");
 
     SimulateOptions sim;
     auto* simulate = app.add_subcommand("simulate", "generate, compile, integrate; write CSV and a summary");
     simulate->add_option("scene", scene_path, "scene file (TOML)")->required();
     add_simulate_options(simulate, sim);
     add_hamiltonian_flag(simulate);
+    add_variational_flag(simulate, "integrate the state-transition matrix Φ too (Φ(0) = I; CSV columns Phi_<i>_<j>)");
 
     auto* equilibria = app.add_subcommand("equilibria", "relative equilibria of a steady carrier and their stability");
     equilibria->add_option("scene", scene_path, "scene file (TOML)")->required();
@@ -354,6 +356,7 @@ int main(int argc, char** argv) {
     run->add_option("-d,--dir", out_dir, "directory for the header and the CSV (default: .)");
     add_simulate_options(run, sim);
     add_hamiltonian_flag(run);
+    add_variational_flag(run, "integrate the state-transition matrix Φ too (Φ(0) = I; CSV columns Phi_<i>_<j>)");
 
     BenchOptions bo;
     auto* bench = app.add_subcommand(

@@ -260,9 +260,27 @@ SimulationResult simulate(const SimulationRequest& request) {
 
     check_separable(request.integrator, request.integrator_pos, lib.separable(), lib.scene_name());
 
+    // The variational run extends the state by Φ, starting from the identity.
+    std::vector<std::string> state_names = lib.state_names();
+    if (request.variational) {
+        if (!lib.variational())
+            throw std::runtime_error("the kernel has no variational_rhs: generate it with --variational");
+        if (scene::is_splitting(request.integrator))
+            throw InputError(request.integrator_pos,
+                             fmt::format("the {} integrator steps q and q̇ by the acceleration alone and cannot carry "
+                                         "the variational equations; use rk4, gl4, gl6, gl8, dopri5 or dop853",
+                                         request.integrator));
+        const std::size_t n = x.size();
+        x.resize(n + n * n, 0.0);
+        for (std::size_t i = 0; i < n; ++i) {
+            x[n + i * n + i] = 1.0;
+            for (std::size_t j = 0; j < n; ++j) state_names.push_back(fmt::format("Phi_{}_{}", i, j));
+        }
+    }
+
     const std::size_t n_inv = lib.invariant_names().size(), n_ev = lib.event_names().size();
     std::vector<std::string> columns{"t"};
-    columns.insert(columns.end(), lib.state_names().begin(), lib.state_names().end());
+    columns.insert(columns.end(), state_names.begin(), state_names.end());
     columns.insert(columns.end(), lib.invariant_names().begin(), lib.invariant_names().end());
     columns.insert(columns.end(), lib.output_names().begin(), lib.output_names().end());
     if (n_ev > 0) columns.push_back("event");  // only for scenes with [events]: other CSVs keep their shape
@@ -275,14 +293,16 @@ SimulationResult simulate(const SimulationRequest& request) {
     struct KernelSystem {
         const KernelLibrary& lib;
         const KernelLibrary::Parameters& parameters;
+        bool variational;
         void operator()(double t, const State<double>& xs, State<double>& dxdt) const {
-            lib.rhs(t, xs.data(), dxdt.data(), parameters);
+            if (variational) lib.variational_rhs(t, xs.data(), dxdt.data(), parameters);
+            else lib.rhs(t, xs.data(), dxdt.data(), parameters);
         }
         void project(State<double>& xs) const {
             if (lib.projects()) lib.project(xs.data());
         }
     };
-    KernelSystem system{lib, parameters};
+    KernelSystem system{lib, parameters, request.variational};
     auto acceleration = [&](double t, const State<double>& q, State<double>& a) {
         lib.acceleration(t, q.data(), a.data(), parameters);
     };
@@ -358,11 +378,11 @@ SimulationResult simulate(const SimulationRequest& request) {
         // Say which variable failed and where the solution was last seen; the rows up to there are
         // a valid trajectory, kept for the post-mortem.
         std::string message = fmt::format("simulating {} with {}: {}", lib.scene_name(), request.integrator, e.what());
-        if (e.component() < lib.state_names().size())
-            message += fmt::format("; component {} is {}", e.component(), lib.state_names()[e.component()]);
+        if (e.component() < state_names.size())
+            message += fmt::format("; component {} is {}", e.component(), state_names[e.component()]);
         message += fmt::format("; last accepted state at t = {}:", number(t_last));
         for (std::size_t i = 0; i < x_last.size(); ++i)
-            message += fmt::format(" {} = {}", lib.state_names()[i], number(x_last[i]));
+            message += fmt::format(" {} = {}", state_names[i], number(x_last[i]));
         if (!request.csv_path.empty()) {
             csv.commit();
             message += fmt::format("; {} holds the {} rows up to t = {}", request.csv_path, csv.rows(), number(t_last));
@@ -375,7 +395,7 @@ SimulationResult simulate(const SimulationRequest& request) {
     result.t = outcome.t;
     if (outcome.stopped) result.stopped_by = lib.event_names()[outcome.event];
     const runtime::Stats& stats = outcome.stats;
-    for (std::size_t i = 0; i < x.size(); ++i) result.state.emplace_back(lib.state_names()[i], x[i]);
+    for (std::size_t i = 0; i < x.size(); ++i) result.state.emplace_back(state_names[i], x[i]);
     for (std::size_t i = 0; i < n_inv; ++i)
         result.invariants.push_back({lib.invariant_names()[i], inv0[i], inv[i], max_drift[i]});
     result.steps = stats.accepted;

@@ -28,6 +28,10 @@ struct SimulationRequest {
     std::string summary_format = "text";                    // "text" | "json"
     std::string cache_dir;                                  // "" = $XDG_CACHE_HOME/eomc or ~/.cache/eomc
     bool progress = true;  // progress bar on stderr, only when stderr is a terminal and the run lasts > ~1 s
+    // Integrate the state-transition matrix too: the state is (x, Φ) with Φ(0) = I, Φ row-major,
+    // its entries named Phi_<i>_<j> (indices into the kernel's state). The kernel must have been
+    // generated with --variational.
+    bool variational = false;
 };
 
 struct InvariantReport {
