@@ -208,20 +208,6 @@ void print_text(const model::Model& model, const mechanics::Equations& eqs, std:
         out << "  " << inv.name << ": " << inv.description << "\n    = " << text(display_form(inv.value)) << "\n";
 }
 
-std::string latex_escape(const std::string& s) {
-    std::string out;
-    for (char c : s) {
-        switch (c) {
-            case '_': case '#': case '%': case '&': case '$': case '{': case '}': out += '\\'; out += c; break;
-            case '\\': out += R"(\textbackslash{})"; break;
-            case '^': out += R"(\^{})"; break;
-            case '~': out += R"(\~{})"; break;
-            default: out += c;
-        }
-    }
-    return out;
-}
-
 void print_latex(const model::Model& model, const mechanics::Equations& eqs, std::ostream& out) {
     out << "\\documentclass[10pt]{article}\n\\usepackage[utf8]{inputenc}\n\\usepackage{amsmath}\n"
         << "\\allowdisplaybreaks\n\\begin{document}\n"

@@ -45,20 +45,6 @@ std::string matrix_latex(const GiNaC::matrix& m) {
     return out + "\\end{pmatrix}";
 }
 
-std::string latex_escape(const std::string& s) {
-    std::string out;
-    for (char c : s) {
-        switch (c) {
-            case '_': case '#': case '%': case '&': case '$': case '{': case '}': out += '\\'; out += c; break;
-            case '\\': out += R"(\textbackslash{})"; break;
-            case '^': out += R"(\^{})"; break;
-            case '~': out += R"(\~{})"; break;
-            default: out += c;
-        }
-    }
-    return out;
-}
-
 // Prose for LaTeX: the Unicode of the step texts kept (inputenc utf8 handles the letters;
 // the few mathematical signs are mapped), underscores and braces escaped.
 std::string latex_prose(const std::string& s) {
