@@ -144,7 +144,7 @@ void compile(const CompileRequest& request, const fs::path& target) {
     TempDir dir("eomc-build-");
     for (const auto& file : request.files) write_file(dir.path() / file.name, file.text);
 
-    std::string tmpl = (target.parent_path() / ("." + target.filename().string() + ".XXXXXX")).string();
+    std::string tmpl = (target.parent_path() / fmt::format(".{}.XXXXXX", target.filename().string())).string();
     const int fd = ::mkstemp(tmpl.data());
     if (fd < 0) throw std::runtime_error(fmt::format("cannot create {}: {}", tmpl, std::strerror(errno)));
     ::close(fd);
