@@ -269,6 +269,19 @@ std::optional<FactorRoots> solve_factor(const ex& factor, const ex& q, const GiN
     return std::nullopt;
 }
 
+// The value of a closed form at the parameters' defaults; nullopt when it is not real there
+// (asin/acos of an argument beyond ±1, the square root of a negative discriminant).
+std::optional<double> at_defaults(const model::Model& model, const ex& value) {
+    GiNaC::exmap values;
+    for (const auto& p : model.parameters) values[p.symbol] = p.value;
+    const ex v = value.subs(values).evalf();
+    if (!GiNaC::is_a<GiNaC::numeric>(v)) return std::nullopt;
+    const GiNaC::numeric n = GiNaC::ex_to<GiNaC::numeric>(v);
+    const double re = GiNaC::real(n).to_double(), im = GiNaC::imag(n).to_double();
+    if (!std::isfinite(re) || std::abs(im) > 1e-12 * (1 + std::abs(re))) return std::nullopt;
+    return re;
+}
+
 struct ClosedForm {
     std::vector<Root> q;          // per coordinate
     std::vector<bool> periodic;   // per coordinate: its value came through sin/cos
@@ -381,10 +394,8 @@ private:
     }
 
     bool holds_at_defaults(const ex& e) const {
-        GiNaC::exmap values;
-        for (const auto& p : model_.parameters) values[p.symbol] = p.value;
-        const ex v = e.subs(values).evalf();
-        return GiNaC::is_a<GiNaC::numeric>(v) && std::abs(GiNaC::ex_to<GiNaC::numeric>(v).to_double()) < 1e-12;
+        const auto v = at_defaults(model_, e);
+        return v && std::abs(*v) < 1e-12;
     }
 
     const model::Model& model_;
@@ -393,18 +404,6 @@ private:
     bool* complete_ = nullptr;
 };
 
-// The value of a closed form at the parameters' defaults; nullopt when it is not real there
-// (asin/acos of an argument beyond ±1, the square root of a negative discriminant).
-std::optional<double> at_defaults(const model::Model& model, const ex& value) {
-    GiNaC::exmap values;
-    for (const auto& p : model.parameters) values[p.symbol] = p.value;
-    const ex v = value.subs(values).evalf();
-    if (!GiNaC::is_a<GiNaC::numeric>(v)) return std::nullopt;
-    const GiNaC::numeric n = GiNaC::ex_to<GiNaC::numeric>(v);
-    const double re = GiNaC::real(n).to_double(), im = GiNaC::imag(n).to_double();
-    if (!std::isfinite(re) || std::abs(im) > 1e-12 * (1 + std::abs(re))) return std::nullopt;
-    return re;
-}
 
 }  // namespace
 

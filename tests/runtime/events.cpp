@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "eomc/runtime/runtime.hpp"
+#include "../support/pendulum.hpp"
 
 namespace rt = eomc::runtime;
 
@@ -91,18 +92,7 @@ void check_projectile(const std::string& method, Run&& run) {
 // K(k) = pi / (2 AGM(1, sqrt(1 - k^2))). theta crosses zero downwards at T/4 + n T and upwards at
 // 3T/4 + n T.
 constexpr double w0 = 2.0, theta0 = 2.0;
-double agm(double a, double b) {
-  for (int i = 0; i < 64 && a != b; ++i) {
-    const double m = (a + b) / 2;
-    b = std::sqrt(a * b);
-    a = m;
-  }
-  return a;
-}
-double pendulum_period() {
-  const double k = std::sin(theta0 / 2);
-  return 4 * (pi / (2 * agm(1.0, std::sqrt(1 - k * k)))) / w0;
-}
+double pendulum_period() { return test_support::pendulum_period(w0, theta0); }
 struct PendulumRhs {
   void operator()(double, const rt::State<double>& x, rt::State<double>& dxdt) const {
     dxdt[0] = x[1];

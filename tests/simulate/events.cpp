@@ -18,6 +18,7 @@
 #include "model/model.hpp"
 #include "scene/scene.hpp"
 #include "support/diagnostic.hpp"
+#include "../support/pendulum.hpp"
 
 namespace fs = std::filesystem;
 using eomc::cli::SimulationRequest;
@@ -88,15 +89,6 @@ SimulationRequest request(const Kernel& k, const std::string& integrator, double
     r.cache_dir = cache_dir;
     r.progress = false;
     return r;
-}
-
-double agm(double a, double b) {
-    for (int i = 0; i < 64 && a != b; ++i) {
-        const double m = (a + b) / 2;
-        b = std::sqrt(a * b);
-        a = m;
-    }
-    return a;
 }
 
 // See tests/runtime/events.cpp: the projectile's solution is quadratic, reproduced exactly by
@@ -170,8 +162,7 @@ BOOST_AUTO_TEST_CASE(events_of_a_hamiltonian_kernel_read_the_velocity_through_dH
 }
 
 BOOST_AUTO_TEST_CASE(pendulum_crossings_and_direction_filtering) {
-    const double k = std::sin(theta0 / 2);
-    const double T = 4 * (pi / (2 * agm(1.0, std::sqrt(1 - k * k)))) / w0;
+    const double T = test_support::pendulum_period(w0, theta0);
     const int periods = 4;
     const fs::path dir = fs::path(EOMC_BINARY_DIR) / "test-output";
     fs::create_directories(dir);
