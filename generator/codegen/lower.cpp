@@ -7,8 +7,6 @@
 
 #include "codegen/kernel_ir.hpp"
 #include "mechanics/differentiation.hpp"
-#include "mechanics/equinoctial.hpp"
-#include "mechanics/inverse_problem.hpp"
 
 namespace eomc::codegen {
 
@@ -147,29 +145,18 @@ KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form,
         events.push_back(e.value);
     }
     if (!events.empty()) ir.events = eliminate_common_subexpressions(events, prefix);
+    std::vector<ex> residuals;
+    for (const auto& r : form.santilli_residuals) {
+        ir.santilli_residual_names.push_back(r.name);
+        residuals.push_back(r.value);
+    }
+    if (!residuals.empty()) ir.santilli_residuals = eliminate_common_subexpressions(residuals, prefix);
     t.invariants = lap();
     return ir;
 }
 
 KernelIR lower(const model::Model& model, const mechanics::Equations& equations, LoweringTimes* times) {
-    // An orbit scene's formulation decides what the kernel integrates; the equations derived
-    // (Cowell's) are the same either way.
-    if (model.orbit && model.orbit->formulation == "equinoctial")
-        return lower(model, mechanics::equinoctial_form(model, equations), times);
-    const mechanics::FirstOrderForm form = mechanics::first_order_form(model, equations);
-    KernelIR ir = lower(model, form, times);
-    // A scene given by its equations carries the residuals of its self-adjointness
-    // conditions, so that a simulation can watch them along its trajectory.
-    if (model.newtonian) {
-        std::vector<ex> residuals;
-        const auto fundamental = mechanics::inverse::forms(model, equations).fundamental;
-        for (const auto& r : mechanics::inverse::santilli_conditions(model, fundamental)) {
-            ir.santilli_residual_names.push_back(mechanics::inverse::label(model, r));
-            residuals.push_back(r.value);
-        }
-        ir.santilli_residuals = eliminate_common_subexpressions(residuals, temporary_prefix(model, form));
-    }
-    return ir;
+    return lower(model, mechanics::first_order_form(model, equations), times);
 }
 
 }  // namespace eomc::codegen

@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include "mechanics/equinoctial.hpp"
+#include "mechanics/inverse_problem.hpp"
 #include "support/diagnostic.hpp"
 
 namespace eomc::mechanics {
@@ -71,6 +73,9 @@ void add_carrier_kinematics(const model::Model& model, FirstOrderForm& form) {
 }  // namespace
 
 FirstOrderForm first_order_form(const model::Model& model, const Equations& eqs) {
+    // An orbit scene's formulation decides what the kernel integrates; the equations derived
+    // (Cowell's) are the same either way.
+    if (model.orbit && model.orbit->formulation == "equinoctial") return equinoctial_form(model, eqs);
     FirstOrderForm form;
     const std::size_t n = model.coordinates.size();
     form.n_coordinates = n;
@@ -102,6 +107,11 @@ FirstOrderForm first_order_form(const model::Model& model, const Equations& eqs)
     form.invariants = eqs.invariants;
     for (const auto& e : model.events) form.events.push_back({e.name, e.when, e.direction, e.terminal});
     form.separable = is_separable(model, form);
+    if (model.newtonian) {
+        const auto fundamental = inverse::forms(model, eqs).fundamental;
+        for (const auto& r : inverse::santilli_conditions(model, fundamental))
+            form.santilli_residuals.push_back({inverse::label(model, r), r.value});
+    }
     return form;
 }
 

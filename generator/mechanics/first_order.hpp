@@ -60,6 +60,10 @@ struct FirstOrderForm {
 
     std::vector<EventFunction> events;
 
+    // A Newtonian scene's Santilli conditions S1–S5 as residuals (empty otherwise): the kernel
+    // carries them so that a simulation can watch them along its trajectory.
+    std::vector<NamedExpression> santilli_residuals;
+
     // q̈ = a(t, q) alone, M constant: the symplectic splitting methods apply.
     bool separable = false;
     // First state index of each unit quaternion (a free carrier's attitude): the kernel's
@@ -70,7 +74,8 @@ struct FirstOrderForm {
 };
 
 // Lagrange's equations (with a free carrier's quasi-velocities and kinematics, when there
-// is one) as the first-order system x = (q, u, kinematic states).
+// is one) as the first-order system x = (q, u, kinematic states); for an orbit scene in
+// equinoctial elements, Gauss's equations in those (mechanics/equinoctial.hpp) instead.
 FirstOrderForm first_order_form(const model::Model& model, const Equations& equations);
 
 }  // namespace eomc::mechanics
