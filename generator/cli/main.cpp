@@ -79,8 +79,12 @@ struct Pipeline {
     bool variational = false;                                // emit variational_rhs too (--variational)
 };
 
-Pipeline front_end(const std::string& scene_path, bool hamiltonian, StageClock* clock = nullptr) {
-    const scene::Scene scene = scene::parse_scene_file(scene_path);
+// `orbit_formulation` ("" = the scene's own) is --orbit-formulation.
+Pipeline front_end(const std::string& scene_path, bool hamiltonian, const std::string& orbit_formulation,
+                   StageClock* clock = nullptr) {
+    scene::Scene scene = scene::parse_scene_file(scene_path);
+    if (!orbit_formulation.empty())
+        scene::set_orbit_formulation(scene, orbit_formulation, SourcePos{"--orbit-formulation " + orbit_formulation});
     Pipeline p{model::build_model(scene), {}, std::nullopt};
     if (clock) clock->lap("parse");
     p.equations = mechanics::derive(p.model);
@@ -316,11 +320,19 @@ int main(int argc, char** argv) {
                       "\"hamiltonian\")");
     };
 
+    std::string orbit_formulation;
+    auto add_orbit_formulation = [&](CLI::App* cmd) {
+        cmd->add_option("--orbit-formulation", orbit_formulation,
+                        "an orbit scene in another formulation (cowell, encke, lagrange, gauss, delaunay, equinoctial, "
+                        "mean); the kernel's name gains _<formulation>");
+    };
+
     auto* derive = app.add_subcommand("derive", "print the derivation (text, LaTeX or JSON)");
     derive->add_option("scene", scene_path, "scene file (TOML)")->required();
     derive->add_option("--format", format, "text | latex | json")->check(CLI::IsMember({"text", "latex", "json"}));
     derive->add_option("-o,--output", output, "write to FILE instead of standard output");
     add_hamiltonian_flag(derive);
+    add_orbit_formulation(derive);
 
     bool timings = false;
     auto* generate = app.add_subcommand("generate", "emit the C++ kernel header <name>.hpp");
@@ -328,6 +340,7 @@ int main(int argc, char** argv) {
     generate->add_option("-o,--output-dir", out_dir, "directory for the header (default: .)");
     generate->add_flag("--timings", timings, "print the time of each stage on stderr (`timing <stage> <seconds>`)");
     add_hamiltonian_flag(generate);
+    add_orbit_formulation(generate);
     bool variational = false;
     auto add_variational_flag = [&](CLI::App* cmd, const char* what) { cmd->add_flag("--variational", variational, what); };
     add_variational_flag(generate, "also emit variational_rhs: the state extended by the state-transition matrix, "
@@ -338,6 +351,7 @@ int main(int argc, char** argv) {
     simulate->add_option("scene", scene_path, "scene file (TOML)")->required();
     add_simulate_options(simulate, sim);
     add_hamiltonian_flag(simulate);
+    add_orbit_formulation(simulate);
     add_variational_flag(simulate, "integrate the state-transition matrix Φ too (Φ(0) = I; CSV columns Phi_<i>_<j>)");
 
     auto* equilibria = app.add_subcommand("equilibria", "relative equilibria of a steady carrier and their stability");
@@ -356,6 +370,7 @@ int main(int argc, char** argv) {
     run->add_option("-d,--dir", out_dir, "directory for the header and the CSV (default: .)");
     add_simulate_options(run, sim);
     add_hamiltonian_flag(run);
+    add_orbit_formulation(run);
     add_variational_flag(run, "integrate the state-transition matrix Φ too (Φ(0) = I; CSV columns Phi_<i>_<j>)");
 
     BenchOptions bo;
@@ -379,6 +394,7 @@ int main(int argc, char** argv) {
                       "vector (default: the container eomc's runtime steps) | array (std::array of the kernel's size)")
         ->check(CLI::IsMember({"vector", "array"}));
     bench->add_option("--cache-dir", bo.cache_dir, "where compiled programs are kept (default ~/.cache/eomc)");
+    add_orbit_formulation(bench);
 
     // Bad flags and values are bad input like any other: exit 2 (CLI11 would use its own codes).
     try {
@@ -390,7 +406,7 @@ int main(int argc, char** argv) {
 
     try {
         StageClock clock;
-        Pipeline p = front_end(scene_path, hamiltonian, timings ? &clock : nullptr);
+        Pipeline p = front_end(scene_path, hamiltonian, orbit_formulation, timings ? &clock : nullptr);
         p.variational = variational;
         const mechanics::CanonicalEquations* canonical = p.canonical ? &*p.canonical : nullptr;
         if (derive->parsed()) {

@@ -231,7 +231,7 @@ void build_orbit(const scene::Scene& scene, SymbolTable& symbols, Model& model) 
     const scene::Orbit& given = *scene.orbit;
     Orbit orbit;
     orbit.formulation = given.formulation;
-    orbit.formulation_pos = given.formulation_pos.known() ? given.formulation_pos : given.pos;
+    orbit.formulation_pos = given.formulation_pos.file.empty() ? given.pos : given.formulation_pos;
     // The equinoctial kernel's state names must stay free.
     if (given.formulation == "equinoctial")
         for (const auto& p : model.parameters)

@@ -720,18 +720,7 @@ private:
         if (const toml::node* f = t.get("formulation")) {
             o.formulation = read_string(*f, "orbit.formulation");
             o.formulation_pos = at(*f);
-            const std::vector<std::string> names(orbit_formulation_names.begin(), orbit_formulation_names.end());
-            if (std::find(names.begin(), names.end(), o.formulation) == names.end()) {
-                const std::string near = nearest_name(o.formulation, names);
-                fail(at(*f), fmt::format("unknown orbit formulation '{}'; {}", o.formulation,
-                                         near.empty() ? fmt::format("expected one of {}", fmt::join(names, ", "))
-                                                      : fmt::format("did you mean '{}'?", near)));
-            }
-            if (o.formulation != "cowell" && o.formulation != "equinoctial")
-                fail(at(*f), fmt::format("the orbit formulation '{}' is not available yet; use \"cowell\" (Cartesian "
-                                         "equations; [formulation] kind = \"hamiltonian\" gives Hamilton's equations "
-                                         "of H = H0 - R) or \"equinoctial\"",
-                                         o.formulation));
+            check_orbit_formulation(o.formulation, o.formulation_pos);
         }
         s.orbit = std::move(o);
     }
@@ -963,6 +952,31 @@ private:
 };
 
 }  // namespace
+
+void check_orbit_formulation(const std::string& name, const SourcePos& where) {
+    const std::vector<std::string> names(orbit_formulation_names.begin(), orbit_formulation_names.end());
+    if (std::find(names.begin(), names.end(), name) == names.end()) {
+        const std::string near = nearest_name(name, names);
+        throw InputError(where, fmt::format("unknown orbit formulation '{}'; {}", name,
+                                            near.empty() ? fmt::format("expected one of {}", fmt::join(names, ", "))
+                                                         : fmt::format("did you mean '{}'?", near)));
+    }
+    if (std::find(orbit_formulations_built.begin(), orbit_formulations_built.end(), name) ==
+        orbit_formulations_built.end())
+        throw InputError(where, fmt::format("the orbit formulation '{}' is not available yet; use one of {}", name,
+                                            fmt::join(orbit_formulations_built, ", ")));
+}
+
+void set_orbit_formulation(Scene& scene, const std::string& name, const SourcePos& where) {
+    if (!scene.orbit)
+        throw InputError(where, fmt::format("{} has no [orbit]; only an orbit scene has a formulation to choose",
+                                            scene.path.empty() ? "the scene" : scene.path));
+    check_orbit_formulation(name, where);
+    if (name == scene.orbit->formulation) return;
+    scene.name += "_" + name;
+    scene.orbit->formulation = name;
+    scene.orbit->formulation_pos = where;
+}
 
 Scene parse_scene_string(std::string_view toml_text, const std::string& path) {
     return Reader(toml_text, path).read();

@@ -120,9 +120,11 @@ struct Effects {
 // An orbit scene's perturbation library ([effects] keep in a scene with [orbit]); each names the
 // parameters it reads (docs/scene-format.md).
 inline constexpr std::array<std::string_view, 5> orbit_effect_names{"J2", "J3", "J4", "drag", "third_body"};
-// The formulations of an orbit scene's equations; "cowell" and "equinoctial" are built so far.
+// The formulations of an orbit scene's equations (each one kernel from the same scene).
 inline constexpr std::array<std::string_view, 7> orbit_formulation_names{"cowell",   "encke",       "lagrange", "gauss",
                                                                          "delaunay", "equinoctial", "mean"};
+// Those the generator builds so far; the others are refused by name.
+inline constexpr std::array<std::string_view, 2> orbit_formulations_built{"cowell", "equinoctial"};
 
 // [orbit]: a point mass about a central body. The model's coordinates are the inertial
 // Cartesian x, y, z; the initial state comes from classical elements or is given directly.
@@ -239,6 +241,15 @@ struct Scene {
 // Throws eomc::InputError (file:line:column) on anything malformed.
 Scene parse_scene_file(const std::string& path);
 Scene parse_scene_string(std::string_view toml_text, const std::string& path = "<string>");
+
+// Checks an orbit formulation's name (unknown: did you mean; not built yet: the ones that are)
+// and throws InputError at `where`.
+void check_orbit_formulation(const std::string& name, const SourcePos& where);
+
+// `--orbit-formulation NAME`: the same scene in another formulation. The scene's name gains
+// "_NAME" when NAME differs from the scene's own, so that each kernel has its own header and
+// struct. A scene without [orbit] is refused at `where`.
+void set_orbit_formulation(Scene& scene, const std::string& name, const SourcePos& where);
 
 // "disk_tube_ball" -> "DiskTubeBall"
 std::string struct_name(const std::string& scene_name);
