@@ -232,7 +232,9 @@ double InvariantReport::relative_drift() const {
 double SimulationResult::value(const std::string& name) const {
     for (const auto& [n, v] : state)
         if (n == name) return v;
-    throw std::out_of_range("no state variable '" + name + "'");
+    for (const auto& [n, v] : outputs)
+        if (n == name) return v;
+    throw std::out_of_range("no state variable or output '" + name + "'");
 }
 
 SimulationResult simulate(const SimulationRequest& request) {
@@ -288,8 +290,8 @@ SimulationResult simulate(const SimulationRequest& request) {
     std::vector<double> outputs(lib.output_names().size());
 
     // The kernel as a runtime system. One whose state holds a unit quaternion puts it back on
-    // |e| = 1 after every step (runtime::Projecting); for the others project() changes nothing,
-    // and an unchanged state costs the steppers nothing.
+    // |e| = 1 after every step, an encke kernel rectifies its reference orbit (runtime::Projecting);
+    // for the others project() changes nothing, and an unchanged state costs the steppers nothing.
     struct KernelSystem {
         const KernelLibrary& lib;
         const KernelLibrary::Parameters& parameters;
@@ -298,8 +300,8 @@ SimulationResult simulate(const SimulationRequest& request) {
             if (variational) lib.variational_rhs(t, xs.data(), dxdt.data(), parameters);
             else lib.rhs(t, xs.data(), dxdt.data(), parameters);
         }
-        void project(State<double>& xs) const {
-            if (lib.projects()) lib.project(xs.data());
+        void project(double t, State<double>& xs) const {
+            if (lib.projects()) lib.project(t, xs.data(), parameters);
         }
     };
     KernelSystem system{lib, parameters, request.variational};
@@ -396,6 +398,10 @@ SimulationResult simulate(const SimulationRequest& request) {
     if (outcome.stopped) result.stopped_by = lib.event_names()[outcome.event];
     const runtime::Stats& stats = outcome.stats;
     for (std::size_t i = 0; i < x.size(); ++i) result.state.emplace_back(state_names[i], x[i]);
+    if (!outputs.empty()) {
+        lib.outputs(result.t, x.data(), outputs.data(), parameters);
+        for (std::size_t i = 0; i < outputs.size(); ++i) result.outputs.emplace_back(lib.output_names()[i], outputs[i]);
+    }
     for (std::size_t i = 0; i < n_inv; ++i)
         result.invariants.push_back({lib.invariant_names()[i], inv0[i], inv[i], max_drift[i]});
     result.steps = stats.accepted;
@@ -413,6 +419,13 @@ void print_summary(const SimulationResult& r, const std::string& format, std::os
         std::string s = fmt::format("{{\"t\": {}, \"state\": {{", json_number(r.t));
         for (std::size_t i = 0; i < r.state.size(); ++i)
             s += fmt::format("{}{}: {}", i ? ", " : "", json_string(r.state[i].first), json_number(r.state[i].second));
+        // Only kernels with outputs have the key, so that other summaries keep their shape.
+        if (!r.outputs.empty()) {
+            s += "}, \"outputs\": {";
+            for (std::size_t i = 0; i < r.outputs.size(); ++i)
+                s += fmt::format("{}{}: {}", i ? ", " : "", json_string(r.outputs[i].first),
+                                 json_number(r.outputs[i].second));
+        }
         s += "}, \"invariants\": {";
         for (std::size_t i = 0; i < r.invariants.size(); ++i) {
             const auto& v = r.invariants[i];
@@ -443,6 +456,7 @@ void print_summary(const SimulationResult& r, const std::string& format, std::os
 
     std::size_t width = 6;  // aligns the values of the longest name
     for (const auto& [n, v] : r.state) width = std::max(width, n.size());
+    for (const auto& [n, v] : r.outputs) width = std::max(width, n.size());
     for (const auto& v : r.invariants) width = std::max(width, v.name.size());
     for (const auto& e : r.events) width = std::max(width, e.name.size());
 
@@ -450,6 +464,10 @@ void print_summary(const SimulationResult& r, const std::string& format, std::os
                                 r.stopped_by.empty() ? "" : fmt::format(", stopped by the terminal event '{}'", r.stopped_by));
     s += "final state\n";
     for (const auto& [n, v] : r.state) s += fmt::format("  {:<{}}  {:>24}\n", n, width, number(v));
+    if (!r.outputs.empty()) {
+        s += "outputs\n";
+        for (const auto& [n, v] : r.outputs) s += fmt::format("  {:<{}}  {:>24}\n", n, width, number(v));
+    }
     if (!r.invariants.empty()) {
         s += fmt::format("invariants\n  {:<{}}  {:>24}  {:>12}  {:>12}\n", "", width, "initial", "max |drift|", "relative");
         for (const auto& v : r.invariants) {

@@ -58,6 +58,9 @@ struct SimulationResult {
     bool compensated = false;
     double t = 0.0;                                       // final time reached
     std::vector<std::pair<std::string, double>> state;    // final state, in state_names order
+    // The kernel's outputs at the final state, in output_names order (an element or encke orbit
+    // kernel's Cartesian x … z_dot, a free carrier's reactions).
+    std::vector<std::pair<std::string, double>> outputs;
     std::vector<std::pair<std::string, double>> parameters;  // the values used, in parameter_names order
     std::vector<InvariantReport> invariants;
     std::vector<EventReport> events;                      // every located event, in time order
@@ -70,7 +73,8 @@ struct SimulationResult {
     std::string csv_path;    // "" when no CSV was written
     std::size_t csv_rows = 0;
 
-    // The final value of a state component by name; throws std::out_of_range if absent.
+    // The final value of a state component, or else of an output, by name; throws
+    // std::out_of_range if neither has it.
     double value(const std::string& name) const;
 };
 
