@@ -483,7 +483,7 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
             "        const S rho2 = ref[0] * ref[0] + ref[1] * ref[1] + ref[2] * ref[2];\n"
             "        if (!(d2 > S(rectification_ratio * rectification_ratio) * rho2)) return;\n"
             "        eomc::runtime::CartesianState<S> total;\n"
-            "        for (int k = 0; k < 6; ++k) total[k] = ref[k] + x[{d0} + k];\n"
+            "        for (int k = 0; k < 6; ++k) total[k] = ref[k] + x[{dk}];\n"
             "        const S r = sqrt(total[0] * total[0] + total[1] * total[1] + total[2] * total[2]);\n"
             "        const S v2 = total[3] * total[3] + total[4] * total[4] + total[5] * total[5];\n"
             "        if (!(v2 / S(2) - ref[6] / r < S(0))) return;\n"
@@ -496,10 +496,10 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
             "        x[{e5}] = el.argp;\n"
             "        x[{e6}] = el.mean_anomaly;\n"
             "        reference_orbit_(t, x, ref.data(), p);\n"
-            "        for (int k = 0; k < 6; ++k) x[{d0} + k] = total[k] - ref[k];\n"
+            "        for (int k = 0; k < 6; ++k) x[{dk}] = total[k] - ref[k];\n"
             "        x[{count}] += S(1);\n"
             "    }}\n",
-            fmt::arg("ratio", fmt::format("{}", r.ratio)), fmt::arg("d0", D), fmt::arg("d1", D + 1),
+            fmt::arg("ratio", fmt::format("{}", r.ratio)), fmt::arg("dk", D ? fmt::format("{} + k", D) : "k"), fmt::arg("d0", D), fmt::arg("d1", D + 1),
             fmt::arg("d2", D + 2), fmt::arg("e0", E), fmt::arg("e1", E + 1), fmt::arg("e2", E + 2),
             fmt::arg("e3", E + 3), fmt::arg("e4", E + 4), fmt::arg("e5", E + 5), fmt::arg("e6", E + 6),
             fmt::arg("count", r.count));
