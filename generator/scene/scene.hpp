@@ -124,7 +124,8 @@ inline constexpr std::array<std::string_view, 5> orbit_effect_names{"J2", "J3", 
 inline constexpr std::array<std::string_view, 7> orbit_formulation_names{"cowell",   "encke",       "lagrange", "gauss",
                                                                          "delaunay", "equinoctial", "mean"};
 // Those the generator builds so far; the others are refused by name.
-inline constexpr std::array<std::string_view, 2> orbit_formulations_built{"cowell", "equinoctial"};
+inline constexpr std::array<std::string_view, 6> orbit_formulations_built{"cowell", "lagrange", "gauss",
+                                                                          "delaunay", "equinoctial", "mean"};
 
 // [orbit]: a point mass about a central body. The model's coordinates are the inertial
 // Cartesian x, y, z; the initial state comes from classical elements or is given directly.
