@@ -248,8 +248,9 @@ Scene parse_scene_string(std::string_view toml_text, const std::string& path = "
 void check_orbit_formulation(const std::string& name, const SourcePos& where);
 
 // `--orbit-formulation NAME`: the same scene in another formulation. The scene's name gains
-// "_NAME" when NAME differs from the scene's own, so that each kernel has its own header and
-// struct. A scene without [orbit] is refused at `where`.
+// "_NAME" (even when NAME is the scene's own), so that each kernel has its own header and
+// struct, and the header's name follows from the flag alone. A scene without [orbit] is
+// refused at `where`.
 void set_orbit_formulation(Scene& scene, const std::string& name, const SourcePos& where);
 
 // "disk_tube_ball" -> "DiskTubeBall"
