@@ -113,6 +113,21 @@ BOOST_AUTO_TEST_CASE(element_formulations_end_where_cowell_does) {
     }
 }
 
+BOOST_AUTO_TEST_CASE(equinoctial_elements_stay_accurate_on_a_circular_equatorial_orbit) {
+    // geo_equinoctial: e = 0, i = 0, J2 and the Moon for 30 days, where the classical elements
+    // are undefined (and refused). The equinoctial run ends where Cowell's does.
+    const std::string scene = scenes + "geo_equinoctial.toml";
+    const Run cowell = simulate(scene, "cowell", tight), cowell_loose = simulate(scene, "cowell", loose);
+    const Run run = simulate(scene, "equinoctial", tight), run_loose = simulate(scene, "equinoctial", loose);
+    const double bound = distance(run, run_loose) + distance(cowell, cowell_loose);
+    BOOST_TEST_MESSAGE("equinoctial: " << distance(run, cowell) << " km from Cowell after 30 days; bound " << bound);
+    BOOST_TEST(distance(run, cowell) <= bound);
+    const fs::path dir = test_support::scratch("orbit_runs", "geo_gauss");
+    const auto refused = run_eomc("generate '" + scene + "' --orbit-formulation gauss -o .", dir);
+    BOOST_TEST(refused.status == 2);
+    BOOST_TEST(refused.err.find("elements are singular for this orbit (circular, e = 0)") != std::string::npos);
+}
+
 BOOST_AUTO_TEST_CASE(element_formulations_reenter_when_cowell_does) {
     const std::string scene = test_scenes + "decay_eccentric.toml";
     const Run cowell = simulate(scene, "cowell", tight), cowell_loose = simulate(scene, "cowell", loose);
