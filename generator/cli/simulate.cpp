@@ -419,13 +419,9 @@ void print_summary(const SimulationResult& r, const std::string& format, std::os
         std::string s = fmt::format("{{\"t\": {}, \"state\": {{", json_number(r.t));
         for (std::size_t i = 0; i < r.state.size(); ++i)
             s += fmt::format("{}{}: {}", i ? ", " : "", json_string(r.state[i].first), json_number(r.state[i].second));
-        // Only kernels with outputs have the key, so that other summaries keep their shape.
-        if (!r.outputs.empty()) {
-            s += "}, \"outputs\": {";
-            for (std::size_t i = 0; i < r.outputs.size(); ++i)
-                s += fmt::format("{}{}: {}", i ? ", " : "", json_string(r.outputs[i].first),
-                                 json_number(r.outputs[i].second));
-        }
+        s += "}, \"outputs\": {";
+        for (std::size_t i = 0; i < r.outputs.size(); ++i)
+            s += fmt::format("{}{}: {}", i ? ", " : "", json_string(r.outputs[i].first), json_number(r.outputs[i].second));
         s += "}, \"invariants\": {";
         for (std::size_t i = 0; i < r.invariants.size(); ++i) {
             const auto& v = r.invariants[i];
@@ -464,10 +460,8 @@ void print_summary(const SimulationResult& r, const std::string& format, std::os
                                 r.stopped_by.empty() ? "" : fmt::format(", stopped by the terminal event '{}'", r.stopped_by));
     s += "final state\n";
     for (const auto& [n, v] : r.state) s += fmt::format("  {:<{}}  {:>24}\n", n, width, number(v));
-    if (!r.outputs.empty()) {
-        s += "outputs\n";
-        for (const auto& [n, v] : r.outputs) s += fmt::format("  {:<{}}  {:>24}\n", n, width, number(v));
-    }
+    if (!r.outputs.empty()) s += "outputs\n";
+    for (const auto& [n, v] : r.outputs) s += fmt::format("  {:<{}}  {:>24}\n", n, width, number(v));
     if (!r.invariants.empty()) {
         s += fmt::format("invariants\n  {:<{}}  {:>24}  {:>12}  {:>12}\n", "", width, "initial", "max |drift|", "relative");
         for (const auto& v : r.invariants) {

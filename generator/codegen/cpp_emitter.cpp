@@ -168,7 +168,7 @@ namespace {
 const std::set<std::string>& reserved_words() {
     static const std::set<std::string> words{
         // what the emitted functions call their arguments and helpers
-        "t", "x", "p", "out", "out_M", "out_f", "out_G", "dxdt", "acc", "rate", "S", "std", "Eigen", "Parameters",
+        "t", "x", "p", "out", "out_M", "out_f", "out_G", "dxdt", "acc", "rate", "S", "std", "Eigen", "Parameters", "eomc",
         // math functions reached through `using std::…`
         "sin", "cos", "tan", "exp", "log", "sqrt", "asin", "acos", "atan", "sinh", "cosh", "tanh", "pow", "abs",
         // C++ keywords a scene name could plausibly be
@@ -187,27 +187,24 @@ const std::set<std::string>& reserved_words() {
 // C++ names for the scene's names: the same text unless it would clash.
 class LocalNames {
 public:
+    // Parameters first: their names are the Parameters struct's members, which users set by
+    // name. A state or acceleration whose name a parameter already has (Delaunay's H and a drag
+    // scale height H) is bound under that name with "_" appended, like a reserved word.
     explicit LocalNames(const KernelIR& ir) {
-        for (const auto& s : ir.state) taken_.insert(s.name);
-        for (const auto& s : ir.accelerations) taken_.insert(s.name);
-        for (const auto& s : ir.parameters) taken_.insert(s.name);
+        for (const auto& s : ir.parameters) add(s);
         for (const auto& s : ir.state) add(s);
         for (const auto& s : ir.accelerations) add(s);
-        for (const auto& s : ir.parameters) add(s);
     }
     const std::string& operator[](const ex& symbol) const { return names_.at(symbol); }
 
 private:
     void add(const NamedSymbol& s) {
         std::string name = s.name;
-        if (reserved_words().count(name)) {
-            name += "_";
-            while (taken_.count(name) || reserved_words().count(name)) name += "_";
-            taken_.insert(name);
-        }
+        while (used_.count(name) || reserved_words().count(name)) name += "_";
+        used_.insert(name);
         names_.emplace(s.symbol, name);
     }
-    std::set<std::string> taken_;
+    std::set<std::string> used_;
     std::map<ex, std::string, GiNaC::ex_is_less> names_;
 };
 

@@ -117,8 +117,8 @@ struct Orbit {
     GiNaC::ex r;                                 // √(x² + y² + z²)
 };
 
-// The state of each orbit formulation that is not Cartesian, in kernel order: these names must
-// not name a parameter (both become C++ locals in the kernel).
+// The state of orbit formulations that are not Cartesian, in kernel order (the equinoctial
+// elements must not name a parameter; other clashes the emitter resolves).
 inline constexpr std::array<const char*, 6> equinoctial_state_names{"p", "f", "g", "h", "k", "L"};
 // Encke: the deviation δ = r − ρ and its rate, the reference orbit's epoch and classical elements
 // at that epoch (constant between rectifications), and the number of rectifications so far.
@@ -155,6 +155,7 @@ struct Model {
     std::vector<Event> events;           // [events], in file order
     std::optional<Orbit> orbit;          // an orbit scene: coordinates x, y, z, T and V built from [orbit]
     scene::Inverse inverse;
+    std::vector<Warning> warnings;       // accepted but doubtful input, printed by the CLI
 
     bool keeps(Effect e) const { return keep[static_cast<int>(e)]; }
     bool free_carrier() const { return carrier && carrier->free; }
