@@ -1,5 +1,5 @@
 // Every orbit formulation integrated through `eomc simulate` and compared with Cowell's:
-//   * leo_j2 over a day: gauss, lagrange, delaunay and equinoctial end where Cowell does;
+//   * leo_j2 over a day: gauss, lagrange, delaunay, equinoctial and encke end where Cowell does;
 //   * an eccentric orbit decaying under drag: each re-enters when Cowell's does;
 //   * mean: a, e, i stay exactly constant, the angles advance at FORMULAS §2's secular rates,
 //     and its orbit stays within the first-order theory's error of Cowell's over ten days;
@@ -103,7 +103,7 @@ BOOST_AUTO_TEST_CASE(element_formulations_end_where_cowell_does) {
     const std::string scene = scenes + "leo_j2.toml";
     const Run cowell = simulate(scene, "cowell", tight), cowell_loose = simulate(scene, "cowell", loose);
     const double cowell_error = distance(cowell, cowell_loose);
-    for (const char* f : {"gauss", "lagrange", "delaunay", "equinoctial"}) {
+    for (const char* f : {"gauss", "lagrange", "delaunay", "equinoctial", "encke"}) {
         const Run run = simulate(scene, f, tight), run_loose = simulate(scene, f, loose);
         const double bound = distance(run, run_loose) + cowell_error;
         BOOST_TEST_MESSAGE(f << ": " << distance(run, cowell) << " km from Cowell after a day; bound " << bound);
@@ -135,7 +135,7 @@ BOOST_AUTO_TEST_CASE(element_formulations_reenter_when_cowell_does) {
     // Each run ends on the event, located on the dense output to rounding: its time carries
     // the integration error only.
     const double cowell_error = std::abs(cowell.t - cowell_loose.t);
-    for (const char* f : {"gauss", "lagrange", "delaunay", "equinoctial"}) {
+    for (const char* f : {"gauss", "lagrange", "delaunay", "equinoctial", "encke"}) {
         const Run run = simulate(scene, f, tight), run_loose = simulate(scene, f, loose);
         const double bound = std::abs(run.t - run_loose.t) + cowell_error;
         BOOST_TEST_MESSAGE(f << ": re-entry at " << run.t << " s, " << run.t - cowell.t << " s from Cowell's; bound "
