@@ -237,6 +237,24 @@ double SimulationResult::value(const std::string& name) const {
     throw std::out_of_range("no state variable or output '" + name + "'");
 }
 
+// An orbit kernel's re_entry event (g = r − radius, downwards) cannot see a start already below
+// the surface: the generator refuses such a scene, and this refuses a --set that moves the start
+// (or the radius) there.
+void refuse_start_below_surface(const SimulationRequest& r, const KernelLibrary& lib,
+                                const KernelLibrary::Parameters& parameters, const State<double>& x) {
+    const auto& names = lib.event_names();
+    const auto it = std::find(names.begin(), names.end(), "re_entry");
+    if (it == names.end() || r.overrides.empty()) return;
+    std::vector<double> g(names.size());
+    lib.events(0.0, x.data(), g.data(), parameters);
+    const double height = g[static_cast<std::size_t>(it - names.begin())];
+    if (!(height > 0))
+        throw InputError(SourcePos{"--set"},
+                         fmt::format("the initial state of {} is {} km below the central body's surface "
+                                     "(r − radius = {}): the run would start re-entered",
+                                     lib.scene_name(), number(-height), number(height)));
+}
+
 SimulationResult simulate(const SimulationRequest& request) {
     validate(request);
     const KernelLibrary lib = KernelLibrary::load(request.header_text, request.struct_name, request.cache_dir);
@@ -245,6 +263,7 @@ SimulationResult simulate(const SimulationRequest& request) {
     State<double> x(lib.initial_state().begin(), lib.initial_state().end());
     apply_overrides(request, lib, parameter_values, x);
     const KernelLibrary::Parameters parameters = lib.make_parameters(parameter_values);
+    refuse_start_below_surface(request, lib, parameters, x);
 
     SimulationResult result;
     result.scene_name = lib.scene_name();

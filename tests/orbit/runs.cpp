@@ -207,3 +207,19 @@ BOOST_AUTO_TEST_CASE(nearly_parabolic_orbit_over_many_revolutions) {
         BOOST_TEST(moved <= bound);
     }
 }
+
+BOOST_AUTO_TEST_CASE(a_start_moved_below_the_surface_is_refused) {
+    // re_entry is a downward crossing and cannot see a start already inside the body: a --set
+    // that puts it there is refused before the run, in any formulation.
+    const fs::path dir = test_support::scratch("orbit_runs", "below");
+    for (const std::string& args : {std::string("--set x=6000"), std::string("--orbit-formulation gauss --set a=6300"),
+                                    std::string("--set Re=7000")}) {
+        const auto r = run_eomc("simulate '" + scenes + "leo_j2.toml' " + args + " --t-end 10 --cache-dir '" EOMC_BINARY_DIR
+                                "/test-cache'",
+                                dir);
+        BOOST_TEST_INFO(args);
+        BOOST_TEST(r.status == 2);
+        BOOST_TEST(r.err.find("--set: error: the initial state of leo_j2") == 0);
+        BOOST_TEST(r.err.find("below the central body's surface") != std::string::npos);
+    }
+}
