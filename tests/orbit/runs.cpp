@@ -223,3 +223,29 @@ BOOST_AUTO_TEST_CASE(a_start_moved_below_the_surface_is_refused) {
         BOOST_TEST(r.err.find("below the central body's surface") != std::string::npos);
     }
 }
+
+BOOST_AUTO_TEST_CASE(hamiltonian_orbit_kernel_carries_h_z) {
+    // Hamilton's equations of leo_j2 in (x, y, z, p_x, p_y, p_z) keep the Lagrangian side's
+    // integrals: H and h_z = x p_y − y p_x. Each accepted step changes h_z by at most
+    // |∇h_z|·|local error| ≤ (|p_x| + |p_y| + |x| + |y|) √6 (atol + rtol max|x_i|) (the dop853
+    // acceptance test bounds every component by √n times its scale), summed over the steps.
+    const fs::path dir = test_support::scratch("orbit_runs", "hamiltonian");
+    const auto r = run_eomc("simulate '" + scenes + "leo_j2.toml' --hamiltonian --summary text --cache-dir '" EOMC_BINARY_DIR
+                            "/test-cache'",
+                            dir);
+    BOOST_REQUIRE_MESSAGE(r.status == 0, r.err);
+    std::istringstream out(r.out);
+    double h0 = 0, drift = -1, steps = 0;
+    for (std::string line; std::getline(out, line);) {
+        std::istringstream words(line);
+        std::string first;
+        words >> first;
+        if (first == "h_z") words >> h0 >> drift;
+        if (first == "steps") words >> steps;
+    }
+    BOOST_REQUIRE(drift >= 0);
+    const double rtol = 1e-12, atol = 1e-9, r_max = 7000 * 1.02, v_max = 7.6;  // leo_j2: a = 7000 km, e = 0.01
+    const double per_step = (2 * v_max + 2 * r_max) * std::sqrt(6.0) * (atol + rtol * r_max);
+    BOOST_TEST_MESSAGE("h_z = " << h0 << ", drift " << drift << " over " << steps << " steps; bound " << steps * per_step);
+    BOOST_TEST(drift <= steps * per_step);
+}
