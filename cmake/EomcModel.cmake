@@ -5,7 +5,8 @@
 # library whose users can `#include "<scene name>.hpp"`. Each header depends on its scene,
 # on the generator and on the kernel template, so editing any of them regenerates it.
 #
-# The header is named after the scene's [scene] name, which is read here from the file.
+# The header is named after the scene's [scene] name, which is read here from the file
+# (with _NAME appended for OPTIONS --orbit-formulation NAME, as eomc names it).
 # OPTIONS go to `eomc generate` as they are (e.g. --hamiltonian, --variational).
 set(EOMC_CMAKE_DIR "${CMAKE_CURRENT_LIST_DIR}")
 
@@ -33,13 +34,21 @@ function(eomc_add_model target)
     if(NOT name_line MATCHES "\"([a-z][a-z0-9_]*)\"")
       message(FATAL_ERROR "eomc_add_model(${target}): ${scene} has no [scene] name = \"...\"")
     endif()
-    set(header "${out_dir}/${CMAKE_MATCH_1}.hpp")
+    set(header_name "${CMAKE_MATCH_1}")
+    # --orbit-formulation NAME appends _NAME to the kernel's name (scene::set_orbit_formulation).
+    list(FIND ARG_OPTIONS "--orbit-formulation" formulation_flag)
+    if(formulation_flag GREATER -1)
+      math(EXPR formulation_index "${formulation_flag} + 1")
+      list(GET ARG_OPTIONS ${formulation_index} formulation)
+      set(header_name "${header_name}_${formulation}")
+    endif()
+    set(header "${out_dir}/${header_name}.hpp")
     set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS "${scene}")
     add_custom_command(
       OUTPUT "${header}"
       COMMAND "${generator}" generate "${scene}" -o "${out_dir}" ${ARG_OPTIONS}
       DEPENDS "${scene}" ${generator_dependency} "${template}"
-      COMMENT "eomc: generating ${CMAKE_MATCH_1}.hpp"
+      COMMENT "eomc: generating ${header_name}.hpp"
       VERBATIM)
     list(APPEND headers "${header}")
   endforeach()

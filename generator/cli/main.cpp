@@ -87,6 +87,7 @@ Pipeline front_end(const std::string& scene_path, bool hamiltonian, const std::s
     if (!orbit_formulation.empty())
         scene::set_orbit_formulation(scene, orbit_formulation, SourcePos{"--orbit-formulation " + orbit_formulation});
     Pipeline p{model::build_model(scene), {}, std::nullopt};
+    for (const auto& w : p.model.warnings) std::cerr << format_warning(w) << "\n";
     if (clock) clock->lap("parse");
     p.equations = mechanics::derive(p.model);
     const bool equinoctial = p.model.orbit && p.model.orbit->formulation == "equinoctial";

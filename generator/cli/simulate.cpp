@@ -396,6 +396,10 @@ SimulationResult simulate(const SimulationRequest& request) {
     if (outcome.stopped) result.stopped_by = lib.event_names()[outcome.event];
     const runtime::Stats& stats = outcome.stats;
     for (std::size_t i = 0; i < x.size(); ++i) result.state.emplace_back(state_names[i], x[i]);
+    if (!outputs.empty()) {
+        lib.outputs(result.t, x.data(), outputs.data(), parameters);
+        for (std::size_t i = 0; i < outputs.size(); ++i) result.outputs.emplace_back(lib.output_names()[i], outputs[i]);
+    }
     for (std::size_t i = 0; i < n_inv; ++i)
         result.invariants.push_back({lib.invariant_names()[i], inv0[i], inv[i], max_drift[i]});
     result.steps = stats.accepted;
@@ -413,6 +417,9 @@ void print_summary(const SimulationResult& r, const std::string& format, std::os
         std::string s = fmt::format("{{\"t\": {}, \"state\": {{", json_number(r.t));
         for (std::size_t i = 0; i < r.state.size(); ++i)
             s += fmt::format("{}{}: {}", i ? ", " : "", json_string(r.state[i].first), json_number(r.state[i].second));
+        s += "}, \"outputs\": {";
+        for (std::size_t i = 0; i < r.outputs.size(); ++i)
+            s += fmt::format("{}{}: {}", i ? ", " : "", json_string(r.outputs[i].first), json_number(r.outputs[i].second));
         s += "}, \"invariants\": {";
         for (std::size_t i = 0; i < r.invariants.size(); ++i) {
             const auto& v = r.invariants[i];
@@ -443,6 +450,7 @@ void print_summary(const SimulationResult& r, const std::string& format, std::os
 
     std::size_t width = 6;  // aligns the values of the longest name
     for (const auto& [n, v] : r.state) width = std::max(width, n.size());
+    for (const auto& [n, v] : r.outputs) width = std::max(width, n.size());
     for (const auto& v : r.invariants) width = std::max(width, v.name.size());
     for (const auto& e : r.events) width = std::max(width, e.name.size());
 
@@ -450,6 +458,8 @@ void print_summary(const SimulationResult& r, const std::string& format, std::os
                                 r.stopped_by.empty() ? "" : fmt::format(", stopped by the terminal event '{}'", r.stopped_by));
     s += "final state\n";
     for (const auto& [n, v] : r.state) s += fmt::format("  {:<{}}  {:>24}\n", n, width, number(v));
+    if (!r.outputs.empty()) s += "outputs\n";
+    for (const auto& [n, v] : r.outputs) s += fmt::format("  {:<{}}  {:>24}\n", n, width, number(v));
     if (!r.invariants.empty()) {
         s += fmt::format("invariants\n  {:<{}}  {:>24}  {:>12}  {:>12}\n", "", width, "initial", "max |drift|", "relative");
         for (const auto& v : r.invariants) {

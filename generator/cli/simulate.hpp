@@ -58,6 +58,9 @@ struct SimulationResult {
     bool compensated = false;
     double t = 0.0;                                       // final time reached
     std::vector<std::pair<std::string, double>> state;    // final state, in state_names order
+    // The kernel's outputs at the final state (an element formulation's Cartesian x … z_dot, a
+    // free carrier's reactions), in output_names order.
+    std::vector<std::pair<std::string, double>> outputs;
     std::vector<std::pair<std::string, double>> parameters;  // the values used, in parameter_names order
     std::vector<InvariantReport> invariants;
     std::vector<EventReport> events;                      // every located event, in time order

@@ -9,6 +9,7 @@
 
 #include "codegen/templates.hpp"
 #include "model/functions.hpp"
+#include "model/kepler_function.hpp"
 
 namespace eomc::codegen {
 
@@ -81,8 +82,14 @@ std::string CppExpressionPrinter::print(const ex& e, Precedence context) {
         }
     } else if (GiNaC::is_a<GiNaC::function>(e)) {
         const std::string name = GiNaC::ex_to<GiNaC::function>(e).get_name();
-        if (!model::is_elementary_function(name) || e.nops() != 1) throw std::runtime_error("cannot emit the function '" + name + "'");
-        text = call(name, print(e.op(0), sum));
+        if (name == model::kepler_E_name && e.nops() == 2) {
+            // The runtime's solver; the kernel includes model::kepler_E_header (uses_kepler_solver).
+            text = std::string(model::kepler_E_cpp) + "(" + print(e.op(0), sum) + ", " + print(e.op(1), sum) + ")";
+        } else {
+            if (!model::is_elementary_function(name) || e.nops() != 1)
+                throw std::runtime_error("cannot emit the function '" + name + "'");
+            text = call(name, print(e.op(0), sum));
+        }
     } else {
         throw std::runtime_error(std::string("cannot emit an expression of kind ") +
                                  GiNaC::ex_to<GiNaC::basic>(e).class_name());
@@ -161,7 +168,7 @@ namespace {
 const std::set<std::string>& reserved_words() {
     static const std::set<std::string> words{
         // what the emitted functions call their arguments and helpers
-        "t", "x", "p", "out", "out_M", "out_f", "out_G", "dxdt", "acc", "rate", "S", "std", "Eigen", "Parameters",
+        "t", "x", "p", "out", "out_M", "out_f", "out_G", "dxdt", "acc", "rate", "S", "std", "Eigen", "Parameters", "eomc",
         // math functions reached through `using std::…`
         "sin", "cos", "tan", "exp", "log", "sqrt", "asin", "acos", "atan", "sinh", "cosh", "tanh", "pow", "abs",
         // C++ keywords a scene name could plausibly be
@@ -180,27 +187,24 @@ const std::set<std::string>& reserved_words() {
 // C++ names for the scene's names: the same text unless it would clash.
 class LocalNames {
 public:
+    // Parameters first: their names are the Parameters struct's members, which users set by
+    // name. A state or acceleration whose name a parameter already has (Delaunay's H and a drag
+    // scale height H) is bound under that name with "_" appended, like a reserved word.
     explicit LocalNames(const KernelIR& ir) {
-        for (const auto& s : ir.state) taken_.insert(s.name);
-        for (const auto& s : ir.accelerations) taken_.insert(s.name);
-        for (const auto& s : ir.parameters) taken_.insert(s.name);
+        for (const auto& s : ir.parameters) add(s);
         for (const auto& s : ir.state) add(s);
         for (const auto& s : ir.accelerations) add(s);
-        for (const auto& s : ir.parameters) add(s);
     }
     const std::string& operator[](const ex& symbol) const { return names_.at(symbol); }
 
 private:
     void add(const NamedSymbol& s) {
         std::string name = s.name;
-        if (reserved_words().count(name)) {
-            name += "_";
-            while (taken_.count(name) || reserved_words().count(name)) name += "_";
-            taken_.insert(name);
-        }
+        while (used_.count(name) || reserved_words().count(name)) name += "_";
+        used_.insert(name);
         names_.emplace(s.symbol, name);
     }
-    std::set<std::string> taken_;
+    std::set<std::string> used_;
     std::map<ex, std::string, GiNaC::ex_is_less> names_;
 };
 
@@ -301,6 +305,18 @@ std::string replace_all(std::string text, const std::string& key, const std::str
     return text;
 }
 
+bool uses_kepler_solver(const KernelIR& ir) {
+    for (const Block* b : {&ir.mass_matrix, &ir.forcing, &ir.rhs_explicit, &ir.jacobian_explicit, &ir.mass_and_forcing,
+                           &ir.explicit_rates, &ir.explicit_rates_jacobian, &ir.mass_and_jacobian_terms, &ir.invariants,
+                           &ir.outputs, &ir.events, &ir.santilli_residuals}) {
+        for (const auto& t : b->temporaries)
+            if (model::has_kepler_E(t.value)) return true;
+        for (const auto& o : b->outputs)
+            if (model::has_kepler_E(o)) return true;
+    }
+    return false;
+}
+
 }  // namespace
 
 // A comment block: each line of `text` behind "// ".
@@ -333,6 +349,7 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
     if (!members.empty()) members.pop_back();
 
     std::string rhs, jacobian, private_part, includes, table;
+    if (uses_kepler_solver(ir)) includes += fmt::format("#include <{}>\n", model::kepler_E_header);
     auto row = [&](const char* name, const Block& b) {
         table += fmt::format("//   {:<26} {:>8} -> {:>7} ({} temporaries)\n", name, b.ops_before, b.ops_after,
                              b.temporaries.size());
@@ -350,7 +367,7 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
         row("rhs (u̇ in closed form)", ir.rhs_explicit);
         row("jacobian", ir.jacobian_explicit);
     } else {
-        includes = "#include <Eigen/Core>\n#include <Eigen/Cholesky>\n";  // LDLT only: Dense would double the compile time
+        includes += "#include <Eigen/Core>\n#include <Eigen/Cholesky>\n";  // LDLT only: Dense would double the compile time
         rhs = "Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;\n"
               "Eigen::Matrix<S, n_velocities, 1> f;\n"
               "mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);\n"

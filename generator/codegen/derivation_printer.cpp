@@ -8,6 +8,7 @@
 #include "codegen/inverse_printer.hpp"
 #include "codegen/kernel_ir.hpp"
 #include "mechanics/differentiation.hpp"
+#include "mechanics/first_order.hpp"
 #include "support/json.hpp"
 
 namespace eomc::codegen {
@@ -91,7 +92,28 @@ std::string vector_text(const model::Vec3& v) {
 
 // An orbit scene: the central body, each disturbing function and acceleration, then
 // R = Σ R_k and its gradient (the perturbing acceleration +∇R, FORMULAS §2).
-void print_orbit_text(const model::Model& model, std::ostream& out) {
+// The formulation's own steps (an element formulation's R in the elements, its partials, the
+// equations in named partials); none for Cowell, whose equations follow below.
+std::vector<mechanics::NamedExpression> formulation_steps(const model::Model& model, const mechanics::Equations& eqs,
+                                                          std::string& description) {
+    if (!model.orbit || model.orbit->formulation == "cowell") return {};
+    mechanics::FirstOrderForm form = mechanics::first_order_form(model, eqs);
+    description = form.description;
+    return form.derivation;
+}
+
+// A step's name in LaTeX: "da/dt" → \dot{a}, "dR/da" → ∂R/∂a, anything else as text.
+std::string latex_step_name(const std::string& name) {
+    auto symbol = [](const std::string& s) {
+        return s.size() == 1 ? s : "\\text{" + latex_escape(s) + "}";
+    };
+    if (name.size() >= 5 && name.rfind("d", 0) == 0 && name.substr(name.size() - 3) == "/dt")
+        return "\\dot{" + symbol(name.substr(1, name.size() - 4)) + "}";
+    if (name.rfind("dR/d", 0) == 0) return "\\frac{\\partial R}{\\partial " + symbol(name.substr(4)) + "}";
+    return symbol(name);
+}
+
+void print_orbit_text(const model::Model& model, const mechanics::Equations& eqs, std::ostream& out) {
     const model::Orbit& o = *model.orbit;
     const auto& c = model.coordinates;
     out << "Orbit (" << o.formulation << "): inertial x, y, z about a central body with μ = " << text(o.mu)
@@ -108,6 +130,12 @@ void print_orbit_text(const model::Model& model, std::ostream& out) {
         out << "Formulation equinoctial: the kernel integrates (p, f, g, h, k, L) by Gauss's equations (Betts eq. 6.37)\n"
                "  with the acceleration ∇R + a below, evaluated at the Cartesian state of the elements and taken\n"
                "  in radial, transverse and normal axes; the Cowell equations below give the same motion\n";
+    std::string description;
+    const auto steps = formulation_steps(model, eqs, description);
+    if (!steps.empty()) {
+        out << "Formulation " << o.formulation << ": " << description << "\n";
+        for (const auto& step : steps) out << "  " << step.name << " = " << text(display_form(step.value)) << "\n";
+    }
     out << "Non-conservative accelerations a (generalized forces Q = a)\n";
     if (o.accelerations.empty()) out << "  none\n";
     for (const auto& a : o.accelerations)
@@ -145,7 +173,7 @@ void print_text(const model::Model& model, const mechanics::Equations& eqs, std:
         }
     }
 
-    if (model.orbit) print_orbit_text(model, out);
+    if (model.orbit) print_orbit_text(model, eqs, out);
 
     out << "\nKinetic energy\n";
     if (eqs.from_particles) {
@@ -236,6 +264,16 @@ void print_latex(const model::Model& model, const mechanics::Equations& eqs, std
                 << ",\\ " << latex(display_form(a.value[1])) << ",\\ " << latex(display_form(a.value[2])) << "\\right)"
                 << (&a == &o.accelerations.back() ? "\n" : "\\\\\n");
         out << "\\end{align*}\n";
+        std::string description;
+        const auto steps = formulation_steps(model, eqs, description);
+        if (!steps.empty()) {
+            out << "\\subsection*{Formulation: " << latex_escape(o.formulation) << "}\n" << latex_escape(description)
+                << "\n\\begin{align*}\n";
+            for (std::size_t k = 0; k < steps.size(); ++k)
+                out << latex_step_name(steps[k].name) << " &= " << latex(display_form(steps[k].value))
+                    << (k + 1 < steps.size() ? "\\\\\n" : "\n");
+            out << "\\end{align*}\n";
+        }
     }
     out << "\\subsection*{Kinetic energy}\n\\begin{align*}\n";
     if (eqs.from_particles) {
@@ -306,7 +344,13 @@ void print_json(const model::Model& model, const mechanics::Equations& eqs, std:
         for (std::size_t k = 0; k < o.accelerations.size(); ++k)
             out << (k ? ", " : "") << json_string(o.accelerations[k].effect) << ": [" << json_ex(o.accelerations[k].value[0])
                 << ", " << json_ex(o.accelerations[k].value[1]) << ", " << json_ex(o.accelerations[k].value[2]) << "]";
-        out << "}},\n";
+        std::string description;
+        const auto steps = formulation_steps(model, eqs, description);
+        out << "}, \"formulation_steps\": [";
+        for (std::size_t k = 0; k < steps.size(); ++k)
+            out << (k ? ", " : "") << "{\"name\": " << json_string(steps[k].name) << ", \"value\": " << json_ex(steps[k].value)
+                << "}";
+        out << "]},\n";
     }
     out << "  \"equations\": [\n";
     for (std::size_t s = 0; s < n; ++s) {

@@ -3,6 +3,8 @@
 #include <string>
 #include <unordered_map>
 
+#include "model/kepler_function.hpp"
+
 namespace eomc::mechanics {
 
 using GiNaC::ex;
@@ -70,6 +72,14 @@ private:
             if (du.is_zero()) return 0;
             ex outer;
             if (outer_derivative(GiNaC::ex_to<GiNaC::function>(e).get_name(), e.op(0), outer)) return outer * du;
+        }
+        if (GiNaC::is_a<GiNaC::function>(e) && GiNaC::ex_to<GiNaC::function>(e).get_name() == model::kepler_E_name) {
+            // dE = E_M dM + E_e de (model/kepler_function.hpp)
+            const ex dM = (*this)(e.op(0)), de = (*this)(e.op(1));
+            ex d = 0;
+            if (!dM.is_zero()) d += model::kepler_E_partial_M(e, e.op(1)) * dM;
+            if (!de.is_zero()) d += model::kepler_E_partial_e(e, e.op(1)) * de;
+            return d;
         }
         return e.diff(s_);
     }

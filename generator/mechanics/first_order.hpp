@@ -70,12 +70,17 @@ struct FirstOrderForm {
     // project() puts it back on |e| = 1 after every step.
     std::vector<std::size_t> unit_quaternions;
 
+    // What a formulation derived on the way, "name = value" in order, for `eomc derive` (an orbit's
+    // disturbing function in the elements, its partials, the equations in named partials).
+    std::vector<NamedExpression> derivation;
+
     std::size_t n_velocities() const { return velocity_rates.size(); }
 };
 
 // Lagrange's equations (with a free carrier's quasi-velocities and kinematics, when there
 // is one) as the first-order system x = (q, u, kinematic states); for an orbit scene in
-// equinoctial elements, Gauss's equations in those (mechanics/equinoctial.hpp) instead.
+// equinoctial elements, Gauss's equations in those (mechanics/equinoctial.hpp), and in
+// classical or Delaunay elements mechanics/element_formulations.hpp, instead.
 FirstOrderForm first_order_form(const model::Model& model, const Equations& equations);
 
 }  // namespace eomc::mechanics

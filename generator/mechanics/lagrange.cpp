@@ -314,13 +314,17 @@ bool orbit_energy_conserved(const model::Model& model) {
 }
 
 // h_z needs no torque about z from R and from the accelerations: x ∂R/∂y − y ∂R/∂x and
-// x a_y − y a_x vanish, judged against the size of their own two terms.
+// x a_y − y a_x vanish. Each effect is judged on its own, against the size of its own two
+// terms: in a sum, J2's torque terms (each ~1e10 at the probe points, cancelling exactly)
+// would hide a third body's real torque (~1e-13) in their rounding.
 bool orbit_axisymmetric(const model::Model& model) {
     const model::Orbit& o = *model.orbit;
     const auto& c = model.coordinates;
     const ex x = c[0].q, y = c[1].q;
-    const std::pair<ex, ex> torques[] = {{x * derivative(o.R, c[1].q), y * derivative(o.R, c[0].q)},
-                                         {x * o.acceleration[1], y * o.acceleration[0]}};
+    std::vector<std::pair<ex, ex>> torques;
+    for (const auto& term : o.disturbing)
+        torques.emplace_back(x * derivative(term.value, c[1].q), y * derivative(term.value, c[0].q));
+    for (const auto& a : o.accelerations) torques.emplace_back(x * a.value[1], y * a.value[0]);
     for (const auto& point : probe_points(model, 6, 0xa215)) {
         for (const auto& [a, b] : torques) {
             const double va = evaluate(a, point), vb = evaluate(b, point);

@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <unordered_map>
 
+#include "model/kepler_function.hpp"
+
 namespace eomc::mechanics {
 
 namespace {
@@ -115,6 +117,12 @@ private:
         }
         if (GiNaC::is_a<GiNaC::function>(e) && e.nops() == 1)
             return apply_function(GiNaC::ex_to<GiNaC::function>(e).get_name(), (*this)(e.op(0)));
+        if (GiNaC::is_a<GiNaC::function>(e) && GiNaC::ex_to<GiNaC::function>(e).get_name() == model::kepler_E_name) {
+            const Dual M = (*this)(e.op(0)), ecc = (*this)(e.op(1));
+            if (!(ecc.v >= 0 && ecc.v < 1 && std::isfinite(M.v))) return {nan, 0};
+            const double E = model::kepler_E_value(M.v, ecc.v);
+            return {E, (M.d + std::sin(E) * ecc.d) / (1 - ecc.v * std::cos(E))};
+        }
         return {nan, 0};
     }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cctype>
+#include <numbers>
 
 #include <fmt/format.h>
 
@@ -277,6 +278,35 @@ void build_orbit(const scene::Scene& scene, SymbolTable& symbols, Model& model) 
         throw InputError(given.initial_pos,
                          fmt::format("the orbit starts at r = {} km, at or below the central body's surface (radius {})",
                                      std::hypot(x0[0], x0[1], x0[2]), radius));
+
+    // The classical elements' equations carry 1/e (ω̇, Ṁ) and 1/sin i (Ω̇, i̇): exactly there they
+    // are undefined, near there the perturbation's effect on ω and Ω is amplified by 1/e or
+    // 1/sin i and the angles turn fast while their sums stay smooth.
+    const std::string& kind = orbit.formulation;
+    if (kind == "gauss" || kind == "lagrange" || kind == "delaunay" || kind == "mean") {
+        runtime::ClassicalElements<double> el{};
+        try {
+            el = runtime::classical_from_cartesian(runtime::CartesianState<double>{x0[0], x0[1], x0[2], x0[3], x0[4], x0[5]},
+                                                   mu);
+        } catch (const runtime::KeplerError& e) {
+            throw InputError(given.initial_pos, fmt::format("the orbit has no classical elements: {}", e.what()));
+        }
+        const double sin_i = std::sin(el.i);
+        constexpr double exactly = 1e-12, near = 1e-3;  // near: a thousandfold amplification
+        if (el.e < exactly || sin_i < exactly)
+            throw InputError(orbit.formulation_pos,
+                             fmt::format("the {} formulation's elements are singular for this orbit ({}): its "
+                                         "equations divide by e and sin i; use formulation = \"equinoctial\" "
+                                         "(non-singular at e = 0 and i = 0) or \"cowell\"",
+                                         kind, el.e < exactly ? "circular, e = 0" : "equatorial, sin i = 0"));
+        if (el.e < near || sin_i < near)
+            model.warnings.push_back(
+                {orbit.formulation_pos,
+                 fmt::format("the {} formulation's elements are nearly singular for this orbit (e = {:.3g}, i = "
+                             "{:.3g}°): its equations divide by e and sin i, so ω and Ω turn fast and steps shrink; "
+                             "formulation = \"equinoctial\" is non-singular at e = 0 and i = 0",
+                             kind, el.e, el.i * 180 / std::numbers::pi)});
+    }
 
     // Each kept effect's parameters, found by name; a missing one is an error at the effect.
     auto parameter = [&](const std::string& effect, const SourcePos& pos, const char* name) -> ex {

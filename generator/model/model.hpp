@@ -145,6 +145,7 @@ struct Model {
     std::vector<Event> events;           // [events], in file order
     std::optional<Orbit> orbit;          // an orbit scene: coordinates x, y, z, T and V built from [orbit]
     scene::Inverse inverse;
+    std::vector<Warning> warnings;       // accepted but doubtful input, printed by the CLI
 
     bool keeps(Effect e) const { return keep[static_cast<int>(e)]; }
     bool free_carrier() const { return carrier && carrier->free; }

@@ -972,7 +972,6 @@ void set_orbit_formulation(Scene& scene, const std::string& name, const SourcePo
         throw InputError(where, fmt::format("{} has no [orbit]; only an orbit scene has a formulation to choose",
                                             scene.path.empty() ? "the scene" : scene.path));
     check_orbit_formulation(name, where);
-    if (name == scene.orbit->formulation) return;
     scene.name += "_" + name;
     scene.orbit->formulation = name;
     scene.orbit->formulation_pos = where;

@@ -124,7 +124,8 @@ inline constexpr std::array<std::string_view, 5> orbit_effect_names{"J2", "J3", 
 inline constexpr std::array<std::string_view, 7> orbit_formulation_names{"cowell",   "encke",       "lagrange", "gauss",
                                                                          "delaunay", "equinoctial", "mean"};
 // Those the generator builds so far; the others are refused by name.
-inline constexpr std::array<std::string_view, 2> orbit_formulations_built{"cowell", "equinoctial"};
+inline constexpr std::array<std::string_view, 6> orbit_formulations_built{"cowell", "lagrange", "gauss",
+                                                                          "delaunay", "equinoctial", "mean"};
 
 // [orbit]: a point mass about a central body. The model's coordinates are the inertial
 // Cartesian x, y, z; the initial state comes from classical elements or is given directly.
@@ -247,8 +248,9 @@ Scene parse_scene_string(std::string_view toml_text, const std::string& path = "
 void check_orbit_formulation(const std::string& name, const SourcePos& where);
 
 // `--orbit-formulation NAME`: the same scene in another formulation. The scene's name gains
-// "_NAME" when NAME differs from the scene's own, so that each kernel has its own header and
-// struct. A scene without [orbit] is refused at `where`.
+// "_NAME" (even when NAME is the scene's own), so that each kernel has its own header and
+// struct, and the header's name follows from the flag alone. A scene without [orbit] is
+// refused at `where`.
 void set_orbit_formulation(Scene& scene, const std::string& name, const SourcePos& where);
 
 // "disk_tube_ball" -> "DiskTubeBall"

@@ -19,6 +19,8 @@ std::string format_diagnostic(const SourcePos& pos, const std::string& message) 
     return to_string(pos) + ": error: " + message;
 }
 
+std::string format_warning(const Warning& w) { return to_string(w.pos) + ": warning: " + w.message; }
+
 InputError::InputError(SourcePos pos, const std::string& message)
     : std::runtime_error(format_diagnostic(pos, message)), pos_(std::move(pos)), message_(message) {}
 

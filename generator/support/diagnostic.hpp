@@ -43,6 +43,14 @@ private:
 // "file:line:column: error: message"
 std::string format_diagnostic(const SourcePos& pos, const std::string& message);
 
+// Input that is accepted but probably not what was meant (printed, exit code unchanged).
+struct Warning {
+    SourcePos pos;
+    std::string message;
+};
+// "file:line:column: warning: message"
+std::string format_warning(const Warning& w);
+
 // Closest candidate by edit distance, or "" when nothing is close enough to suggest.
 std::string nearest_name(const std::string& word, const std::initializer_list<const char*>& candidates);
 std::string nearest_name(const std::string& word, const std::vector<std::string>& candidates);
