@@ -81,11 +81,12 @@ struct Pipeline {
 };
 
 // `orbit_formulation` ("" = the scene's own) is --orbit-formulation.
+// `flag` names the option that chose it, for messages (bench's --formulations).
 Pipeline front_end(const std::string& scene_path, bool hamiltonian, const std::string& orbit_formulation,
-                   StageClock* clock = nullptr) {
+                   StageClock* clock = nullptr, const char* flag = "--orbit-formulation") {
     scene::Scene scene = scene::parse_scene_file(scene_path);
     if (!orbit_formulation.empty())
-        scene::set_orbit_formulation(scene, orbit_formulation, SourcePos{"--orbit-formulation " + orbit_formulation});
+        scene::set_orbit_formulation(scene, orbit_formulation, SourcePos{std::string(flag) + " " + orbit_formulation});
     Pipeline p{model::build_model(scene), {}, std::nullopt};
     for (const auto& w : p.model.warnings) std::cerr << format_warning(w) << "\n";
     if (clock) clock->lap("parse");
@@ -488,14 +489,15 @@ int main(int argc, char** argv) {
                 if (names.empty() && !orbit_formulation.empty()) names = {orbit_formulation};
                 if (names.empty()) names.assign(scene::orbit_formulations_built.begin(), scene::orbit_formulations_built.end());
                 for (const auto& name : names) scene::check_orbit_formulation(name, SourcePos{"--formulations"});
-                const Pipeline cowell = front_end(scene_path, false, "cowell");
+                const Pipeline cowell = front_end(scene_path, false, "cowell", nullptr, "--formulations");
                 r.header_text = kernel_header(cowell);
                 r.struct_name = cowell.model.struct_name;
                 r.scene_name = cowell.model.name;
                 r.reference_body.clear();
                 r.orbit_period = orbit_period(cowell.model);
                 for (const auto& name : names) {
-                    const Pipeline f = name == "cowell" ? cowell : front_end(scene_path, false, name);
+                    const Pipeline f =
+                        name == "cowell" ? cowell : front_end(scene_path, false, name, nullptr, "--formulations");
                     r.formulations.push_back({name, name == "cowell" ? r.header_text : kernel_header(f),
                                               f.model.struct_name, f.model.name, !depends_on_time(f)});
                 }
