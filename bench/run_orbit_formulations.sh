@@ -1,4 +1,4 @@
-#!/bin/sh
+#!/usr/bin/env bash
 # Orbit formulations: what accuracy costs (bench/RESULTS.md). Every formulation the generator
 # builds, over 30 days of a LEO under J2 and under J2 + drag, judged by its position at t_end
 # against a float128 Cowell run. Re-run from the repository root after new formulations land:
@@ -8,7 +8,7 @@
 # Writes bench/results/orbit_formulations/<scene>/{work_precision.csv,work_precision.png,
 # table.txt} and machine.txt. The float128 references take a few minutes each the first time;
 # they are cached with the compiled drivers (~/.cache/eomc, or $EOMC_BENCH_CACHE).
-set -eu
+set -euo pipefail
 eomc=${1:-build/generator/eomc}
 cache=${EOMC_BENCH_CACHE:-}
 results=bench/results/orbit_formulations

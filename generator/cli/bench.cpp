@@ -466,6 +466,7 @@ BenchResult orbit_bench(const BenchRequest& request) {
     const OrbitReference ref = orbit_reference(request, reference_driver);
     result.reference_spread = ref.spread;
     result.notes.push_back(ref.note);
+    result.notes.insert(result.notes.end(), request.skipped.begin(), request.skipped.end());
 
     std::string csv = std::string(bench_orbit_csv_header) + "\n";
     for (const BenchFormulation& f : request.formulations) {

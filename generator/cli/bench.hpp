@@ -59,6 +59,7 @@ struct BenchRequest {
     // z, x_dot, y_dot, z_dot); it gives the reference, and every formulation listed here is swept
     // (methods empty: dop853, dopri5, rk4; steps empty: 8 .. 2048 per orbit when orbit_period > 0).
     std::vector<BenchFormulation> formulations;
+    std::vector<std::string> skipped;   // formulations that do not take the scene, with the reason (notes)
     double orbit_period = 0.0;          // of the initial osculating orbit; 0: unknown (not an ellipse)
     double reference_tolerance = 1e-26; // rtol = atol of the float128 reference run
 };
