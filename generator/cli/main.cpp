@@ -492,7 +492,7 @@ int main(int argc, char** argv) {
                 const Pipeline cowell = front_end(scene_path, false, "cowell", nullptr, "--formulations");
                 r.header_text = kernel_header(cowell);
                 r.struct_name = cowell.model.struct_name;
-                r.scene_name = cowell.model.name;
+                r.scene_name = scene::parse_scene_file(scene_path).name;  // not a formulation's kernel name
                 r.reference_body.clear();
                 r.orbit_period = orbit_period(cowell.model);
                 const bool all_built = formulations.empty() && orbit_formulation.empty();

@@ -464,6 +464,11 @@ BOOST_AUTO_TEST_CASE(orbit_bad_input_exits_2) {
     r = run(eomc_bench(leo_j2, out, "--formulations cowell,cowell"), dir);
     BOOST_TEST(r.status == 2);
     BOOST_TEST(r.err.find("the formulation 'cowell' is listed twice") != std::string::npos, r.err);
+    // A formulation that does not take the scene (mean averages R; drag has no R) is bad input when
+    // asked for by name (among all built ones it would be left out with a note).
+    r = run(eomc_bench(std::string(EOMC_SOURCE_DIR) + "/scenes/leo_drag.toml", out, "--formulations cowell,mean"), dir);
+    BOOST_TEST(r.status == 2);
+    BOOST_TEST(r.err.find("--formulations mean: error: ") != std::string::npos, r.err);
     r = run(eomc_bench(leo_j2, out, "--formulations cowell --orbit-formulation equinoctial"), dir);
     BOOST_TEST(r.status == 2);
     BOOST_TEST(r.err.find("either by --formulations or by --orbit-formulation") != std::string::npos, r.err);
