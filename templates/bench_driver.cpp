@@ -14,6 +14,13 @@
 //   inline constexpr bool has_reference;                       a closed-form solution exists
 //   template <class S> void reference(S t, S* out, const Model::Parameters& p);
 //   inline constexpr const char* reference_source;             where the closed form comes from
+//
+// Orbit formulations (`eomc bench` on an [orbit] scene) run one such program per formulation and
+// judge them all by the Cartesian position at t_end against one Cowell reference:
+//   --reference-only              (Cowell kernel) print the float128 reference position and exit
+//   --reference-position X,Y,Z    the error of a run is its position's distance from this point
+// The position is the state's x, y, z (Cowell) or else the outputs named x, y, z (element
+// formulations).
 
 #include "bench_config.hpp"
 
@@ -28,6 +35,7 @@
 #include <exception>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -55,6 +63,7 @@ using K = eomc::bench::Model;
 using P = K::Parameters;
 using Clock = std::chrono::steady_clock;
 using State = rt::State<double>;
+using Q = rt::float128;
 constexpr std::size_t n_state = K::n_state, n_q = K::n_coordinates;
 
 // A kernel of a separable system also gives q'' = a(t, q) alone: the splitting methods need it.
@@ -63,6 +72,64 @@ concept SeparableKernel = requires(double t, const double* q, double* a, const t
   M::template acceleration<double>(t, q, a, p);
 };
 constexpr bool separable = SeparableKernel<K>;
+
+// Kernels that keep their state on a manifold have project(x); the runtime's drivers call it
+// through the system (runtime::Projecting) after every accepted step.
+template <class M>
+concept ProjectingKernel = requires(double* x) { M::template project<double>(x); };
+constexpr bool projects = ProjectingKernel<K>;
+
+// --- an orbit's Cartesian position ----------------------------------------------------------------
+
+constexpr bool same_name(const char* a, const char* b) {
+  while (*a != '\0' && *a == *b) ++a, ++b;
+  return *a == *b;
+}
+
+template <std::size_t N>
+constexpr int index_of(const std::array<const char*, N>& names, const char* name) {
+  for (std::size_t i = 0; i < N; ++i)
+    if (same_name(names[i], name)) return static_cast<int>(i);
+  return -1;
+}
+
+template <class M>
+concept HasOutputs = requires { M::output_names; };
+
+template <class M>
+constexpr std::array<int, 3> output_position_index() {
+  if constexpr (HasOutputs<M>)
+    return {index_of(M::output_names, "x"), index_of(M::output_names, "y"), index_of(M::output_names, "z")};
+  else
+    return {-1, -1, -1};
+}
+
+constexpr std::array<int, 3> state_xyz{index_of(K::state_names, "x"), index_of(K::state_names, "y"),
+                                       index_of(K::state_names, "z")};
+constexpr std::array<int, 3> output_xyz = output_position_index<K>();
+constexpr bool all_found(const std::array<int, 3>& i) { return i[0] >= 0 && i[1] >= 0 && i[2] >= 0; }
+constexpr bool position_in_state = all_found(state_xyz);
+constexpr bool has_position = position_in_state || all_found(output_xyz);
+
+// The Cartesian position at (t, x), evaluated in float128 from the given state (so that no
+// round-off of the conversion enters the error).
+template <class M = K>
+std::array<Q, 3> position_of(double t, const double* x, const typename M::Parameters& p) {
+  std::array<Q, 3> r{};
+  std::array<Q, n_state> xq{};
+  std::copy(x, x + n_state, xq.begin());
+  if constexpr (position_in_state) {
+    for (int k = 0; k < 3; ++k) r[k] = xq[state_xyz[k]];
+  } else if constexpr (has_position) {
+    std::array<Q, M::n_outputs> out{};
+    M::outputs(Q(t), xq.data(), out.data(), p);
+    for (int k = 0; k < 3; ++k) r[k] = out[output_xyz[k]];
+  } else {
+    (void)t, (void)p;
+    throw std::logic_error("the kernel has no position x, y, z in its state or its outputs");
+  }
+  return r;
+}
 
 // --- settings ----------------------------------------------------------------------------------
 
@@ -75,6 +142,8 @@ struct Options {
   int repeats = 3;                   // ... and are at least this many
   double max_run_time = 2.0;         // a fixed-step sweep stops once one run takes longer
   double reference_tolerance = 1e-26;
+  bool reference_only = false;                   // print the orbit reference and exit
+  std::optional<std::array<Q, 3>> reference_position;  // judge runs by their position against this
 };
 
 [[noreturn]] void usage(const std::string& message) {
@@ -101,10 +170,27 @@ double number(const std::string& text, const char* option) {
   return v;
 }
 
+// X,Y,Z in full float128 precision (as --reference-only prints them).
+std::array<Q, 3> position_list(const std::string& text) {
+  const std::vector<std::string> items = split(text);
+  if (items.size() != 3) usage("--reference-position: expected X,Y,Z, not '" + text + "'");
+  std::array<Q, 3> r{};
+  for (std::size_t k = 0; k < 3; ++k) {
+    bool ok = false;
+    r[k] = rt::float128_from_string(items[k], &ok);
+    if (!ok || !isfinite(r[k])) usage("--reference-position: '" + items[k] + "' is not a number");
+  }
+  return r;
+}
+
 Options parse(int argc, char** argv) {
   Options o;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
+    if (arg == "--reference-only") {
+      o.reference_only = true;
+      continue;
+    }
     if (i + 1 >= argc) usage("missing value after " + arg);
     const std::string value = argv[++i];
     if (arg == "--t-end") o.t_end = number(value, "--t-end");
@@ -115,6 +201,7 @@ Options parse(int argc, char** argv) {
     else if (arg == "--repeats") o.repeats = static_cast<int>(number(value, "--repeats"));
     else if (arg == "--max-run-time") o.max_run_time = number(value, "--max-run-time");
     else if (arg == "--reference-tolerance") o.reference_tolerance = number(value, "--reference-tolerance");
+    else if (arg == "--reference-position") o.reference_position = position_list(value);
     else usage("unknown option " + arg);
   }
   if (o.tolerances.empty())
@@ -168,14 +255,21 @@ struct Outcome {
   std::size_t evals = 0, steps = 0, rejected = 0;
 };
 
-// The systems, each counting its calls.
-struct CountedRhs {
+// The systems, each counting its calls. (A template only so that project() can be constrained.)
+template <class M = K>
+struct CountedRhsT {
   std::size_t* count;
   void operator()(double t, const State& x, State& dxdt) const {
     ++*count;
-    K::rhs(t, x.data(), dxdt.data(), parameters);
+    M::rhs(t, x.data(), dxdt.data(), parameters);
+  }
+  void project(State& x) const
+    requires ProjectingKernel<M>
+  {
+    M::project(x.data());
   }
 };
+using CountedRhs = CountedRhsT<>;
 
 template <class OState>
 struct OdeintRhs {
@@ -419,24 +513,26 @@ std::vector<Method> all_methods() {
 
 // --- reference --------------------------------------------------------------------------------------
 
-using Q = rt::float128;
-
 struct Reference {
   std::array<Q, n_state> x{};
   std::string description;
 };
 
-std::array<Q, n_state> float128_run(double t_end, double tol) {
+template <class Obs>
+std::array<Q, n_state> float128_run(double t_end, double tol, Obs&& observer) {
   rt::State<Q> x(K::initial_state.begin(), K::initial_state.end());
   rt::Dop853<Q> stepper(rt::Dop853<Q>::default_settings(), false);
   auto sys = [](Q t, const rt::State<Q>& xs, rt::State<Q>& dxdt) { K::rhs(t, xs.data(), dxdt.data(), parameters); };
   rt::Limits limits;
   limits.max_steps = 100'000'000;
-  rt::integrate_adaptive(stepper, sys, x, Q(0), Q(t_end), Q(0), rt::Tolerances{tol, tol}, [](Q, const rt::State<Q>&) {},
-                         limits);
+  rt::integrate_adaptive(stepper, sys, x, Q(0), Q(t_end), Q(0), rt::Tolerances{tol, tol}, observer, limits);
   std::array<Q, n_state> out{};
   std::copy(x.begin(), x.end(), out.begin());
   return out;
+}
+
+std::array<Q, n_state> float128_run(double t_end, double tol) {
+  return float128_run(t_end, tol, [](Q, const rt::State<Q>&) {});
 }
 
 Reference make_reference(const Options& o) {
@@ -466,6 +562,88 @@ double error_of(const State& x, const Reference& ref) {
     if (!(d <= e)) e = d;  // a NaN sticks
   }
   return e;
+}
+
+// --- the orbit reference ------------------------------------------------------------------------------
+
+template <class M>
+concept HasEvents = requires { M::n_events; };
+
+template <class M>
+constexpr std::size_t event_count() {
+  if constexpr (HasEvents<M>)
+    return M::n_events;
+  else
+    return 0;
+}
+
+// Stops the reference run at a sign change of a terminal event (an orbit's re_entry, in its
+// direction) between accepted steps: an orbit that does not last to t_end has no position there
+// to compare, and runs through the Earth judge nothing.
+template <class M = K>
+class TerminalWatch {
+ public:
+  void operator()(Q t, const rt::State<Q>& x) {
+    if constexpr (HasEvents<M>) {
+      std::array<Q, M::n_events> g{};
+      M::events(t, x.data(), g.data(), parameters);
+      for (std::size_t i = 0; started_ && i < g.size(); ++i) {
+        const int direction = M::event_directions[i];
+        const bool down = last_[i] > Q(0) && g[i] <= Q(0), up = last_[i] < Q(0) && g[i] >= Q(0);
+        if (M::event_terminal[i] && ((down && direction <= 0) || (up && direction >= 0))) {
+          char buf[256];
+          std::snprintf(buf, sizeof buf, "the terminal event '%s' occurs between t = %.9g and %.9g, before t_end",
+                        M::event_names[i], static_cast<double>(t_), static_cast<double>(t));
+          throw std::runtime_error(buf);
+        }
+      }
+      last_ = g;
+      t_ = t;
+      started_ = true;
+    } else {
+      (void)t, (void)x;
+    }
+  }
+
+ private:
+  std::array<Q, event_count<M>()> last_{};
+  Q t_ = Q(0);
+  bool started_ = false;
+};
+
+Q distance(const std::array<Q, 3>& a, const std::array<Q, 3>& b) {
+  using std::sqrt;
+  Q d2 = Q(0);
+  for (std::size_t k = 0; k < 3; ++k) d2 += (a[k] - b[k]) * (a[k] - b[k]);
+  return sqrt(d2);
+}
+
+// `--reference-only` (on the Cowell kernel): the position at t_end of a float128 DOP853 run from
+// the kernel's initial Cartesian state, and how far a run 1000 times looser ends from it (its
+// error is below that). Printed as a note and the line reference_position,X,Y,Z,SPREAD.
+template <class M = K>
+int print_orbit_reference(const Options& o) {
+  if constexpr (!position_in_state) {
+    (void)o;
+    usage("--reference-only needs a kernel whose state holds the position x, y, z (Cowell's)");
+  } else {
+    TerminalWatch<> watch;
+    const auto tight = float128_run(o.t_end, o.reference_tolerance, watch);
+    const auto loose = float128_run(o.t_end, o.reference_tolerance * 1e3);
+    std::array<Q, 3> r{}, r_loose{};
+    for (int k = 0; k < 3; ++k) r[k] = tight[state_xyz[k]], r_loose[k] = loose[state_xyz[k]];
+    const Q spread = distance(r, r_loose);
+    std::printf("# reference: %s in float128 (113-bit), DOP853 at rtol = atol = %.0e from the scene's initial "
+                "Cartesian state; a run at %.0e ends %.2g away in position (a bound on the reference's error)\n",
+                M::scene_name, o.reference_tolerance, o.reference_tolerance * 1e3, static_cast<double>(spread));
+    std::printf("reference_position,%s,%s,%s,%s\n", rt::to_string(r[0]).c_str(), rt::to_string(r[1]).c_str(),
+                rt::to_string(r[2]).c_str(), rt::to_string(spread, 6).c_str());
+  }
+  return 0;
+}
+
+double position_error(const State& x, double t_end, const std::array<Q, 3>& reference) {
+  return static_cast<double>(distance(position_of(t_end, x.data(), parameters), reference));
 }
 
 // --- timing and output ------------------------------------------------------------------------------
@@ -532,6 +710,10 @@ int main(int argc, char** argv) {
                   "splitting methods step with\n", m.name);
       continue;
     }
+    if (projects && std::strcmp(m.library, "odeint") == 0) {
+      std::printf("# skipped %s: odeint's integrators do not call the kernel's project() after a step\n", m.name);
+      continue;
+    }
     if (std::strcmp(m.name, "symplectic_rkn_sb3a_mclachlan") == 0 && !eomc::bench::autonomous) {
       std::printf("# skipped %s: odeint's Nystroem steppers pass no time to the force, and the equations depend on t\n",
                   m.name);
@@ -545,24 +727,39 @@ int main(int argc, char** argv) {
       usage("unknown method " + name);
   }
 
+  if (o.reference_only) {
+    try {
+      return print_orbit_reference(o);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "bench driver: the reference run failed: %s\n", e.what());
+      return 1;
+    }
+  }
+  if (o.reference_position && !has_position) usage("--reference-position: the kernel has no position x, y, z");
+
   std::size_t total = 1, done = 0;  // the reference counts as one unit
   for (const Method& m : methods) total += m.kind == Kind::adaptive ? o.tolerances.size() : o.steps.size();
   Progress bar(total);
   bar.show(done++, "reference solution");
   Reference ref;
-  try {
-    ref = make_reference(o);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "bench driver: the reference run failed: %s\n", e.what());
-    return 1;
+  if (!o.reference_position) {
+    try {
+      ref = make_reference(o);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "bench driver: the reference run failed: %s\n", e.what());
+      return 1;
+    }
+    std::printf("# reference: %s\n", ref.description.c_str());
   }
-  std::printf("# reference: %s\n", ref.description.c_str());
   std::printf("method,library,kind,setting,error,max_invariant_drift,rhs_evals,steps,rejected,wall_seconds,repetitions\n");
   std::fflush(stdout);
 
   // Errors this small are round-off: a fixed-step sweep that no longer improves there is done.
   double scale = 1.0;
-  for (const Q& v : ref.x) scale = std::max(scale, static_cast<double>(abs(v)));
+  if (o.reference_position)
+    for (const Q& v : *o.reference_position) scale = std::max(scale, static_cast<double>(abs(v)));
+  else
+    for (const Q& v : ref.x) scale = std::max(scale, static_cast<double>(abs(v)));
   const double round_off_region = 1e-8 * scale;
   for (const Method& m : methods) {
     const std::vector<double>& settings = m.kind == Kind::adaptive ? o.tolerances : o.steps;
@@ -580,7 +777,7 @@ int main(int argc, char** argv) {
         const auto start = Clock::now();
         out = m.run(o.t_end, setting, true);
         observed_s = seconds_since(start);
-        error = error_of(out.x, ref);
+        error = o.reference_position ? position_error(out.x, o.t_end, *o.reference_position) : error_of(out.x, ref);
         if (!std::isfinite(error)) throw std::runtime_error("non-finite final state");
       } catch (const std::exception& e) {
         // Too large a step (a fixed-step method blowing up, an implicit stage iteration that does

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <limits>
 #include <map>
@@ -59,6 +60,14 @@ void validate(const BenchRequest& r) {
     if (!(r.min_time >= 0.0 && std::isfinite(r.min_time)))
         throw InputError(SourcePos{"--min-time"}, fmt::format("--min-time must be >= 0, not {}", r.min_time));
     if (r.repeats < 1) throw InputError(SourcePos{"--repeats"}, fmt::format("--repeats must be >= 1, not {}", r.repeats));
+    for (std::size_t i = 0; i < r.formulations.size(); ++i)
+        for (std::size_t j = 0; j < i; ++j)
+            if (r.formulations[i].name == r.formulations[j].name)
+                throw InputError(SourcePos{"--formulations"},
+                                 fmt::format("the formulation '{}' is listed twice", r.formulations[i].name));
+    if (!(r.reference_tolerance > 0.0 && r.reference_tolerance < 1e-3))
+        throw InputError(SourcePos{"--reference-tolerance"},
+                         fmt::format("the reference tolerance must lie in (0, 1e-3), not {}", r.reference_tolerance));
 }
 
 std::string cpp_string(const std::string& s) {
@@ -105,10 +114,11 @@ double parse_double(const std::string& s) {
     return v;
 }
 
-BenchRow parse_row(const std::string& line) {
+BenchRow parse_row(const std::string& line, const std::string& formulation) {
     const std::vector<std::string> f = split(line, ',');
     if (f.size() != 11) throw std::runtime_error("the benchmark driver wrote a malformed row: " + line);
     BenchRow r;
+    r.formulation = formulation;
     r.method = f[0];
     r.library = f[1];
     r.kind = f[2];
@@ -218,9 +228,69 @@ std::string gnuplot_script(const BenchRequest& request, const BenchResult& resul
     return s;
 }
 
-// Writes out_dir/work_precision.png through gnuplot (pngcairo, else png). Returns "" on success,
-// else the reason there is no plot.
-std::string plot(const BenchRequest& request, const BenchResult& result, const fs::path& png) {
+// Two panels, log-log, one curve per formulation and method: the error of the position at t_end
+// against the median wall time of a run, and against its rhs evaluations. Colour: formulation;
+// point and dash: method.
+// Errors above `error_cap` are off the plot (they are in the CSV and the table).
+std::string orbit_gnuplot_script(const BenchRequest& request, const BenchResult& result, double error_cap,
+                                 const std::string& terminal, const fs::path& output) {
+    static const char* colors[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",
+                                   "#bcbd22", "#17becf", "#ff7f0e"};
+    std::vector<std::string> formulations, methods;
+    std::vector<std::pair<std::string, std::string>> curves;
+    for (const auto& r : result.rows) {
+        if (std::find(formulations.begin(), formulations.end(), r.formulation) == formulations.end())
+            formulations.push_back(r.formulation);
+        if (std::find(methods.begin(), methods.end(), r.method) == methods.end()) methods.push_back(r.method);
+        const std::pair<std::string, std::string> c{r.formulation, r.method};
+        if (std::find(curves.begin(), curves.end(), c) == curves.end()) curves.push_back(c);
+    }
+    const auto index = [](const std::vector<std::string>& v, const std::string& x) {
+        return static_cast<std::size_t>(std::find(v.begin(), v.end(), x) - v.begin());
+    };
+    const auto positive = [](double v) { return v > 0.0 && std::isfinite(v) ? fmt::format("{:.6g}", v) : "NaN"; };
+    std::string s = fmt::format("set terminal {} size 1600,700 font ',10'\nset output {}\n", terminal,
+                                gnuplot_quoted(output.string()));
+    for (std::size_t c = 0; c < curves.size(); ++c) {
+        std::vector<const BenchRow*> rows;
+        for (const auto& r : result.rows)
+            if (r.formulation == curves[c].first && r.method == curves[c].second) rows.push_back(&r);
+        std::sort(rows.begin(), rows.end(), [](const BenchRow* a, const BenchRow* b) { return a->rhs_evals < b->rhs_evals; });
+        s += fmt::format("$c{} << EOD\n", c);
+        for (const BenchRow* r : rows)
+            s += fmt::format("{} {} {}\n", positive(r->seconds), positive(static_cast<double>(r->rhs_evals)),
+                             positive(r->error));
+        s += "EOD\n";
+    }
+    s += fmt::format("set multiplot layout 1,2 title {}\n",
+                     gnuplot_quoted(gnuplot_text(fmt::format(
+                         "{}: position error at t = {:.6g} against a float128 Cowell run, per formulation and method",
+                         request.scene_name, request.t_end))));
+    s += "set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\nset grid\nset key bottom left font ',9'\n"
+         "set ylabel 'position error at the end time'\n";
+    if (std::isfinite(error_cap)) s += fmt::format("set yrange [:{:.3g}]\n", error_cap);
+    const auto panel = [&](const char* xlabel, int column) {
+        std::string p = fmt::format("set xlabel '{}'\nplot ", xlabel);
+        for (std::size_t c = 0; c < curves.size(); ++c) {
+            const std::size_t f = index(formulations, curves[c].first), m = index(methods, curves[c].second);
+            p += fmt::format("{}$c{} using {}:3 with linespoints lw 1.5 pt {} dt {} lc rgb '{}' title '{} {}'",
+                             c ? ", \\\n     " : "", c, column, m % 13 + 1, m % 5 + 1, colors[f % 10],
+                             gnuplot_text(curves[c].first), gnuplot_text(curves[c].second));
+        }
+        return p + "\n";
+    };
+    if (!curves.empty()) {
+        s += panel("wall time per run (s, median)", 1);
+        s += panel("rhs evaluations per run", 2);
+    }
+    s += "unset multiplot\n";
+    return s;
+}
+
+// Writes `png` through gnuplot (pngcairo, else png) with the script script(terminal, output).
+// Returns "" on success, else the reason there is no plot.
+std::string plot(const std::function<std::string(const std::string&, const fs::path&)>& script_for,
+                 const fs::path& png) {
     const std::string gnuplot = find_gnuplot();
     if (gnuplot.empty())
         return "gnuplot was not found (install gnuplot-nox); " + png.string() + " was not written";
@@ -229,7 +299,7 @@ std::string plot(const BenchRequest& request, const BenchResult& result, const f
     std::string log;
     for (const char* terminal : {"pngcairo", "png"}) {
         const fs::path script = dir.path() / "plot.gp";
-        std::ofstream(script) << gnuplot_script(request, result, terminal, partial);
+        std::ofstream(script) << script_for(terminal, partial);
         const int status = run_process({gnuplot, script.string()}, dir.path() / "gnuplot.log", true);
         if (WIFEXITED(status) && WEXITSTATUS(status) == 0 && fs::exists(partial)) {
             std::error_code ec;
@@ -243,6 +313,191 @@ std::string plot(const BenchRequest& request, const BenchResult& result, const f
     std::error_code ignored;
     fs::remove(partial, ignored);
     return fmt::format("gnuplot failed, {} was not written:\n{}", png.string(), log);
+}
+
+// The request for one formulation's kernel: the same sweep on another header.
+BenchRequest with_kernel(const BenchRequest& request, const BenchFormulation& f) {
+    BenchRequest r = request;
+    r.header_text = f.header_text;
+    r.struct_name = f.struct_name;
+    r.scene_name = f.scene_name;
+    r.autonomous = f.autonomous;
+    r.reference_body.clear();
+    r.formulations.clear();
+    return r;
+}
+
+// The driver program of a request's kernel, compiled unless the cache has it.
+fs::path driver_for(const BenchRequest& request, bool& cache_hit) {
+    CompileRequest build;
+    build.files = {{"bench_driver.cpp", codegen::bench_driver_template()},
+                   {"kernel.hpp", request.header_text},
+                   {"bench_config.hpp", bench_config_source(request)}};
+    if (request.odeint_array) build.flags = {"-DEOMC_BENCH_ODEINT_ARRAY"};
+    build.libraries = {"-lquadmath"};
+    build.what = "the benchmark driver";
+    const fs::path driver = cached_path(build, request.cache_dir);
+    cache_hit = fs::exists(driver);
+    if (!cache_hit) {
+        std::cerr << "compiling the benchmark driver for " << request.scene_name
+                  << " (once per kernel; it is cached as " << driver.string() << ")\n";
+        compile(build, driver);
+    }
+    return driver;
+}
+
+// Runs a driver; its standard output (CSV rows and '# ' notes).
+std::string run_driver(const std::vector<std::string>& argv) {
+    TempDir work("eomc-bench-");
+    const fs::path output = work.path() / "driver.csv";
+    const int status = run_process(argv, output, false);
+    if (!(WIFEXITED(status) && WEXITSTATUS(status) == 0))
+        throw std::runtime_error(fmt::format("the benchmark driver {} {}", argv.front(), describe_status(status)));
+    return read_text(output);
+}
+
+// The sweep's options, as the driver takes them.
+std::vector<std::string> sweep_arguments(const BenchRequest& request, const std::vector<std::string>& methods,
+                                         const std::vector<double>& steps) {
+    std::vector<std::string> argv{"--t-end", fmt::format("{:.17g}", request.t_end)};
+    if (!methods.empty()) argv.insert(argv.end(), {"--methods", join(methods, ",")});
+    if (!request.tolerances.empty()) argv.insert(argv.end(), {"--tolerances", number_list(request.tolerances)});
+    if (!steps.empty()) argv.insert(argv.end(), {"--steps", number_list(steps)});
+    argv.insert(argv.end(), {"--min-time", fmt::format("{:.17g}", request.min_time == 0.0 ? 1e-9 : request.min_time),
+                             "--repeats", std::to_string(request.repeats)});
+    return argv;
+}
+
+// Rows (tagged with `formulation`) and notes (prefixed with `note_prefix`) of a driver's output;
+// the rows as written, after "formulation," when there is one, are appended to `csv`.
+void collect(const std::string& text, const std::string& formulation, const std::string& note_prefix,
+             BenchResult& result, std::string& csv) {
+    bool header_seen = false;
+    std::istringstream lines(text);
+    for (std::string line; std::getline(lines, line);) {
+        if (line.rfind("# ", 0) == 0) {
+            result.notes.push_back(note_prefix + line.substr(2));
+        } else if (!header_seen) {
+            if (line != bench_csv_header)
+                throw std::runtime_error("the benchmark driver wrote an unexpected header: " + line);
+            header_seen = true;
+        } else if (!line.empty()) {
+            result.rows.push_back(parse_row(line, formulation));
+            csv += (formulation.empty() ? "" : formulation + ",") + line + "\n";
+        }
+    }
+    if (!header_seen) throw std::runtime_error("the benchmark driver wrote no CSV header");
+}
+
+// DIR/work_precision.csv (`csv`: header and rows) and DIR/work_precision.png.
+void write_outputs(const BenchRequest& request, BenchResult& result, const std::string& csv,
+                   const std::function<std::string(const std::string&, const fs::path&)>& script_for) {
+    const fs::path dir = request.out_dir.empty() ? fs::path(".") : fs::path(request.out_dir);
+    const fs::path csv_path = dir / "work_precision.csv", png_path = dir / "work_precision.png";
+    write_file_atomically(csv_path, csv);
+    result.csv_path = csv_path.string();
+    const std::string no_plot = plot(script_for, png_path);
+    if (no_plot.empty()) {
+        result.png_path = png_path.string();
+    } else {
+        std::cerr << "eomc: warning: " << no_plot << "\n";
+        result.notes.push_back(no_plot.substr(0, no_plot.find('\n')));
+    }
+}
+
+// The Cowell reference of an orbit bench: the position at t_end and its spread, from the cache
+// when this kernel, end time and tolerance have been run before (it takes minutes on long runs).
+struct OrbitReference {
+    std::string position;  // X,Y,Z in full float128 precision
+    double spread = 0.0;
+    std::string note;
+};
+
+OrbitReference orbit_reference(const BenchRequest& request, const fs::path& driver) {
+    const fs::path cached = driver.parent_path() / fmt::format("{}.reference-{:.17g}-{:.3g}.txt", driver.filename().string(),
+                                                              request.t_end, request.reference_tolerance);
+    std::string text;
+    if (fs::exists(cached)) {
+        text = read_text(cached);
+    } else {
+        std::cerr << "computing the float128 Cowell reference for " << request.scene_name << " over t = 0 .. "
+                  << fmt::format("{:.6g}", request.t_end) << " (once; it is cached as " << cached.string() << ")\n";
+        text = run_driver({driver.string(), "--reference-only", "--t-end", fmt::format("{:.17g}", request.t_end),
+                           "--reference-tolerance", fmt::format("{:.17g}", request.reference_tolerance)});
+        write_file_atomically(cached, text);
+    }
+    OrbitReference ref;
+    std::istringstream lines(text);
+    for (std::string line; std::getline(lines, line);) {
+        if (line.rfind("# ", 0) == 0) {
+            ref.note = line.substr(2);
+        } else if (line.rfind("reference_position,", 0) == 0) {
+            const std::vector<std::string> f = split(line, ',');
+            if (f.size() != 5) break;
+            ref.position = f[1] + "," + f[2] + "," + f[3];
+            ref.spread = parse_double(f[4]);
+        }
+    }
+    if (ref.position.empty() || ref.note.empty())
+        throw std::runtime_error("the reference run wrote no position (" + cached.string() + "):\n" + text);
+    return ref;
+}
+
+// Step counts for fixed-step methods on an orbit: 8 .. 2048 per revolution in half octaves (fewer
+// than 8 steps per revolution only measure divergence).
+std::vector<double> orbit_steps(const BenchRequest& request) {
+    std::vector<double> steps;
+    const double orbits = request.t_end / request.orbit_period;
+    for (int k = 6; k <= 22; ++k) steps.push_back(std::max(1.0, std::round(orbits * std::pow(2.0, k / 2.0))));
+    steps.erase(std::unique(steps.begin(), steps.end()), steps.end());
+    return steps;
+}
+
+BenchResult orbit_bench(const BenchRequest& request) {
+    BenchResult result;
+    const std::vector<std::string> methods =
+        request.methods.empty() ? std::vector<std::string>{"dop853", "dopri5", "rk4"} : request.methods;
+    const std::vector<double> steps =
+        request.steps.empty() && request.orbit_period > 0.0 ? orbit_steps(request) : request.steps;
+
+    // The reference: the request's own kernel (Cowell) in float128.
+    const fs::path reference_driver = driver_for(request, result.cache_hit);
+    result.driver_path = reference_driver.string();
+    const OrbitReference ref = orbit_reference(request, reference_driver);
+    result.reference_spread = ref.spread;
+    result.notes.push_back(ref.note);
+    result.notes.insert(result.notes.end(), request.skipped.begin(), request.skipped.end());
+
+    std::string csv = std::string(bench_orbit_csv_header) + "\n";
+    for (const BenchFormulation& f : request.formulations) {
+        bool hit = false;
+        const BenchRequest kernel = with_kernel(request, f);
+        const fs::path driver = driver_for(kernel, hit);
+        std::cerr << "formulation " << f.name << "\n";
+        std::vector<std::string> argv{driver.string()};
+        for (std::string& a : sweep_arguments(kernel, methods, steps)) argv.push_back(std::move(a));
+        argv.insert(argv.end(), {"--reference-position", ref.position});
+        collect(run_driver(argv), f.name, f.name + ": ", result, csv);
+    }
+
+    // The reference must be far more accurate than anything it judges.
+    double best = std::numeric_limits<double>::infinity();
+    for (const BenchRow& r : result.rows) best = std::min(best, r.error);
+    if (std::isfinite(best))
+        result.notes.push_back(fmt::format("{}the reference's spread ({:.2g}) is {} the smallest error measured ({:.2g})",
+                                           ref.spread * 100.0 <= best ? "" : "warning: ", ref.spread,
+                                           ref.spread * 100.0 <= best ? fmt::format("{:.2g} times below", best / ref.spread)
+                                                                      : std::string("not 100 times below"),
+                                           best));
+    // An error beyond the orbit's size only says that the run lost the orbit (coarse steps fly off
+    // to 1e8 km): the plot stops at ten times the final radius, keeping its resolution for the rest.
+    double radius2 = 0.0;
+    for (const std::string& c : split(ref.position, ',')) radius2 += parse_double(c) * parse_double(c);
+    const double error_cap = 10.0 * std::sqrt(radius2);
+    write_outputs(request, result, csv, [&](const std::string& terminal, const fs::path& output) {
+        return orbit_gnuplot_script(request, result, error_cap, terminal, output);
+    });
+    return result;
 }
 
 }  // namespace
@@ -268,89 +523,53 @@ std::string bench_config_source(const BenchRequest& request) {
 
 BenchResult bench(const BenchRequest& request) {
     validate(request);
+    if (!request.formulations.empty()) return orbit_bench(request);
     BenchResult result;
-
-    CompileRequest build;
-    build.files = {{"bench_driver.cpp", codegen::bench_driver_template()},
-                   {"kernel.hpp", request.header_text},
-                   {"bench_config.hpp", bench_config_source(request)}};
-    if (request.odeint_array) build.flags = {"-DEOMC_BENCH_ODEINT_ARRAY"};
-    build.libraries = {"-lquadmath"};
-    build.what = "the benchmark driver";
-    const fs::path driver = cached_path(build, request.cache_dir);
+    const fs::path driver = driver_for(request, result.cache_hit);
     result.driver_path = driver.string();
-    result.cache_hit = fs::exists(driver);
-    if (!result.cache_hit) {
-        std::cerr << "compiling the benchmark driver for " << request.scene_name
-                  << " (once per kernel; it is cached as " << driver.string() << ")\n";
-        compile(build, driver);
-    }
-
-    std::vector<std::string> argv{driver.string(), "--t-end", fmt::format("{:.17g}", request.t_end)};
-    if (!request.methods.empty()) argv.insert(argv.end(), {"--methods", join(request.methods, ",")});
-    if (!request.tolerances.empty()) argv.insert(argv.end(), {"--tolerances", number_list(request.tolerances)});
-    if (!request.steps.empty()) argv.insert(argv.end(), {"--steps", number_list(request.steps)});
-    argv.insert(argv.end(), {"--min-time", fmt::format("{:.17g}", request.min_time == 0.0 ? 1e-9 : request.min_time),
-                             "--repeats", std::to_string(request.repeats)});
-    TempDir work("eomc-bench-");
-    const fs::path output = work.path() / "driver.csv";
-    const int status = run_process(argv, output, false);
-    if (!(WIFEXITED(status) && WEXITSTATUS(status) == 0))
-        throw std::runtime_error(fmt::format("the benchmark driver {} {}", driver.string(), describe_status(status)));
-
+    std::vector<std::string> argv{driver.string()};
+    for (std::string& a : sweep_arguments(request, request.methods, request.steps)) argv.push_back(std::move(a));
     std::string csv = std::string(bench_csv_header) + "\n";
-    bool header_seen = false;
-    std::istringstream lines(read_text(output));
-    for (std::string line; std::getline(lines, line);) {
-        if (line.rfind("# ", 0) == 0) {
-            result.notes.push_back(line.substr(2));
-        } else if (!header_seen) {
-            if (line != bench_csv_header)
-                throw std::runtime_error("the benchmark driver wrote an unexpected header: " + line);
-            header_seen = true;
-        } else if (!line.empty()) {
-            result.rows.push_back(parse_row(line));
-            csv += line + "\n";
-        }
-    }
-    if (!header_seen) throw std::runtime_error("the benchmark driver wrote no CSV header");
-
-    const fs::path dir = request.out_dir.empty() ? fs::path(".") : fs::path(request.out_dir);
-    const fs::path csv_path = dir / "work_precision.csv", png_path = dir / "work_precision.png";
-    write_file_atomically(csv_path, csv);
-    result.csv_path = csv_path.string();
-    const std::string no_plot = plot(request, result, png_path);
-    if (no_plot.empty()) {
-        result.png_path = png_path.string();
-    } else {
-        std::cerr << "eomc: warning: " << no_plot << "\n";
-        result.notes.push_back(no_plot.substr(0, no_plot.find('\n')));
-    }
+    collect(run_driver(argv), "", "", result, csv);
+    write_outputs(request, result, csv, [&](const std::string& terminal, const fs::path& output) {
+        return gnuplot_script(request, result, terminal, output);
+    });
     return result;
 }
 
 void print_bench_table(const BenchResult& result, std::ostream& out) {
-    std::vector<std::string> methods;
-    for (const auto& r : result.rows)
-        if (std::find(methods.begin(), methods.end(), r.method) == methods.end()) methods.push_back(r.method);
-    const double targets[] = {1e-6, 1e-9, 1e-12};
-    std::string s = fmt::format("{:<30} {:<7} {:>4}  {:>10}", "method", "library", "runs", "best error");
-    for (double t : targets) s += fmt::format("  {:>18}", fmt::format("to {:.0e}: ms, rhs", t));
+    // Orbit benches: one line per formulation and method, at position errors of a unit (a km in
+    // the bundled scenes), a thousandth (a metre) and a millionth (a millimetre).
+    const bool orbit = std::any_of(result.rows.begin(), result.rows.end(),
+                                   [](const BenchRow& r) { return !r.formulation.empty(); });
+    std::vector<std::pair<std::string, std::string>> lines;
+    for (const auto& r : result.rows) {
+        const std::pair<std::string, std::string> key{r.formulation, r.method};
+        if (std::find(lines.begin(), lines.end(), key) == lines.end()) lines.push_back(key);
+    }
+    const std::vector<double> targets = orbit ? std::vector<double>{1.0, 1e-3, 1e-6} : std::vector<double>{1e-6, 1e-9, 1e-12};
+    const int width = orbit ? 20 : 18;
+    std::string s = orbit ? fmt::format("{:<12} {:<8} {:>4}  {:>10}", "formulation", "method", "runs", "best error")
+                          : fmt::format("{:<30} {:<7} {:>4}  {:>10}", "method", "library", "runs", "best error");
+    for (double t : targets) s += fmt::format("  {:>{}}", fmt::format("to {:.0e}: ms, rhs", t), width);
     s += fmt::format("  {:>12}\n", "drift (best)");
-    for (const auto& m : methods) {
+    for (const auto& [formulation, method] : lines) {
         std::vector<const BenchRow*> rows;
         for (const auto& r : result.rows)
-            if (r.method == m) rows.push_back(&r);
+            if (r.formulation == formulation && r.method == method) rows.push_back(&r);
         const BenchRow* best = *std::min_element(rows.begin(), rows.end(),
                                                  [](const BenchRow* a, const BenchRow* b) { return a->error < b->error; });
-        s += fmt::format("{:<30} {:<7} {:>4}  {:>10.2e}", m, rows.front()->library, rows.size(), best->error);
+        s += orbit ? fmt::format("{:<12} {:<8} {:>4}  {:>10.2e}", formulation, method, rows.size(), best->error)
+                   : fmt::format("{:<30} {:<7} {:>4}  {:>10.2e}", method, rows.front()->library, rows.size(), best->error);
         for (double t : targets) {
             // The cheapest run (wall time) whose error is at most t.
             const BenchRow* cheapest = nullptr;
             for (const BenchRow* r : rows)
                 if (r->error <= t && (!cheapest || r->seconds < cheapest->seconds)) cheapest = r;
-            s += cheapest ? fmt::format("  {:>18}", fmt::format("{:.3g} {:>7}", cheapest->seconds * 1e3, cheapest->rhs_evals))
-                          : fmt::format("  {:>18}", "-");
+            s += cheapest ? fmt::format("  {:>{}}",
+                                        fmt::format("{:.3g} {:>{}}", cheapest->seconds * 1e3, cheapest->rhs_evals, orbit ? 9 : 7),
+                                        width)
+                          : fmt::format("  {:>{}}", "-", width);
         }
         s += std::isnan(best->drift) ? fmt::format("  {:>12}\n", "-") : fmt::format("  {:>12.2e}\n", best->drift);
     }

@@ -2,6 +2,7 @@
 //   scene --parse--> Scene --build--> Model --derive--> Equations --lower--> KernelIR --emit--> header
 // Exit codes: 0 success, 2 bad input (file:line:column: error: …), 1 any other failure.
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -80,11 +81,12 @@ struct Pipeline {
 };
 
 // `orbit_formulation` ("" = the scene's own) is --orbit-formulation.
+// `flag` names the option that chose it, for messages (bench's --formulations).
 Pipeline front_end(const std::string& scene_path, bool hamiltonian, const std::string& orbit_formulation,
-                   StageClock* clock = nullptr) {
+                   StageClock* clock = nullptr, const char* flag = "--orbit-formulation") {
     scene::Scene scene = scene::parse_scene_file(scene_path);
     if (!orbit_formulation.empty())
-        scene::set_orbit_formulation(scene, orbit_formulation, SourcePos{"--orbit-formulation " + orbit_formulation});
+        scene::set_orbit_formulation(scene, orbit_formulation, SourcePos{std::string(flag) + " " + orbit_formulation});
     Pipeline p{model::build_model(scene), {}, std::nullopt};
     for (const auto& w : p.model.warnings) std::cerr << format_warning(w) << "\n";
     if (clock) clock->lap("parse");
@@ -228,7 +230,8 @@ std::vector<double> number_list(const std::string& text, const char* option) {
 
 struct BenchOptions {
     std::optional<double> t_end;
-    std::string methods, tolerances, steps, cache_dir, odeint_state = "vector";
+    std::string methods, tolerances, steps, cache_dir, odeint_state = "vector", formulations;
+    double reference_tolerance = 1e-26;
     double min_time = 0.02;
     int repeats = 3;
 };
@@ -241,6 +244,22 @@ bool depends_on_time(const Pipeline& p) {
         for (unsigned j = 0; j < p.equations.mass_matrix.cols(); ++j)
             if (p.equations.mass_matrix(i, j).has(p.model.t)) return true;
     return false;
+}
+
+// The period of an orbit scene's initial osculating ellipse (0 when it is no ellipse), from the
+// Cowell model's initial state and μ at the parameters' defaults.
+double orbit_period(const model::Model& m) {
+    if (!m.orbit || m.coordinates.size() != 3) return 0.0;
+    GiNaC::lst defaults;
+    for (const auto& par : m.parameters) defaults.append(par.symbol == par.value);
+    const GiNaC::ex mu = GiNaC::evalf(m.orbit->mu.subs(defaults));
+    if (!GiNaC::is_a<GiNaC::numeric>(mu)) return 0.0;
+    const double gm = GiNaC::ex_to<GiNaC::numeric>(mu).to_double();
+    double r2 = 0, v2 = 0;
+    for (const auto& c : m.coordinates) r2 += c.initial * c.initial, v2 += c.rate * c.rate;
+    const double inverse_a = 2.0 / std::sqrt(r2) - v2 / gm;  // vis-viva
+    if (!(gm > 0.0 && inverse_a > 0.0)) return 0.0;
+    return 2.0 * M_PI * std::sqrt(1.0 / (inverse_a * inverse_a * inverse_a) / gm);
 }
 
 // `eomc equilibria`: each relative equilibrium with its eigenvalues and verdict.
@@ -400,6 +419,13 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"vector", "array"}));
     bench->add_option("--cache-dir", bo.cache_dir, "where compiled programs are kept (default ~/.cache/eomc)");
     add_orbit_formulation(bench);
+    bench->add_option("--formulations", bo.formulations,
+                      "orbit scenes: comma-separated formulations to compare by their position at t_end against a "
+                      "float128 Cowell run (default: all built: " +
+                          std::string(fmt::format("{}", fmt::join(scene::orbit_formulations_built, ", "))) + ")");
+    bench->add_option("--reference-tolerance", bo.reference_tolerance,
+                      "orbit scenes: rtol = atol of the float128 Cowell reference (default 1e-26; checked against a run "
+                      "1000 times looser)");
 
     // Bad flags and values are bad input like any other: exit 2 (CLI11 would use its own codes).
     try {
@@ -454,6 +480,48 @@ int main(int argc, char** argv) {
             r.repeats = bo.repeats;
             r.out_dir = out_dir;
             r.cache_dir = bo.cache_dir;
+            r.reference_tolerance = bo.reference_tolerance;
+            const std::vector<std::string> formulations = comma_list(bo.formulations);
+            if (!bo.formulations.empty() && !p.model.orbit)
+                throw InputError(SourcePos{"--formulations"},
+                                 fmt::format("{} has no [orbit]; --formulations compares the formulations of an orbit "
+                                             "scene", scene_path));
+            if (!formulations.empty() && !orbit_formulation.empty())
+                throw InputError(SourcePos{"--formulations"},
+                                 "give the formulations either by --formulations or by --orbit-formulation, not both");
+            if (!bo.formulations.empty() && formulations.empty())
+                throw InputError(SourcePos{"--formulations"}, "the list is empty");
+            if (p.model.orbit) {
+                // The formulation axis: every kernel judged by its position against a float128 Cowell
+                // run (the request's own kernel). Names are checked before anything is generated.
+                std::vector<std::string> names = formulations;
+                if (names.empty() && !orbit_formulation.empty()) names = {orbit_formulation};
+                if (names.empty()) names.assign(scene::orbit_formulations_built.begin(), scene::orbit_formulations_built.end());
+                for (const auto& name : names) scene::check_orbit_formulation(name, SourcePos{"--formulations"});
+                const Pipeline cowell = front_end(scene_path, false, "cowell", nullptr, "--formulations");
+                r.header_text = kernel_header(cowell);
+                r.struct_name = cowell.model.struct_name;
+                r.scene_name = scene::parse_scene_file(scene_path).name;  // not a formulation's kernel name
+                r.reference_body.clear();
+                r.orbit_period = orbit_period(cowell.model);
+                const bool all_built = formulations.empty() && orbit_formulation.empty();
+                for (const auto& name : names) {
+                    try {
+                        const Pipeline f =
+                            name == "cowell" ? cowell : front_end(scene_path, false, name, nullptr, "--formulations");
+                        r.formulations.push_back({name, name == "cowell" ? r.header_text : kernel_header(f),
+                                                  f.model.struct_name, f.model.name, !depends_on_time(f)});
+                    } catch (const InputError& e) {
+                        // Asked for by name: bad input. Among "all built": a formulation that does not
+                        // take this scene (mean with drag) is left out, and the table says why.
+                        if (!all_built) throw;
+                        r.skipped.push_back(fmt::format("{}: left out: {}", name, e.message()));
+                    }
+                }
+                if (r.formulations.empty())
+                    throw InputError(SourcePos{"--formulations"},
+                                     "no formulation takes this scene: " + fmt::format("{}", fmt::join(r.skipped, "; ")));
+            }
             cli::print_bench_table(cli::bench(r), std::cout);
         } else if (equilibria->parsed()) {
             print_equilibria(p.model, mechanics::relative_equilibria(p.model, p.equations), format, std::cout);

@@ -83,6 +83,26 @@ std::vector<Row> parse_csv(const std::string& text) {
     return rows;
 }
 
+// Rows of an orbit bench's CSV (header checked), keyed by formulation and then method.
+std::map<std::string, std::map<std::string, std::vector<Row>>> parse_orbit_csv(const std::string& text) {
+    const std::string orbit_header =
+        "formulation,method,library,kind,setting,position_error,max_invariant_drift,rhs_evals,steps,rejected,"
+        "wall_seconds,repetitions";
+    std::map<std::string, std::map<std::string, std::vector<Row>>> out;
+    std::stringstream in(text);
+    std::string line;
+    std::getline(in, line);
+    BOOST_TEST(line == orbit_header);
+    for (; std::getline(in, line);) {
+        const auto comma = line.find(',');
+        BOOST_REQUIRE(comma != std::string::npos);
+        // The rest is a driver row: parse it as one under the driver's header.
+        for (const Row& r : parse_csv(header + "\n" + line.substr(comma + 1) + "\n"))
+            out[line.substr(0, comma)][r.method].push_back(r);
+    }
+    return out;
+}
+
 std::map<std::string, std::vector<Row>> by_method(const std::vector<Row>& rows) {
     std::map<std::string, std::vector<Row>> m;
     for (const auto& r : rows) m[r.method].push_back(r);
@@ -330,5 +350,127 @@ BOOST_AUTO_TEST_CASE(bad_input_exits_2_and_writes_nothing) {
     BOOST_TEST(r.err.find("scene.toml:15:13: error: 'q' is a coordinate, which may not appear in the reference value of "
                           "'q_dot'") != std::string::npos,
                r.err);
+    BOOST_TEST(!fs::exists(out));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Orbit scenes: the formulation axis. Two revolutions of scenes/leo_j2.toml (a = 7000 km,
+// e = 0.01, period 5828.5 s), Cowell and equinoctial, each judged by its position at t_end
+// against a float128 Cowell run.
+// ---------------------------------------------------------------------------------------------
+namespace {
+
+const std::string leo_j2 = std::string(EOMC_SOURCE_DIR) + "/scenes/leo_j2.toml";
+const char* orbit_sweep = "--t-end 11657 --formulations cowell,equinoctial --methods dop853,dopri5,rk4 "
+                          "--tolerances 1e-6,1e-8,1e-10 --steps 800,1600";
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(orbit_formulations_axis) {
+    const fs::path dir = scratch("orbit");
+    const Result r = run(eomc_bench(leo_j2, dir / "out", orbit_sweep), dir);
+    BOOST_TEST_REQUIRE(r.status == 0, r.err);
+    const auto rows = parse_orbit_csv(slurp(dir / "out" / "work_precision.csv"));
+    BOOST_TEST(rows.size() == 2u);
+    BOOST_TEST(r.out.find("note: reference: leo_j2_cowell in float128 (113-bit), DOP853 at rtol = atol = 1e-26") !=
+                   std::string::npos,
+               r.out);
+    BOOST_TEST(r.out.find("times below the smallest error measured") != std::string::npos, r.out);
+    if (std::system("command -v gnuplot > /dev/null 2>&1") == 0)
+        BOOST_TEST(slurp(dir / "out" / "work_precision.png").substr(0, 4) == std::string("\x89PNG", 4));
+
+    for (const char* formulation : {"cowell", "equinoctial"}) {
+        BOOST_TEST_CONTEXT(formulation) {
+            BOOST_TEST_REQUIRE(rows.count(formulation) == 1u);
+            const auto& methods = rows.at(formulation);
+            BOOST_TEST(methods.size() == 3u);
+            BOOST_TEST(r.out.find(std::string(formulation) + " ") != std::string::npos, "table lacks " << formulation);
+            for (const char* m : {"dop853", "dopri5"}) {
+                BOOST_TEST_REQUIRE(methods.count(m) == 1u, m);
+                const auto& list = methods.at(m);
+                BOOST_TEST_REQUIRE(list.size() == 3u, m);
+                check_errors_fall(m, list);
+                // An error-per-step controller with local extrapolation (both pairs advance with the
+                // higher order) makes the global error proportional to the tolerance (HNW II.4):
+                // over these four decades the error must fall by 10^(4 +- 1), i.e. a slope within
+                // 0.75 .. 1.25 (measured 1.0 .. 1.1).
+                const double slope =
+                    std::log(list.front().error / list.back().error) / std::log(list.front().setting / list.back().setting);
+                BOOST_TEST((slope >= 0.75 && slope <= 1.25), m << ": error slope " << slope << " against the tolerance");
+            }
+            // RK4 from 800 to 1600 steps (h = 14.6 .. 7.3 s, n h <= 0.016 rad): order 4 within 0.3,
+            // as for the Kepler orbit above.
+            BOOST_TEST_REQUIRE(methods.count("rk4") == 1u);
+            const double q = observed_order(methods.at("rk4"));
+            BOOST_TEST(std::abs(q - 4.0) <= 0.3, "rk4: observed order " << q);
+        }
+    }
+
+    // The same runs against a reference at another tolerance (a second float128 run, cached
+    // separately): the double runs are deterministic, so each error moves by no more than the
+    // two references differ, which is at most the sum of their spreads (each bounds its own
+    // reference's error; the looser one's is the larger, reported in its note).
+    const Result b = run(eomc_bench(leo_j2, dir / "out2", std::string(orbit_sweep) + " --reference-tolerance 1e-22"), dir);
+    BOOST_TEST_REQUIRE(b.status == 0, b.err);
+    const auto spread_of = [](const std::string& out) {
+        const std::string key = "away in position";
+        const auto end = out.find(key);
+        BOOST_REQUIRE(end != std::string::npos);
+        const auto start = out.rfind(" ends ", end);
+        return std::stod(out.substr(start + 6, end - start - 7));
+    };
+    const double tolerance = spread_of(r.out) + spread_of(b.out);
+    BOOST_TEST(tolerance < 1e-12);
+    const auto rows2 = parse_orbit_csv(slurp(dir / "out2" / "work_precision.csv"));
+    for (const auto& [formulation, methods] : rows)
+        for (const auto& [method, list] : methods)
+            for (std::size_t i = 0; i < list.size(); ++i) {
+                const Row& other = rows2.at(formulation).at(method).at(i);
+                BOOST_TEST(other.evals == list[i].evals);
+                // ... plus the rounding of each error to double.
+                BOOST_TEST(std::abs(other.error - list[i].error) <= tolerance + 0x1p-53 * 2 * list[i].error,
+                           formulation << " " << method << ": " << list[i].error << " vs " << other.error);
+            }
+}
+
+// An orbit that re-enters before t_end has no position there to compare: the reference run
+// says so (exit 1, as any integration that cannot go on).
+BOOST_AUTO_TEST_CASE(orbit_reference_refuses_a_re_entry) {
+    const fs::path dir = scratch("orbit-re-entry");
+    const Result r = run(eomc_bench(std::string(EOMC_SOURCE_DIR) + "/scenes/leo_drag.toml", dir / "out",
+                                    "--t-end 864000 --formulations cowell --methods dop853 --tolerances 1e-8 "
+                                    "--reference-tolerance 1e-14"),
+                         dir);
+    BOOST_TEST(r.status == 1);
+    BOOST_TEST(r.err.find("the reference run failed: the terminal event 're_entry' occurs between t = ") != std::string::npos,
+               r.err);
+    BOOST_TEST(!fs::exists(dir / "out" / "work_precision.csv"));
+}
+
+BOOST_AUTO_TEST_CASE(orbit_bad_input_exits_2) {
+    const fs::path dir = scratch("orbit-bad");
+    const fs::path out = dir / "out";
+    const fs::path oscillator = write_scene(dir, std::string(oscillator_scene) + oscillator_reference);
+    Result r = run(eomc_bench(oscillator, out, "--formulations cowell"), dir);
+    BOOST_TEST(r.status == 2);
+    BOOST_TEST(r.err.find("--formulations: error: ") != std::string::npos, r.err);
+    BOOST_TEST(r.err.find("has no [orbit]") != std::string::npos, r.err);
+
+    r = run(eomc_bench(leo_j2, out, "--formulations cowell,equinoctal"), dir);
+    BOOST_TEST(r.status == 2);
+    BOOST_TEST(r.err.find("--formulations: error: unknown orbit formulation 'equinoctal'; did you mean 'equinoctial'?") !=
+                   std::string::npos,
+               r.err);
+    r = run(eomc_bench(leo_j2, out, "--formulations cowell,cowell"), dir);
+    BOOST_TEST(r.status == 2);
+    BOOST_TEST(r.err.find("the formulation 'cowell' is listed twice") != std::string::npos, r.err);
+    // A formulation that does not take the scene (mean averages R; drag has no R) is bad input when
+    // asked for by name (among all built ones it would be left out with a note).
+    r = run(eomc_bench(std::string(EOMC_SOURCE_DIR) + "/scenes/leo_drag.toml", out, "--formulations cowell,mean"), dir);
+    BOOST_TEST(r.status == 2);
+    BOOST_TEST(r.err.find("--formulations mean: error: ") != std::string::npos, r.err);
+    r = run(eomc_bench(leo_j2, out, "--formulations cowell --orbit-formulation equinoctial"), dir);
+    BOOST_TEST(r.status == 2);
+    BOOST_TEST(r.err.find("either by --formulations or by --orbit-formulation") != std::string::npos, r.err);
     BOOST_TEST(!fs::exists(out));
 }
