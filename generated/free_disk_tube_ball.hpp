@@ -152,7 +152,9 @@ struct FreeDiskTubeBall {
     // Puts the attitude quaternion back on |e| = 1 (the runtime calls it after every accepted
     // step). R(e)/|e|² is orthogonal for any |e|, so this only keeps e well scaled.
     template <class S>
-    static void project(S* x) {
+    static void project(S t, S* x, const Parameters& p) {
+        (void)t;
+        (void)p;
         using std::sqrt;
         {
             const S norm = sqrt(x[4] * x[4] + x[5] * x[5] + x[6] * x[6] + x[7] * x[7]);

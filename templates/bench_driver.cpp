@@ -73,10 +73,13 @@ concept SeparableKernel = requires(double t, const double* q, double* a, const t
 };
 constexpr bool separable = SeparableKernel<K>;
 
-// Kernels that keep their state on a manifold have project(x); the runtime's drivers call it
-// through the system (runtime::Projecting) after every accepted step.
+// Kernels that edit their state after a step have project(t, x, p) (a unit quaternion put back
+// on |e| = 1, Encke's rectification); the runtime's drivers call it through the system
+// (runtime::Projecting) after every accepted step.
 template <class M>
-concept ProjectingKernel = requires(double* x) { M::template project<double>(x); };
+concept ProjectingKernel = requires(double t, double* x, const typename M::Parameters& p) {
+  M::template project<double>(t, x, p);
+};
 constexpr bool projects = ProjectingKernel<K>;
 
 // --- an orbit's Cartesian position ----------------------------------------------------------------
@@ -263,10 +266,10 @@ struct CountedRhsT {
     ++*count;
     M::rhs(t, x.data(), dxdt.data(), parameters);
   }
-  void project(State& x) const
+  void project(double t, State& x) const
     requires ProjectingKernel<M>
   {
-    M::project(x.data());
+    M::project(t, x.data(), parameters);
   }
 };
 using CountedRhs = CountedRhsT<>;

@@ -18,7 +18,7 @@ namespace {
 
 // Bumped whenever the C interface below changes; the loader refuses a library that reports
 // another value (a cache written by an older eomc).
-constexpr int adapter_abi = 5;  // 3: acceleration and events; 4: project; 5: variational_rhs
+constexpr int adapter_abi = 6;  // 3: acceleration and events; 4: project; 5: variational_rhs; 6: project(t, x, p)
 
 // The adapter: C functions over double, so that the host needs no knowledge of the kernel's
 // C++ types. Parameters travel by position in parameter_names order, never by member name
@@ -77,13 +77,15 @@ void variational_rhs(double t, const double* y, double* dydt, const void* p) {
     else (void)t, (void)y, (void)dydt, (void)p;
 }
 
-// Kernels whose state holds a unit quaternion have project().
+// Kernels whose state holds a unit quaternion, and encke kernels (rectification), have project().
 template <class M>
-concept HasProjection = requires(double* x) { M::template project<double>(x); };
+concept HasProjection = requires(double t, double* x, const typename M::Parameters& p) {
+    M::template project<double>(t, x, p);
+};
 template <class M>
-void project(double* x) {
-    if constexpr (HasProjection<M>) M::template project<double>(x);
-    else (void)x;
+void project(double t, double* x, const void* p) {
+    if constexpr (HasProjection<M>) M::template project<double>(t, x, *static_cast<const typename M::Parameters*>(p));
+    else (void)t, (void)x, (void)p;
 }
 
 template <class M>
@@ -161,7 +163,7 @@ EOMC_EXPORT int eomc_variational() { return HasVariational<K> ? 1 : 0; }
 EOMC_EXPORT void eomc_variational_rhs(double t, const double* y, double* dydt, const void* p) {
     variational_rhs<K>(t, y, dydt, p);
 }
-EOMC_EXPORT void eomc_project(double* x) { project<K>(x); }
+EOMC_EXPORT void eomc_project(double t, double* x, const void* p) { project<K>(t, x, p); }
 EOMC_EXPORT void eomc_acceleration(double t, const double* q, double* a, const void* p) { acceleration<K>(t, q, a, p); }
 EOMC_EXPORT int eomc_n_events() { return n_events<K>(); }
 EOMC_EXPORT const char* eomc_event_name(int i) { return event_name<K>(i); }
@@ -263,7 +265,7 @@ KernelLibrary KernelLibrary::load(const std::string& header_text, const std::str
     lib.projects_ = symbol<int (*)()>(h, "eomc_projects", p)() != 0;
     lib.variational_ = symbol<int (*)()>(h, "eomc_variational", p)() != 0;
     lib.variational_rhs_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_variational_rhs", p);
-    lib.project_ = symbol<void (*)(double*)>(h, "eomc_project", p);
+    lib.project_ = symbol<void (*)(double, double*, const void*)>(h, "eomc_project", p);
     lib.acceleration_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_acceleration", p);
     const int n_ev = symbol<int (*)()>(h, "eomc_n_events", p)();
     const auto event_name = symbol<const char* (*)(int)>(h, "eomc_event_name", p);

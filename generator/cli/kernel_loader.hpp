@@ -60,10 +60,11 @@ public:
         variational_rhs_(t, y, dydt, p.get());
     }
 
-    // Kernels whose state holds a unit quaternion (a free carrier's attitude) put it back on
-    // |e| = 1 in place; project() does nothing for the others.
+    // After an accepted step at time t, in place: kernels whose state holds a unit quaternion (a
+    // free carrier's attitude) put it back on |e| = 1, encke kernels rectify their reference
+    // orbit when the deviation has grown; project() does nothing for the others.
     bool projects() const { return projects_; }
-    void project(double* x) const { project_(x); }
+    void project(double t, double* x, const Parameters& p) const { project_(t, x, p.get()); }
 
     // q̈ = a(t, q) for separable systems (the splitting methods): q and a of n_coordinates =
     // n_state / 2 doubles. Only when separable(); otherwise the kernel has no acceleration().
@@ -103,7 +104,7 @@ private:
     bool projects_ = false;
     bool variational_ = false;
     void (*variational_rhs_)(double, const double*, double*, const void*) = nullptr;
-    void (*project_)(double*) = nullptr;
+    void (*project_)(double, double*, const void*) = nullptr;
     void (*acceleration_)(double, const double*, double*, const void*) = nullptr;
     std::vector<std::string> event_names_;
     std::vector<int> event_directions_;

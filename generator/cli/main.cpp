@@ -91,11 +91,15 @@ Pipeline front_end(const std::string& scene_path, bool hamiltonian, const std::s
     for (const auto& w : p.model.warnings) std::cerr << format_warning(w) << "\n";
     if (clock) clock->lap("parse");
     p.equations = mechanics::derive(p.model);
-    const bool equinoctial = p.model.orbit && p.model.orbit->formulation == "equinoctial";
-    if (equinoctial && (hamiltonian || p.model.hamiltonian))
+    const std::string formulation = p.model.orbit ? p.model.orbit->formulation : "";
+    if (formulation == "equinoctial" && (hamiltonian || p.model.hamiltonian))
         throw InputError(p.model.orbit->formulation_pos,
                          "the equinoctial formulation integrates Gauss's equations, not Hamilton's; use formulation = "
                          "\"cowell\" with the Hamiltonian formulation");
+    if (formulation == "encke" && (hamiltonian || p.model.hamiltonian))
+        throw InputError(p.model.orbit->formulation_pos,
+                         "the encke formulation integrates the deviation from a reference orbit, not Hamilton's "
+                         "equations; use formulation = \"cowell\" with the Hamiltonian formulation");
     if (hamiltonian || p.model.hamiltonian) p.canonical = mechanics::canonical_equations(p.model, p.equations);
 
     if (clock) clock->lap("derive");
@@ -435,6 +439,11 @@ int main(int argc, char** argv) {
         StageClock clock;
         Pipeline p = front_end(scene_path, hamiltonian, orbit_formulation, timings ? &clock : nullptr);
         p.variational = variational;
+        // Φ would have to follow each rectification's change of variables, which it does not.
+        if (variational && p.model.orbit && p.model.orbit->formulation == "encke")
+            throw InputError(p.model.orbit->formulation_pos,
+                             "--variational cannot follow the encke formulation's rectifications (each one changes "
+                             "the state's variables); use formulation = \"cowell\" for the state-transition matrix");
         const mechanics::CanonicalEquations* canonical = p.canonical ? &*p.canonical : nullptr;
         if (derive->parsed()) {
             std::ostringstream text;

@@ -232,7 +232,27 @@ double InvariantReport::relative_drift() const {
 double SimulationResult::value(const std::string& name) const {
     for (const auto& [n, v] : state)
         if (n == name) return v;
-    throw std::out_of_range("no state variable '" + name + "'");
+    for (const auto& [n, v] : outputs)
+        if (n == name) return v;
+    throw std::out_of_range("no state variable or output '" + name + "'");
+}
+
+// An orbit kernel's re_entry event (g = r − radius, downwards) cannot see a start already below
+// the surface: the generator refuses such a scene, and this refuses a --set that moves the start
+// (or the radius) there.
+void refuse_start_below_surface(const SimulationRequest& r, const KernelLibrary& lib,
+                                const KernelLibrary::Parameters& parameters, const State<double>& x) {
+    const auto& names = lib.event_names();
+    const auto it = std::find(names.begin(), names.end(), "re_entry");
+    if (it == names.end() || r.overrides.empty()) return;
+    std::vector<double> g(names.size());
+    lib.events(0.0, x.data(), g.data(), parameters);
+    const double height = g[static_cast<std::size_t>(it - names.begin())];
+    if (!(height > 0))
+        throw InputError(SourcePos{"--set"},
+                         fmt::format("the initial state of {} is {} km below the central body's surface "
+                                     "(r − radius = {}): the run would start re-entered",
+                                     lib.scene_name(), number(-height), number(height)));
 }
 
 SimulationResult simulate(const SimulationRequest& request) {
@@ -243,6 +263,7 @@ SimulationResult simulate(const SimulationRequest& request) {
     State<double> x(lib.initial_state().begin(), lib.initial_state().end());
     apply_overrides(request, lib, parameter_values, x);
     const KernelLibrary::Parameters parameters = lib.make_parameters(parameter_values);
+    refuse_start_below_surface(request, lib, parameters, x);
 
     SimulationResult result;
     result.scene_name = lib.scene_name();
@@ -288,8 +309,8 @@ SimulationResult simulate(const SimulationRequest& request) {
     std::vector<double> outputs(lib.output_names().size());
 
     // The kernel as a runtime system. One whose state holds a unit quaternion puts it back on
-    // |e| = 1 after every step (runtime::Projecting); for the others project() changes nothing,
-    // and an unchanged state costs the steppers nothing.
+    // |e| = 1 after every step, an encke kernel rectifies its reference orbit (runtime::Projecting);
+    // for the others project() changes nothing, and an unchanged state costs the steppers nothing.
     struct KernelSystem {
         const KernelLibrary& lib;
         const KernelLibrary::Parameters& parameters;
@@ -298,8 +319,8 @@ SimulationResult simulate(const SimulationRequest& request) {
             if (variational) lib.variational_rhs(t, xs.data(), dxdt.data(), parameters);
             else lib.rhs(t, xs.data(), dxdt.data(), parameters);
         }
-        void project(State<double>& xs) const {
-            if (lib.projects()) lib.project(xs.data());
+        void project(double t, State<double>& xs) const {
+            if (lib.projects()) lib.project(t, xs.data(), parameters);
         }
     };
     KernelSystem system{lib, parameters, request.variational};

@@ -73,7 +73,8 @@ struct SimulationResult {
     std::string csv_path;    // "" when no CSV was written
     std::size_t csv_rows = 0;
 
-    // The final value of a state component by name; throws std::out_of_range if absent.
+    // The final value of a state component, or else of an output, by name; throws
+    // std::out_of_range if neither has it.
     double value(const std::string& name) const;
 };
 

@@ -444,10 +444,10 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
     }
 
     // A unit quaternion's rates keep |e| = 1 only to the integrator's error; the runtime's
-    // drivers call project() after every accepted step when a kernel has one.
+    // drivers call project(t, x) after every accepted step when a kernel has one.
     std::string projection;
     if (!ir.unit_quaternions.empty()) {
-        std::string body = "        using std::sqrt;\n";
+        std::string body = "        (void)t;\n        (void)p;\n        using std::sqrt;\n";
         for (std::size_t k : ir.unit_quaternions) {
             body += fmt::format("        {{\n            const S norm = sqrt(x[{0}] * x[{0}] + x[{1}] * x[{1}] + x[{2}] * x[{2}] + "
                                 "x[{3}] * x[{3}]);\n",
@@ -457,8 +457,56 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
         projection =
             "\n    // Puts the attitude quaternion back on |e| = 1 (the runtime calls it after every accepted\n"
             "    // step). R(e)/|e|² is orthogonal for any |e|, so this only keeps e well scaled.\n"
-            "    template <class S>\n    static void project(S* x) {\n" +
+            "    template <class S>\n    static void project(S t, S* x, const Parameters& p) {\n" +
             body + "    }\n";
+    }
+    if (ir.rectification) {
+        if (!projection.empty()) throw std::runtime_error("a kernel with both a unit quaternion and a rectification");
+        const RectificationIR& r = *ir.rectification;
+        const std::size_t D = r.deviation, E = r.elements;
+        projection = fmt::format(
+            "\n    // Encke's rectification (Battin §9.3); the runtime calls project(t, x) after every accepted\n"
+            "    // step. Once |δ| > rectification_ratio |ρ|, the reference becomes the osculating ellipse of\n"
+            "    // the total state r = ρ + δ at t (its epoch t) and δ is re-expressed in it, so that r and ṙ\n"
+            "    // go on unchanged up to rounding. A total state that is no ellipse keeps the old reference\n"
+            "    // (the equations hold for any δ; only an ellipse can be written through E(M, e)).\n"
+            "    static constexpr double rectification_ratio = {ratio};\n\n"
+            "    template <class S>\n"
+            "    static void project(S t, S* x, const Parameters& p) {{\n"
+            "        using std::sqrt;\n"
+            "        std::array<S, 7> ref;  // ρ, ρ̇, μ\n"
+            "        reference_orbit_(t, x, ref.data(), p);\n"
+            "        const S d2 = x[{d0}] * x[{d0}] + x[{d1}] * x[{d1}] + x[{d2}] * x[{d2}];\n"
+            "        const S rho2 = ref[0] * ref[0] + ref[1] * ref[1] + ref[2] * ref[2];\n"
+            "        if (!(d2 > S(rectification_ratio * rectification_ratio) * rho2)) return;\n"
+            "        eomc::runtime::CartesianState<S> total;\n"
+            "        for (int k = 0; k < 6; ++k) total[k] = ref[k] + x[{dk}];\n"
+            "        const S r = sqrt(total[0] * total[0] + total[1] * total[1] + total[2] * total[2]);\n"
+            "        const S v2 = total[3] * total[3] + total[4] * total[4] + total[5] * total[5];\n"
+            "        if (!(v2 / S(2) - ref[6] / r < S(0))) return;\n"
+            "        const eomc::runtime::ClassicalElements<S> el = eomc::runtime::classical_from_cartesian(total, ref[6]);\n"
+            "        x[{e0}] = t;\n"
+            "        x[{e1}] = el.a;\n"
+            "        x[{e2}] = el.e;\n"
+            "        x[{e3}] = el.i;\n"
+            "        x[{e4}] = el.raan;\n"
+            "        x[{e5}] = el.argp;\n"
+            "        x[{e6}] = el.mean_anomaly;\n"
+            "        reference_orbit_(t, x, ref.data(), p);\n"
+            "        for (int k = 0; k < 6; ++k) x[{dk}] = total[k] - ref[k];\n"
+            "        x[{count}] += S(1);\n"
+            "    }}\n",
+            fmt::arg("ratio", fmt::format("{}", r.ratio)), fmt::arg("dk", D ? fmt::format("{} + k", D) : "k"), fmt::arg("d0", D), fmt::arg("d1", D + 1),
+            fmt::arg("d2", D + 2), fmt::arg("e0", E), fmt::arg("e1", E + 1), fmt::arg("e2", E + 2),
+            fmt::arg("e3", E + 3), fmt::arg("e4", E + 4), fmt::arg("e5", E + 5), fmt::arg("e6", E + 6),
+            fmt::arg("count", r.count));
+        includes += "#include <eomc/runtime/orbital_elements.hpp>\n";
+        private_part += fmt::format(
+            "{}"
+            "    // The reference orbit at t: ρ, ρ̇ from the reference elements in the state, then μ.\n"
+            "    template <class S>\n"
+            "    static void reference_orbit_(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n",
+            private_part.empty() ? "\n private:\n" : "\n", indent(body(r.reference, "out"), 8));
     }
 
     // The variational equations ride on the kernel's own rhs and symbolic Jacobian, so they

@@ -8,6 +8,7 @@
 #include "codegen/inverse_printer.hpp"
 #include "codegen/kernel_ir.hpp"
 #include "mechanics/differentiation.hpp"
+#include "mechanics/encke.hpp"
 #include "mechanics/first_order.hpp"
 #include "support/json.hpp"
 
@@ -90,6 +91,12 @@ std::string vector_text(const model::Vec3& v) {
     return fmt::format("({}, {}, {})", text(v[0]), text(v[1]), text(v[2]));
 }
 
+// Encke's f(q) on a symbol q, for all three formats.
+ex encke_f_of_q() {
+    static const GiNaC::symbol q("q");
+    return mechanics::encke_f(q);
+}
+
 // An orbit scene: the central body, each disturbing function and acceleration, then
 // R = Σ R_k and its gradient (the perturbing acceleration +∇R, FORMULAS §2).
 // The formulation's own steps (an element formulation's R in the elements, its partials, the
@@ -130,6 +137,20 @@ void print_orbit_text(const model::Model& model, const mechanics::Equations& eqs
         out << "Formulation equinoctial: the kernel integrates (p, f, g, h, k, L) by Gauss's equations (Betts eq. 6.37)\n"
                "  with the acceleration ∇R + a below, evaluated at the Cartesian state of the elements and taken\n"
                "  in radial, transverse and normal axes; the Cowell equations below give the same motion\n";
+    if (o.formulation == "encke")
+        out << "Formulation encke (Battin §9.3): the kernel integrates the deviation δ = r − ρ from a reference Kepler "
+               "ellipse ρ(t)\n"
+               "  δ̈ = −(μ/ρ³)(δ + f(q) r) + ∇R(r) + a(r, ṙ),  r = ρ + δ,  q = δ·(δ − 2r)/r²\n"
+               "  f(q) = (1 + q)^(3/2) − 1 = "
+            << text(encke_f_of_q())
+            << "\n"
+               "  ρ = a (cos E − e) P + a √(1 − e²) sin E Q,  E = kepler_E(M + n (t − t_ref), e),  n = √(μ/a³),\n"
+               "  P, Q the periapsis and its normal in the plane of (i, Ω, ω); the reference (t_ref, a, e, i, Ω, ω, "
+               "M)\n"
+               "  is reset to the osculating orbit of r, ṙ when |δ| > "
+            << o.rectify
+            << " |ρ| (rectification); ∇R and a (below) are taken\n"
+               "  at r, ṙ; the Cowell equations below give the same motion\n";
     std::string description;
     const auto steps = formulation_steps(model, eqs, description);
     if (!steps.empty()) {
@@ -264,6 +285,21 @@ void print_latex(const model::Model& model, const mechanics::Equations& eqs, std
                 << ",\\ " << latex(display_form(a.value[1])) << ",\\ " << latex(display_form(a.value[2])) << "\\right)"
                 << (&a == &o.accelerations.back() ? "\n" : "\\\\\n");
         out << "\\end{align*}\n";
+        if (o.formulation == "encke")
+            out << "\\subsection*{Encke's formulation}\nThe kernel integrates the deviation $\\boldsymbol\\delta = "
+                   "\\mathbf r - \\boldsymbol\\rho$ from a reference Kepler ellipse $\\boldsymbol\\rho(t)$ "
+                   "(Battin \\S 9.3), rectified when $|\\boldsymbol\\delta| > "
+                << o.rectify
+                << "\\,|\\boldsymbol\\rho|$:\n\\begin{align*}\n"
+                   "\\ddot{\\boldsymbol\\delta} &= -\\frac{\\mu}{\\rho^3}\\left(\\boldsymbol\\delta + f(q)\\,"
+                   "\\mathbf r\\right) + \\nabla R(\\mathbf r) + \\mathbf a(\\mathbf r, \\dot{\\mathbf r}), \\quad "
+                   "\\mathbf r = \\boldsymbol\\rho + \\boldsymbol\\delta\\\\\n"
+                   "q &= \\frac{\\boldsymbol\\delta\\cdot(\\boldsymbol\\delta - 2\\mathbf r)}{r^2}, \\quad "
+                   "f(q) = (1 + q)^{3/2} - 1 = "
+                << latex(encke_f_of_q())
+                << "\\\\\n"
+                   "\\boldsymbol\\rho &= a(\\cos E - e)\\,\\mathbf P + a\\sqrt{1 - e^2}\\,\\sin E\\,\\mathbf Q, \\quad "
+                   "E - e\\sin E = M + n(t - t_{\\text{ref}}), \\quad n = \\sqrt{\\mu/a^3}\n\\end{align*}\n";
         std::string description;
         const auto steps = formulation_steps(model, eqs, description);
         if (!steps.empty()) {
@@ -350,7 +386,16 @@ void print_json(const model::Model& model, const mechanics::Equations& eqs, std:
         for (std::size_t k = 0; k < steps.size(); ++k)
             out << (k ? ", " : "") << "{\"name\": " << json_string(steps[k].name) << ", \"value\": " << json_ex(steps[k].value)
                 << "}";
-        out << "]},\n";
+        out << "]";
+        if (o.formulation == "encke")
+            out << ", \"encke\": {\"equation\": "
+                << json_string("delta_ddot = -(mu/rho^3)*(delta + f(q)*r) + grad R(r) + a(r, r_dot), r = rho + delta")
+                << ", \"q\": " << json_string("delta.(delta - 2*r)/r^2") << ", \"f\": " << json_ex(encke_f_of_q())
+                << ", \"reference\": "
+                << json_string("rho = a*(cos(E) - e)*P + a*sqrt(1 - e^2)*sin(E)*Q, E = kepler_E(M + n*(t - t_ref), e), "
+                               "n = sqrt(mu/a^3)")
+                << ", \"rectify\": " << fmt::format("{}", o.rectify) << "}";
+        out << "},\n";
     }
     out << "  \"equations\": [\n";
     for (std::size_t s = 0; s < n; ++s) {

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -37,6 +38,14 @@ struct NamedSymbol {
     GiNaC::ex symbol;
 };
 
+// The encke formulation's rectification (mechanics::Rectification), lowered: the reference
+// orbit's ρ, ρ̇ and μ as one block, read by the emitted project().
+struct RectificationIR {
+    double ratio = 0.0;
+    std::size_t deviation = 0, elements = 0, count = 0;
+    Block reference;  // 7 outputs: ρ (3), ρ̇ (3), μ
+};
+
 struct KernelIR {
     std::string scene_name, struct_name, summary, source;
     std::string description;                 // what the state and the equations are (banner)
@@ -52,6 +61,7 @@ struct KernelIR {
     std::vector<std::string> output_names;
     bool separable = false;                  // q̈ = a(t, q): emit acceleration() for the splitting methods
     std::vector<std::size_t> unit_quaternions;  // first state index of each: emit project()
+    std::optional<RectificationIR> rectification;  // encke: emit project() that rectifies
 
     Block mass_matrix;       // n_velocities² outputs, row-major
     Block forcing;           // n_velocities outputs

@@ -151,6 +151,11 @@ KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form,
         residuals.push_back(r.value);
     }
     if (!residuals.empty()) ir.santilli_residuals = eliminate_common_subexpressions(residuals, prefix);
+    if (form.rectification) {
+        const auto& r = *form.rectification;
+        ir.rectification = RectificationIR{r.ratio, r.deviation, r.elements, r.count,
+                                           eliminate_common_subexpressions(r.reference, prefix)};
+    }
     t.invariants = lap();
     return ir;
 }

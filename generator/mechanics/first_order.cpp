@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "mechanics/encke.hpp"
 #include "mechanics/element_formulations.hpp"
 #include "mechanics/equinoctial.hpp"
 #include "mechanics/inverse_problem.hpp"
@@ -77,6 +78,7 @@ FirstOrderForm first_order_form(const model::Model& model, const Equations& eqs)
     // An orbit scene's formulation decides what the kernel integrates; the equations derived
     // (Cowell's) are the same either way.
     if (model.orbit && model.orbit->formulation == "equinoctial") return equinoctial_form(model, eqs);
+    if (model.orbit && model.orbit->formulation == "encke") return encke_form(model, eqs);
     if (model.orbit && model.orbit->formulation != "cowell") return element_form(model, eqs);
     FirstOrderForm form;
     const std::size_t n = model.coordinates.size();

@@ -39,6 +39,19 @@ struct EventFunction {
     bool terminal = false;
 };
 
+// Encke's rectification (mechanics/encke.hpp): after an accepted step the kernel's project()
+// resets the reference orbit to the osculating orbit of the total state when the deviation has
+// grown past `ratio` of the reference radius, and re-expresses the deviation in the new reference.
+struct Rectification {
+    double ratio = 0.0;          // rectify when |δ| > ratio |ρ|
+    std::size_t deviation = 0;   // δ, δ̇: state[deviation .. deviation + 6)
+    std::size_t elements = 0;    // epoch t_ref, then a, e, i, Ω, ω, M at t_ref: state[elements .. elements + 7)
+    std::size_t count = 0;       // the state index counting the rectifications
+    // ρ, ρ̇ (functions of t and the reference elements), then μ: the kernel computes the
+    // osculating elements with this μ and the new deviation with this ρ.
+    std::vector<GiNaC::ex> reference;
+};
+
 struct FirstOrderForm {
     std::string description;  // one line for the kernel's banner: what the state and equations are
     std::vector<StateComponent> state;
@@ -69,6 +82,8 @@ struct FirstOrderForm {
     // First state index of each unit quaternion (a free carrier's attitude): the kernel's
     // project() puts it back on |e| = 1 after every step.
     std::vector<std::size_t> unit_quaternions;
+    // The encke formulation's reference orbit, reset by project() (absent for every other form).
+    std::optional<Rectification> rectification;
 
     // What a formulation derived on the way, "name = value" in order, for `eomc derive` (an orbit's
     // disturbing function in the elements, its partials, the equations in named partials).
@@ -79,8 +94,9 @@ struct FirstOrderForm {
 
 // Lagrange's equations (with a free carrier's quasi-velocities and kinematics, when there
 // is one) as the first-order system x = (q, u, kinematic states); for an orbit scene in
-// equinoctial elements, Gauss's equations in those (mechanics/equinoctial.hpp), and in
-// classical or Delaunay elements mechanics/element_formulations.hpp, instead.
+// equinoctial elements, Gauss's equations in those (mechanics/equinoctial.hpp), in classical or
+// Delaunay elements mechanics/element_formulations.hpp, and in the encke formulation the
+// deviation from a Kepler reference orbit (mechanics/encke.hpp), instead.
 FirstOrderForm first_order_form(const model::Model& model, const Equations& equations);
 
 }  // namespace eomc::mechanics

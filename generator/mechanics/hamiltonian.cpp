@@ -136,6 +136,10 @@ CanonicalEquations canonical_equations(const model::Model& model, const Equation
         form.events.push_back({e.name, e.when.subs(to_canonical), e.direction, e.terminal});
     if (out.conserved)
         form.invariants.push_back({"energy", out.H, "H(q, p), the Legendre transform of L (the Jacobi integral)"});
+    // Every other integral proven on the Lagrangian side (an orbit's h_z) is one of the same
+    // motion, written in (q, p).
+    for (const auto& inv : eqs.invariants)
+        if (inv.name != "energy") form.invariants.push_back({inv.name, inv.value.subs(to_canonical), inv.description});
     return out;
 }
 

@@ -233,10 +233,11 @@ void build_orbit(const scene::Scene& scene, SymbolTable& symbols, Model& model) 
     Orbit orbit;
     orbit.formulation = given.formulation;
     orbit.formulation_pos = given.formulation_pos.file.empty() ? given.pos : given.formulation_pos;
+    orbit.rectify = given.rectify;
     // The equinoctial kernel's state names must stay free.
     if (given.formulation == "equinoctial")
         for (const auto& p : model.parameters)
-            for (const char* element : {"p", "f", "g", "h", "k", "L"})
+            for (const char* element : equinoctial_state_names)
                 if (p.name == element)
                     throw InputError(orbit.formulation_pos,
                                      fmt::format("the equinoctial formulation's state has an element '{}', which names a "
@@ -261,6 +262,17 @@ void build_orbit(const scene::Scene& scene, SymbolTable& symbols, Model& model) 
         } catch (const runtime::KeplerError& e) {
             throw InputError(given.initial_pos, fmt::format("the orbit's elements give no state: {}", e.what()));
         }
+    }
+    // Encke's reference is a Kepler ellipse (its position is written through E = kepler_E(M, e)).
+    if (given.formulation == "encke") {
+        const double r0 = std::hypot(x0[0], x0[1], x0[2]);
+        const double energy = (x0[3] * x0[3] + x0[4] * x0[4] + x0[5] * x0[5]) / 2 - mu / r0;
+        if (!(energy < 0))
+            throw InputError(orbit.formulation_pos,
+                             fmt::format("the encke formulation needs an elliptic initial orbit (its reference is a "
+                                         "Kepler ellipse), but this one has specific energy {} ≥ 0 ({}); use cowell or "
+                                         "equinoctial",
+                                         energy, energy == 0 ? "a parabola" : "a hyperbola"));
     }
     const char* names[] = {"x", "y", "z"};
     for (int k = 0; k < 3; ++k)

@@ -113,8 +113,18 @@ struct Orbit {
     Vec3 acceleration{0, 0, 0};                  // Σ accelerations
     std::string formulation = "cowell";
     SourcePos formulation_pos;                   // the [orbit] formulation key (or the [orbit] table)
+    double rectify = 1e-2;                       // encke: reset the reference when |δ| > rectify |ρ|
     GiNaC::ex r;                                 // √(x² + y² + z²)
 };
+
+// The state of orbit formulations that are not Cartesian, in kernel order (the equinoctial
+// elements must not name a parameter; other clashes the emitter resolves).
+inline constexpr std::array<const char*, 6> equinoctial_state_names{"p", "f", "g", "h", "k", "L"};
+// Encke: the deviation δ = r − ρ and its rate, the reference orbit's epoch and classical elements
+// at that epoch (constant between rectifications), and the number of rectifications so far.
+inline constexpr std::array<const char*, 14> encke_state_names{
+    "dx", "dy", "dz", "dx_dot", "dy_dot", "dz_dot", "ref_t", "ref_a", "ref_e", "ref_i", "ref_raan", "ref_argp", "ref_M",
+    "rectifications"};
 
 struct Model {
     std::string name;         // scene name, e.g. disk_tube_ball

@@ -680,7 +680,7 @@ private:
         const toml::node* node = root_.get("orbit");
         if (!node) return;
         const toml::table& t = as_table(*node, "orbit");
-        check_keys(t, {"central_body", "elements", "state", "formulation"}, "in [orbit]");
+        check_keys(t, {"central_body", "elements", "state", "formulation", "rectify"}, "in [orbit]");
         Orbit o;
         o.pos = at(t);
         const toml::node& body = require(t, "central_body", "[orbit]");
@@ -721,6 +721,14 @@ private:
             o.formulation = read_string(*f, "orbit.formulation");
             o.formulation_pos = at(*f);
             check_orbit_formulation(o.formulation, o.formulation_pos);
+        }
+        // Read whatever the formulation, so that --orbit-formulation encke finds it.
+        if (const toml::node* r = t.get("rectify")) {
+            o.rectify = read_number(*r, "orbit.rectify");
+            if (!(o.rectify > 0 && o.rectify < 1))
+                fail(at(*r), fmt::format("'orbit.rectify' is the fraction |δ|/|ρ| at which encke resets its reference "
+                                         "orbit; it must lie in (0, 1), got {}",
+                                         number_text(*r)));
         }
         s.orbit = std::move(o);
     }

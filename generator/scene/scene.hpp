@@ -124,7 +124,7 @@ inline constexpr std::array<std::string_view, 5> orbit_effect_names{"J2", "J3", 
 inline constexpr std::array<std::string_view, 7> orbit_formulation_names{"cowell",   "encke",       "lagrange", "gauss",
                                                                          "delaunay", "equinoctial", "mean"};
 // Those the generator builds so far; the others are refused by name.
-inline constexpr std::array<std::string_view, 6> orbit_formulations_built{"cowell", "lagrange", "gauss",
+inline constexpr std::array<std::string_view, 7> orbit_formulations_built{"cowell",   "encke",       "lagrange", "gauss",
                                                                           "delaunay", "equinoctial", "mean"};
 
 // [orbit]: a point mass about a central body. The model's coordinates are the inertial
@@ -138,6 +138,8 @@ struct Orbit {
     SourcePos initial_pos;                 // the elements or state value
     std::string formulation = "cowell";    // one of orbit_formulation_names
     SourcePos formulation_pos;
+    // encke: the reference orbit is reset to the osculating one when |δ| > rectify |ρ| (0 < rectify < 1).
+    double rectify = 1e-2;
     SourcePos pos;                         // the [orbit] table
 };
 

@@ -178,10 +178,7 @@ BOOST_AUTO_TEST_CASE(a_missing_effect_parameter_is_named_at_the_effect) {
 }
 
 BOOST_AUTO_TEST_CASE(orbit_tables_are_checked) {
-    // A formulation not built yet is refused at the key, typos get a suggestion.
-    BOOST_TEST(error_of(orbit_scene("s", "", "", "elements = { a = 7000.0, e = 0.0 }\nformulation = \"encke\"")) ==
-               "9:15: the orbit formulation 'encke' is not available yet; use one of cowell, lagrange, gauss, delaunay, "
-               "equinoctial, mean");
+    // Every formulation is built now; typos get a suggestion.
     BOOST_TEST(error_of(orbit_scene("s", "", "", "elements = { a = 7000.0, e = 0.0 }\nformulation = \"cowel\"")) ==
                "9:15: unknown orbit formulation 'cowel'; did you mean 'cowell'?");
     BOOST_TEST(error_of(orbit_scene("s", "", "", "elements = { a = 7000.0, e = 1.5 }")) ==

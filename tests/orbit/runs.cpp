@@ -1,5 +1,5 @@
 // Every orbit formulation integrated through `eomc simulate` and compared with Cowell's:
-//   * leo_j2 over a day: gauss, lagrange, delaunay and equinoctial end where Cowell does;
+//   * leo_j2 over a day: gauss, lagrange, delaunay, equinoctial and encke end where Cowell does;
 //   * an eccentric orbit decaying under drag: each re-enters when Cowell's does;
 //   * mean: a, e, i stay exactly constant, the angles advance at FORMULAS §2's secular rates,
 //     and its orbit stays within the first-order theory's error of Cowell's over ten days;
@@ -103,7 +103,7 @@ BOOST_AUTO_TEST_CASE(element_formulations_end_where_cowell_does) {
     const std::string scene = scenes + "leo_j2.toml";
     const Run cowell = simulate(scene, "cowell", tight), cowell_loose = simulate(scene, "cowell", loose);
     const double cowell_error = distance(cowell, cowell_loose);
-    for (const char* f : {"gauss", "lagrange", "delaunay", "equinoctial"}) {
+    for (const char* f : {"gauss", "lagrange", "delaunay", "equinoctial", "encke"}) {
         const Run run = simulate(scene, f, tight), run_loose = simulate(scene, f, loose);
         const double bound = distance(run, run_loose) + cowell_error;
         BOOST_TEST_MESSAGE(f << ": " << distance(run, cowell) << " km from Cowell after a day; bound " << bound);
@@ -135,7 +135,7 @@ BOOST_AUTO_TEST_CASE(element_formulations_reenter_when_cowell_does) {
     // Each run ends on the event, located on the dense output to rounding: its time carries
     // the integration error only.
     const double cowell_error = std::abs(cowell.t - cowell_loose.t);
-    for (const char* f : {"gauss", "lagrange", "delaunay", "equinoctial"}) {
+    for (const char* f : {"gauss", "lagrange", "delaunay", "equinoctial", "encke"}) {
         const Run run = simulate(scene, f, tight), run_loose = simulate(scene, f, loose);
         const double bound = std::abs(run.t - run_loose.t) + cowell_error;
         BOOST_TEST_MESSAGE(f << ": re-entry at " << run.t << " s, " << run.t - cowell.t << " s from Cowell's; bound "
@@ -206,4 +206,46 @@ BOOST_AUTO_TEST_CASE(nearly_parabolic_orbit_over_many_revolutions) {
         BOOST_TEST(run.t == T);
         BOOST_TEST(moved <= bound);
     }
+}
+
+BOOST_AUTO_TEST_CASE(a_start_moved_below_the_surface_is_refused) {
+    // re_entry is a downward crossing and cannot see a start already inside the body: a --set
+    // that puts it there is refused before the run, in any formulation.
+    const fs::path dir = test_support::scratch("orbit_runs", "below");
+    for (const std::string& args : {std::string("--set x=6000"), std::string("--orbit-formulation gauss --set a=6300"),
+                                    std::string("--set Re=7000")}) {
+        const auto r = run_eomc("simulate '" + scenes + "leo_j2.toml' " + args + " --t-end 10 --cache-dir '" EOMC_BINARY_DIR
+                                "/test-cache'",
+                                dir);
+        BOOST_TEST_INFO(args);
+        BOOST_TEST(r.status == 2);
+        BOOST_TEST(r.err.find("--set: error: the initial state of leo_j2") == 0);
+        BOOST_TEST(r.err.find("below the central body's surface") != std::string::npos);
+    }
+}
+
+BOOST_AUTO_TEST_CASE(hamiltonian_orbit_kernel_carries_h_z) {
+    // Hamilton's equations of leo_j2 in (x, y, z, p_x, p_y, p_z) keep the Lagrangian side's
+    // integrals: H and h_z = x p_y − y p_x. Each accepted step changes h_z by at most
+    // |∇h_z|·|local error| ≤ (|p_x| + |p_y| + |x| + |y|) √6 (atol + rtol max|x_i|) (the dop853
+    // acceptance test bounds every component by √n times its scale), summed over the steps.
+    const fs::path dir = test_support::scratch("orbit_runs", "hamiltonian");
+    const auto r = run_eomc("simulate '" + scenes + "leo_j2.toml' --hamiltonian --summary text --cache-dir '" EOMC_BINARY_DIR
+                            "/test-cache'",
+                            dir);
+    BOOST_REQUIRE_MESSAGE(r.status == 0, r.err);
+    std::istringstream out(r.out);
+    double h0 = 0, drift = -1, steps = 0;
+    for (std::string line; std::getline(out, line);) {
+        std::istringstream words(line);
+        std::string first;
+        words >> first;
+        if (first == "h_z") words >> h0 >> drift;
+        if (first == "steps") words >> steps;
+    }
+    BOOST_REQUIRE(drift >= 0);
+    const double rtol = 1e-12, atol = 1e-9, r_max = 7000 * 1.02, v_max = 7.6;  // leo_j2: a = 7000 km, e = 0.01
+    const double per_step = (2 * v_max + 2 * r_max) * std::sqrt(6.0) * (atol + rtol * r_max);
+    BOOST_TEST_MESSAGE("h_z = " << h0 << ", drift " << drift << " over " << steps << " steps; bound " << steps * per_step);
+    BOOST_TEST(drift <= steps * per_step);
 }

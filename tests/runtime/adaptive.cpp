@@ -195,12 +195,16 @@ struct Turning {
     dxdt[1] = x[0];
   }
 };
-// The same with project(): the state back on the unit circle after every accepted step.
+// The same with project(t, x): the state back on the unit circle after every accepted step.
 struct TurningOnCircle : Turning {
   std::size_t projections = 0;
-  void project(rt::State<double>& x) {
+  double last_t = -1.0;
+  bool times_increase = true;  // each projection at a later time than the one before
+  void project(double t, rt::State<double>& x) {
     const double norm = std::hypot(x[0], x[1]);
     x[0] /= norm, x[1] /= norm;
+    times_increase = times_increase && t > last_t;
+    last_t = t;
     ++projections;
   }
 };
@@ -228,6 +232,9 @@ BOOST_AUTO_TEST_CASE(projection_after_every_accepted_step) {
   BOOST_TEST(drift > 1e-6);
   BOOST_TEST(std::abs(std::hypot(y[0], y[1]) - 1) <= 2 * std::numeric_limits<double>::epsilon());
   BOOST_TEST(projected.projections == run.accepted);
+  // Called with each step's end time: the last one is t1 itself.
+  BOOST_TEST(projected.times_increase);
+  BOOST_TEST(projected.last_t == t1);
   // Six stages per attempt, the first derivative and the initial-step estimate, and one restart
   // per projected step but the last (nothing follows it).
   BOOST_TEST(run.rhs_evals == 6 * (run.accepted + run.rejected) + 2 + (run.accepted - 1));

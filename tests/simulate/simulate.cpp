@@ -419,7 +419,7 @@ BOOST_AUTO_TEST_CASE(json_summary) {
     std::ostringstream out;
     eomc::cli::print_summary(r, "json", out);
     BOOST_TEST(out.str() ==
-               "{\"t\": 1, \"state\": {\"q\": 0.10000000000000001, \"q_dot\": null}, \"invariants\": {\"energy\": "
+               "{\"t\": 1, \"state\": {\"q\": 0.10000000000000001, \"q_dot\": null}, \"outputs\": {}, \"invariants\": {\"energy\": "
                "{\"initial\": -0.25, \"max_abs_drift\": 1.0000000000000001e-17}}, \"events\": [{\"name\": \"wall\", "
                "\"t\": 0.75, \"direction\": \"down\", \"terminal\": true, \"state\": {\"q\": 0.5, \"q_dot\": -2}}], "
                "\"stopped_by\": \"wall\", \"compensated\": true, \"steps\": 10, \"rejected\": 1, "

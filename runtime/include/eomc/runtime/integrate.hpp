@@ -27,12 +27,14 @@ concept FixedStepper = System<Sys, S> && requires(Stepper& st, Sys& sys, State<S
   { st.rhs_evals() } -> std::convertible_to<std::size_t>;
 };
 
-// A system that keeps its state on a manifold (a unit quaternion): project(x) maps x back onto
-// it. The drivers call it after every accepted step, once the observer and the events have seen
-// the step as integrated (the dense output describes that one). The steppers notice the edited
-// state and recompute their first-same-as-last derivative and drop the compensation.
+// A system that edits its state between steps: project(t, x) maps x back onto a manifold (a unit
+// quaternion) or changes its variables without changing the motion (Encke's rectification, which
+// needs t). The drivers call it after every accepted step, with the step's end time, once the
+// observer and the events have seen the step as integrated (the dense output describes that one).
+// The steppers notice the edited state and recompute their first-same-as-last derivative and drop
+// the compensation.
 template <class Sys, class S>
-concept Projecting = requires(Sys& sys, State<S>& x) { sys.project(x); };
+concept Projecting = requires(Sys& sys, S t, State<S>& x) { sys.project(t, x); };
 
 namespace detail {
 
@@ -70,7 +72,7 @@ Stats fixed_loop(Stepper& stepper, Sys& sys, State<S>& x, S t0, S t1, S h, NoPro
     ++stats.accepted;
     checker.check_state(t, x);
     const bool go_on = keep_going(on_step, t_old, t, static_cast<const State<S>&>(x));
-    if constexpr (Projecting<Sys, S>) sys.project(x);
+    if constexpr (Projecting<Sys, S>) sys.project(t, x);
     if (!go_on || last) break;
   }
   return stats;
@@ -143,7 +145,7 @@ Stats adaptive_loop(Stepper<S>& stepper, Sys& sys, State<S>& x, S t0, S t1, S h0
       checker.check_state(t, x);
       checker.check_derivative(t, stepper.derivative());
       const bool go_on = keep_going(on_accept, t_old, t, static_cast<const State<S>&>(x));
-      if constexpr (Projecting<Sys, S>) sys.project(x);
+      if constexpr (Projecting<Sys, S>) sys.project(t, x);
       if (!go_on || last) break;
     } else {
       ++stats.rejected;
