@@ -422,7 +422,7 @@ int main(int argc, char** argv) {
     bench->add_option("--formulations", bo.formulations,
                       "orbit scenes: comma-separated formulations to compare by their position at t_end against a "
                       "float128 Cowell run (default: all built: " +
-                          std::string(fmt::format("{}", fmt::join(scene::orbit_formulations_built, ", "))) + ")");
+                          std::string(fmt::format("{}", fmt::join(scene::orbit_formulation_names, ", "))) + ")");
     bench->add_option("--reference-tolerance", bo.reference_tolerance,
                       "orbit scenes: rtol = atol of the float128 Cowell reference (default 1e-26; checked against a run "
                       "1000 times looser)");
@@ -496,7 +496,7 @@ int main(int argc, char** argv) {
                 // run (the request's own kernel). Names are checked before anything is generated.
                 std::vector<std::string> names = formulations;
                 if (names.empty() && !orbit_formulation.empty()) names = {orbit_formulation};
-                if (names.empty()) names.assign(scene::orbit_formulations_built.begin(), scene::orbit_formulations_built.end());
+                if (names.empty()) names.assign(scene::orbit_formulation_names.begin(), scene::orbit_formulation_names.end());
                 for (const auto& name : names) scene::check_orbit_formulation(name, SourcePos{"--formulations"});
                 const Pipeline cowell = front_end(scene_path, false, "cowell", nullptr, "--formulations");
                 r.header_text = kernel_header(cowell);

@@ -117,12 +117,6 @@ double number(const ex& e, const GiNaC::exmap& values) {
     return GiNaC::ex_to<GiNaC::numeric>(v).to_double();
 }
 
-GiNaC::exmap parameter_defaults(const model::Model& model) {
-    GiNaC::exmap m;
-    for (const auto& p : model.parameters) m[p.symbol] = GiNaC::numeric(p.value);
-    return m;
-}
-
 const char* const classical_names[] = {"a", "e", "i", "raan", "argp", "mean_anomaly"};
 const char* const delaunay_names[] = {"l", "g", "h", "L", "G", "H"};
 const char* const partial_names[] = {"R_a", "R_e", "R_i", "R_raan", "R_argp", "R_M"};
@@ -182,8 +176,8 @@ FirstOrderForm element_form(const model::Model& model, const Equations& cowell) 
     FirstOrderForm form;
 
     // The initial osculating elements of the model's initial state (parameters at defaults).
-    const GiNaC::exmap defaults = parameter_defaults(model);
-    const double mu0 = number(o.mu, defaults);
+    const GiNaC::exmap defaults = model.parameter_defaults();
+    const double mu0 = o.mu_default;
     const runtime::CartesianState<double> x0{c[0].initial, c[1].initial, c[2].initial, c[0].rate, c[1].rate, c[2].rate};
     runtime::ClassicalElements<double> el0{};
     try {

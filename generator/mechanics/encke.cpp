@@ -28,9 +28,7 @@ FirstOrderForm encke_form(const model::Model& model, const Equations& cowell) {
         o.rectify);
 
     // The initial reference: the osculating ellipse of the initial state (μ at its default), δ = 0.
-    GiNaC::exmap defaults;
-    for (const auto& p : model.parameters) defaults[p.symbol] = GiNaC::numeric(p.value);
-    const double mu0 = GiNaC::ex_to<GiNaC::numeric>(o.mu.subs(defaults).evalf()).to_double();
+    const double mu0 = o.mu_default;
     runtime::ClassicalElements<double> el0{};
     try {
         el0 = runtime::classical_from_cartesian(

@@ -22,9 +22,7 @@ FirstOrderForm equinoctial_form(const model::Model& model, const Equations& cowe
                        "the outputs are the Cartesian state.";
 
     // The initial elements from the model's initial Cartesian state (μ at its default).
-    GiNaC::exmap defaults;
-    for (const auto& p : model.parameters) defaults[p.symbol] = GiNaC::numeric(p.value);
-    const double mu0 = GiNaC::ex_to<GiNaC::numeric>(o.mu.subs(defaults).evalf()).to_double();
+    const double mu0 = o.mu_default;
     runtime::EquinoctialElements<double> q0{};
     try {
         q0 = runtime::equinoctial_from_cartesian(

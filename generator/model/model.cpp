@@ -35,6 +35,12 @@ GiNaC::lst Model::state_symbols() const {
     return out;
 }
 
+GiNaC::exmap Model::parameter_defaults() const {
+    GiNaC::exmap defaults;
+    for (const auto& p : parameters) defaults[p.symbol] = GiNaC::numeric(p.value);
+    return defaults;
+}
+
 std::vector<std::string> Model::velocity_names() const {
     std::vector<std::string> names;
     for (const auto& c : coordinates) names.push_back(c.name);
@@ -57,9 +63,7 @@ Vec3 parse_vector(const SymbolTable& symbols, const scene::Vec3& v, unsigned all
 ex parse_mass(const SymbolTable& symbols, const scene::Body& body, const Model& model) {
     const std::string what = fmt::format("the mass of body '{}'", body.name);
     ex mass = symbols.parse(body.mass, unsigned(SymbolKind::parameter), what);
-    GiNaC::exmap defaults;
-    for (const auto& p : model.parameters) defaults[p.symbol] = GiNaC::numeric(p.value);
-    const ex value = mass.subs(defaults).evalf();
+    const ex value = mass.subs(model.parameter_defaults()).evalf();
     if (!GiNaC::is_a<GiNaC::numeric>(value) || !GiNaC::ex_to<GiNaC::numeric>(value).is_real())
         throw InputError(body.mass.pos, fmt::format("{} does not evaluate to a real number", what));
     if (GiNaC::ex_to<GiNaC::numeric>(value).to_double() <= 0.0)
@@ -193,9 +197,7 @@ Newtonian build_newtonian(const SymbolTable& symbols, const scene::Newtonian& gi
 
 // The value of an expression of the parameters at their defaults (for the initial state).
 double at_defaults(const ex& e, const Model& model, const scene::Expr& where, const std::string& what) {
-    GiNaC::exmap defaults;
-    for (const auto& p : model.parameters) defaults[p.symbol] = GiNaC::numeric(p.value);
-    const ex value = e.subs(defaults).evalf();
+    const ex value = e.subs(model.parameter_defaults()).evalf();
     if (!GiNaC::is_a<GiNaC::numeric>(value) || !GiNaC::ex_to<GiNaC::numeric>(value).is_real())
         throw InputError(where.pos, fmt::format("{} does not evaluate to a real number", what));
     return GiNaC::ex_to<GiNaC::numeric>(value).to_double();
@@ -247,6 +249,7 @@ void build_orbit(const scene::Scene& scene, SymbolTable& symbols, Model& model) 
     orbit.radius = symbols.parse(given.radius, unsigned(SymbolKind::parameter), "the central body's radius");
     const double mu = at_defaults(orbit.mu, model, given.mu, "the central body's mu");
     if (!(mu > 0)) throw InputError(given.mu.pos, fmt::format("the central body's mu must be positive, got {}", mu));
+    orbit.mu_default = mu;
     if (!(at_defaults(orbit.radius, model, given.radius, "the central body's radius") > 0))
         throw InputError(given.radius.pos, "the central body's radius must be positive");
 

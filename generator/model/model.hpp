@@ -107,6 +107,7 @@ struct OrbitAcceleration {
 };
 struct Orbit {
     GiNaC::ex mu, radius;                        // the central body's μ and radius (parameters)
+    double mu_default = 0;                       // μ at the parameters' defaults (initial elements)
     std::vector<OrbitTerm> disturbing;           // in library order, then custom
     std::vector<OrbitAcceleration> accelerations;
     GiNaC::ex R = 0;                             // Σ disturbing
@@ -163,6 +164,8 @@ struct Model {
     std::vector<std::string> velocity_names() const;
     // All symbols that are inputs of the equations: t, q, q_dot, quasi-velocities, parameters.
     GiNaC::lst state_symbols() const;
+    // Each parameter's symbol mapped to its scene default.
+    GiNaC::exmap parameter_defaults() const;
 };
 
 // Throws eomc::InputError naming the place in the scene.

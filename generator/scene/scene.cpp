@@ -969,10 +969,6 @@ void check_orbit_formulation(const std::string& name, const SourcePos& where) {
                                             near.empty() ? fmt::format("expected one of {}", fmt::join(names, ", "))
                                                          : fmt::format("did you mean '{}'?", near)));
     }
-    if (std::find(orbit_formulations_built.begin(), orbit_formulations_built.end(), name) ==
-        orbit_formulations_built.end())
-        throw InputError(where, fmt::format("the orbit formulation '{}' is not available yet; use one of {}", name,
-                                            fmt::join(orbit_formulations_built, ", ")));
 }
 
 void set_orbit_formulation(Scene& scene, const std::string& name, const SourcePos& where) {

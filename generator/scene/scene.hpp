@@ -123,9 +123,6 @@ inline constexpr std::array<std::string_view, 5> orbit_effect_names{"J2", "J3", 
 // The formulations of an orbit scene's equations (each one kernel from the same scene).
 inline constexpr std::array<std::string_view, 7> orbit_formulation_names{"cowell",   "encke",       "lagrange", "gauss",
                                                                          "delaunay", "equinoctial", "mean"};
-// Those the generator builds so far; the others are refused by name.
-inline constexpr std::array<std::string_view, 7> orbit_formulations_built{"cowell",   "encke",       "lagrange", "gauss",
-                                                                          "delaunay", "equinoctial", "mean"};
 
 // [orbit]: a point mass about a central body. The model's coordinates are the inertial
 // Cartesian x, y, z; the initial state comes from classical elements or is given directly.
@@ -245,8 +242,8 @@ struct Scene {
 Scene parse_scene_file(const std::string& path);
 Scene parse_scene_string(std::string_view toml_text, const std::string& path = "<string>");
 
-// Checks an orbit formulation's name (unknown: did you mean; not built yet: the ones that are)
-// and throws InputError at `where`.
+// Checks an orbit formulation's name (unknown: with a did-you-mean) and throws InputError at
+// `where`.
 void check_orbit_formulation(const std::string& name, const SourcePos& where);
 
 // `--orbit-formulation NAME`: the same scene in another formulation. The scene's name gains
