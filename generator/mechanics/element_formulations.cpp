@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "eomc/runtime/orbital_elements.hpp"
+#include "mechanics/conic.hpp"
 #include "mechanics/differentiation.hpp"
 #include "model/kepler_function.hpp"
 #include "support/diagnostic.hpp"
@@ -14,45 +15,8 @@
 namespace eomc::mechanics {
 
 using GiNaC::ex;
-using Vec = std::array<ex, 3>;
 
 namespace {
-
-// The Kepler orbit of the classical elements, inclination given by its cosine and sine (the
-// Delaunay form has cos i = H/G): E = kepler_E(M, e), r = a(1 − e cos E), the perifocal unit
-// vectors P, Q and the orbit normal W, the position, velocity and the radial and transverse
-// unit vectors (Vallado, Fundamentals of Astrodynamics, 4th ed., §2.6).
-struct Conic {
-    ex mu, a, e, ci, si, raan, argp;
-    ex n, eta, p, h;  // mean motion, √(1 − e²), semi-latus rectum, specific angular momentum √(μp)
-    ex E, r, cos_nu, sin_nu;
-    Vec X, V, radial, transverse, normal;
-};
-
-Conic conic(const ex& mu, const ex& a, const ex& e, const ex& ci, const ex& si, const ex& raan, const ex& argp,
-            const ex& M) {
-    Conic k{mu, a, e, ci, si, raan, argp, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}};
-    k.n = GiNaC::sqrt(mu / GiNaC::pow(a, 3));
-    k.eta = GiNaC::sqrt(1 - e * e);
-    k.p = a * (1 - e * e);
-    k.h = GiNaC::sqrt(mu * k.p);
-    k.E = model::kepler_E(M, e);
-    const ex cE = GiNaC::cos(k.E), sE = GiNaC::sin(k.E);
-    k.r = a * (1 - e * cE);
-    k.cos_nu = (cE - e) / (1 - e * cE);
-    k.sin_nu = k.eta * sE / (1 - e * cE);
-    const ex cO = GiNaC::cos(raan), sO = GiNaC::sin(raan), cw = GiNaC::cos(argp), sw = GiNaC::sin(argp);
-    const Vec P{cO * cw - sO * sw * ci, sO * cw + cO * sw * ci, sw * si};
-    const Vec Q{-cO * sw - sO * cw * ci, -sO * sw + cO * cw * ci, cw * si};
-    k.normal = {sO * si, -cO * si, ci};
-    for (std::size_t j = 0; j < 3; ++j) {
-        k.X[j] = a * (cE - e) * P[j] + a * k.eta * sE * Q[j];
-        k.V[j] = k.n * a * a / k.r * (-sE * P[j] + k.eta * cE * Q[j]);
-        k.radial[j] = k.cos_nu * P[j] + k.sin_nu * Q[j];
-        k.transverse[j] = -k.sin_nu * P[j] + k.cos_nu * Q[j];
-    }
-    return k;
-}
 
 // A Cartesian expression of the model (x, y, z, their rates, r) written on the conic. The
 // library writes its potentials in powers of x² + y² + z², which become powers of the conic's

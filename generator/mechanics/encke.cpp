@@ -6,8 +6,8 @@
 #include <fmt/format.h>
 
 #include "eomc/runtime/orbital_elements.hpp"
+#include "mechanics/conic.hpp"
 #include "mechanics/differentiation.hpp"
-#include "model/kepler_function.hpp"
 #include "support/diagnostic.hpp"
 
 namespace eomc::mechanics {
@@ -52,24 +52,13 @@ FirstOrderForm encke_form(const model::Model& model, const Equations& cowell) {
     const std::array<ex, 3> d{s[0], s[1], s[2]}, d_dot{s[3], s[4], s[5]};
     const ex t_ref = s[6], a = s[7], e = s[8], i = s[9], raan = s[10], argp = s[11], M_ref = s[12];
 
-    // The reference ellipse at t (the runtime's cartesian_from_classical, written out): perifocal
-    // position and velocity from E, rotated by R3(−Ω) R1(−i) R3(−ω).
+    // The reference ellipse at t (mechanics/conic.hpp), its mean anomaly advanced from its epoch.
     const ex n = GiNaC::sqrt(o.mu / GiNaC::pow(a, 3));
-    const ex E = model::kepler_E(M_ref + n * (model.t - t_ref), e);
-    const ex cE = GiNaC::cos(E), sE = GiNaC::sin(E);
-    const ex eta = GiNaC::sqrt(1 - e * e);
-    const ex rho = a * (1 - e * cE);  // |ρ|
-    const ex xp = a * (cE - e), yp = a * eta * sE;
-    const ex vs = GiNaC::sqrt(o.mu * a) / rho;
-    const ex vxp = -vs * sE, vyp = vs * eta * cE;
-    const ex cO = GiNaC::cos(raan), sO = GiNaC::sin(raan), cw = GiNaC::cos(argp), sw = GiNaC::sin(argp),
-             ci = GiNaC::cos(i), si = GiNaC::sin(i);
-    const std::array<ex, 3> P{cO * cw - sO * sw * ci, sO * cw + cO * sw * ci, sw * si};
-    const std::array<ex, 3> Q{-cO * sw - sO * cw * ci, -sO * sw + cO * cw * ci, cw * si};
-    std::array<ex, 3> ref_r, ref_v, r, v;
+    const Conic ref = conic(o.mu, a, e, GiNaC::cos(i), GiNaC::sin(i), raan, argp, M_ref + n * (model.t - t_ref));
+    const ex& rho = ref.r;  // |ρ|
+    const std::array<ex, 3>&ref_r = ref.X, &ref_v = ref.V;
+    std::array<ex, 3> r, v;
     for (std::size_t j = 0; j < 3; ++j) {
-        ref_r[j] = xp * P[j] + yp * Q[j];
-        ref_v[j] = vxp * P[j] + vyp * Q[j];
         r[j] = ref_r[j] + d[j];
         v[j] = ref_v[j] + d_dot[j];
     }
