@@ -171,9 +171,9 @@ BOOST_AUTO_TEST_CASE(conservative_perturbation_osculates) {
 }
 
 BOOST_AUTO_TEST_CASE(dissipative_perturbation_osculates) {
-    // The custom acceleration is ~1e-6 of μ/r², and drag up to ~1e-6 near a 300 km perigee and
-    // far less high up: a wrong sign or factor in either shows ≥ 100× above the floor at the
-    // low states drawn, which every seed here includes.
+    // The custom acceleration is ~1e-6 of μ/r² at every state drawn, so a wrong sign or factor
+    // in Gauss's terms shows far above the floor; drag reaches ~1e-6 only near a 300 km perigee
+    // and is far smaller high up, so it is checked mainly at the low states.
     for (const char* f : {"gauss", "lagrange", "delaunay", "equinoctial"}) {
         const auto worst = osculation(f, drag_parameters, dissipative_effects, 6);
         BOOST_TEST_MESSAGE(f << ": dX/dt − V " << worst.position << ", dV/dt − a " << worst.velocity);
