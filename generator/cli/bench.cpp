@@ -14,11 +14,13 @@
 #include <map>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
 
 #include <fmt/format.h>
 
 #include "cli/output_file.hpp"
 #include "cli/toolchain.hpp"
+#include "codegen/cpp_text.hpp"
 #include "codegen/templates.hpp"
 #include "support/diagnostic.hpp"
 
@@ -39,8 +41,16 @@ std::string join(const std::vector<std::string>& items, const char* separator = 
     return out;
 }
 
+bool has_control_character(std::string_view s) {
+    return std::any_of(s.begin(), s.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7F; });
+}
+
 // Everything that can be checked before compiling, so that a typo costs no compile.
 void validate(const BenchRequest& r) {
+    // The directory reaches the plot script; a line break there would end its quoted string.
+    if (has_control_character(r.out_dir))
+        throw InputError(SourcePos{"-o"}, fmt::format("the output directory '{}' contains a control character",
+                                                       codegen::comment_text(r.out_dir)));
     const std::vector<std::string> known = method_names();
     for (const auto& m : r.methods) {
         if (std::find(known.begin(), known.end(), m) != known.end()) continue;
@@ -68,15 +78,6 @@ void validate(const BenchRequest& r) {
     if (!(r.reference_tolerance > 0.0 && r.reference_tolerance < 1e-3))
         throw InputError(SourcePos{"--reference-tolerance"},
                          fmt::format("the reference tolerance must lie in (0, 1e-3), not {}", r.reference_tolerance));
-}
-
-std::string cpp_string(const std::string& s) {
-    std::string out = "\"";
-    for (char c : s) {
-        if (c == '"' || c == '\\') out += '\\';
-        out += c;
-    }
-    return out + "\"";
 }
 
 std::string indent(const std::string& text, int spaces) {
@@ -155,7 +156,11 @@ std::string find_gnuplot() {
     return "";
 }
 
+// A single-quoted gnuplot string: no backslash, backquote or macro processing happens inside
+// one (gnuplot's "quote marks" and "substitution"), so only a line break could end it and
+// start a command; validate() refuses those in the paths, and this refuses them anyway.
 std::string gnuplot_quoted(const std::string& s) {
+    if (has_control_character(s)) throw std::logic_error("a control character in a gnuplot string: " + codegen::comment_text(s));
     std::string out = "'";
     for (char c : s) out += c == '\'' ? std::string("''") : std::string(1, c);
     return out + "'";
@@ -518,7 +523,7 @@ std::string bench_config_source(const BenchRequest& request) {
         "}}  // namespace eomc::bench\n",
         request.scene_path.empty() ? request.scene_name : request.scene_path, request.struct_name,
         request.autonomous ? "true" : "false", has_reference ? "true" : "false",
-        cpp_string(has_reference ? "[reference] of " + (request.scene_path.empty() ? request.scene_name : request.scene_path)
+        codegen::string_literal(has_reference ? "[reference] of " + (request.scene_path.empty() ? request.scene_name : request.scene_path)
                                  : "none"),
         indent(has_reference ? request.reference_body : "(void)t;\n(void)out;\n(void)p;", 4));
 }

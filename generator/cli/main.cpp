@@ -20,6 +20,7 @@
 #include "cli/output_file.hpp"
 #include "cli/simulate.hpp"
 #include "codegen/cpp_emitter.hpp"
+#include "codegen/cpp_text.hpp"
 #include "codegen/derivation_printer.hpp"
 #include "codegen/expression_text.hpp"
 #include "codegen/inverse_printer.hpp"
@@ -42,12 +43,24 @@ namespace {
 // keeps terms in — which decides the form of some derived expressions — follows those
 // hashes. With address-space randomisation two runs on the same scene could then print
 // different (equal) kernels, so eomc re-executes itself once with randomisation off:
-// same scene, same bytes. If the system refuses, it carries on.
+// same scene, same bytes (for this build of eomc: another build, a sanitizer build say,
+// maps GiNaC elsewhere and may print other equal forms). If the system refuses, eomc
+// carries on and says that its output may differ from run to run.
 void ensure_reproducible_layout(char** argv) {
+    const char* reason = nullptr;
     const int persona = ::personality(0xffffffff);
-    if (persona == -1 || (persona & ADDR_NO_RANDOMIZE)) return;
-    if (::personality(static_cast<unsigned long>(persona | ADDR_NO_RANDOMIZE)) == -1) return;
-    ::execv("/proc/self/exe", argv);
+    if (std::getenv("EOMC_TEST_ASLR")) {
+        reason = "EOMC_TEST_ASLR is set";
+    } else if (persona == -1 || ::personality(static_cast<unsigned long>(persona | ADDR_NO_RANDOMIZE)) == -1) {
+        reason = "the system refused personality(ADDR_NO_RANDOMIZE)";
+    } else if (persona & ADDR_NO_RANDOMIZE) {
+        return;
+    } else {
+        ::execv("/proc/self/exe", argv);
+        reason = "eomc could not re-execute itself through /proc/self/exe";
+    }
+    std::cerr << "eomc: warning: address-space randomisation stays on (" << reason
+              << "), so generated code may differ from run to run in the form of its expressions\n";
 }
 
 // Seconds per pipeline stage, for `eomc generate --timings` and the benchmarks.
@@ -331,7 +344,7 @@ void print_equilibria(const model::Model& model, const std::vector<mechanics::Eq
 int main(int argc, char** argv) {
     // EOMC_TEST_ASLR keeps randomisation on: for measuring how far the output itself is
     // independent of GiNaC's hash order (see ensure_reproducible_layout).
-    if (!std::getenv("EOMC_TEST_ASLR")) ensure_reproducible_layout(argv);
+    ensure_reproducible_layout(argv);
     CLI::App app{"eomc — equations-of-motion compiler for analytical mechanics"};
     app.set_version_flag("--version", std::string(EOMC_VERSION));
     app.require_subcommand(1);
@@ -556,6 +569,10 @@ int main(int argc, char** argv) {
         }
     } catch (const InputError& e) {
         std::cerr << e.what() << "\n";
+        return 2;
+    } catch (const codegen::EmitError& e) {
+        // The scene asks for what a kernel cannot hold (a constant beyond double's range, …).
+        std::cerr << codegen::comment_text(scene_path) << ": error: " << e.what() << "\n";
         return 2;
     } catch (const std::exception& e) {
         std::cerr << "eomc: error: " << e.what() << "\n";

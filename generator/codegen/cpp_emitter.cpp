@@ -1,12 +1,14 @@
 #include "codegen/cpp_emitter.hpp"
 
 #include <cmath>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <stdexcept>
 
 #include <fmt/format.h>
 
+#include "codegen/cpp_text.hpp"
 #include "codegen/templates.hpp"
 #include "model/functions.hpp"
 #include "model/kepler_function.hpp"
@@ -33,6 +35,16 @@ bool is_negative_term(const ex& e) {
 // Integers up to 2^53 print exactly as integer literals of any floating type.
 bool small_integer(const numeric& x) { return x.is_integer() && GiNaC::abs(x) <= numeric(1L << 53); }
 
+// A number as GiNaC writes it, for messages: a rational's digits can run to thousands, so
+// the text is cut in the middle.
+std::string printed_numeric(const numeric& x) {
+    std::ostringstream os;
+    os << GiNaC::ex(x).evalf();
+    std::string text = os.str();
+    if (text.size() > 40) text = text.substr(0, 20) + "…" + text.substr(text.size() - 12);
+    return text;
+}
+
 }  // namespace
 
 std::string CppExpressionPrinter::print(const ex& e) { return print(e, sum); }
@@ -43,12 +55,18 @@ std::string CppExpressionPrinter::call(const std::string& function, const std::s
 }
 
 std::string CppExpressionPrinter::print_numeric(const numeric& x) {
-    if (!x.is_real()) throw std::runtime_error("cannot emit a complex number");
+    if (!x.is_real()) throw EmitError("cannot emit a complex number");
     if (small_integer(x)) return fmt::format("S({})", x.to_long());
     if (x.is_rational() && small_integer(x.numer()) && small_integer(x.denom()))
         return fmt::format("S({})/S({})", x.numer().to_long(), x.denom().to_long());
-    // Anything else (huge or tiny rationals, floats): the nearest double, printed exactly.
-    return fmt::format("S({:.17e})", GiNaC::ex_to<numeric>(GiNaC::ex(x).evalf()).to_double());
+    // Anything else (huge or tiny rationals, floats): the nearest double, printed exactly. A
+    // constant outside double's normal range would print as inf or lose its digits: refused.
+    const double value = GiNaC::ex_to<numeric>(GiNaC::ex(x).evalf()).to_double();
+    if (!std::isfinite(value) || std::abs(value) < std::numeric_limits<double>::min())
+        throw EmitError(fmt::format("the constant {} is outside the range of double ({:g} to {:g} in magnitude)",
+                                    comment_text(printed_numeric(x)), std::numeric_limits<double>::min(),
+                                    std::numeric_limits<double>::max()));
+    return fmt::format("S({:.17e})", value);
 }
 
 std::string CppExpressionPrinter::print(const ex& e, Precedence context) {
@@ -140,6 +158,10 @@ std::string CppExpressionPrinter::print_mul(const ex& e) {
 }
 
 std::string CppExpressionPrinter::print_power(const ex& base, const numeric& k) {
+    // numeric::to_long() is exact only inside long's range; an exponent beyond 2^53 would not
+    // even print exactly as a floating literal.
+    if (k.is_integer() && !small_integer(k))
+        throw EmitError(fmt::format("the exponent {} is too large to emit", comment_text(printed_numeric(k))));
     if (k.is_integer()) {
         const long n = k.to_long();
         const long m = n < 0 ? -n : n;
@@ -200,7 +222,8 @@ public:
 private:
     void add(const NamedSymbol& s) {
         std::string name = s.name;
-        while (used_.count(name) || reserved_words().count(name)) name += "_";
+        checked_identifier(name, "the name");
+        while (used_.count(name) || reserved_words().count(name) || is_kernel_macro(name)) name += "_";
         used_.insert(name);
         names_.emplace(s.symbol, name);
     }
@@ -286,23 +309,24 @@ std::vector<std::string> indexed(const std::string& array, std::size_t count, st
     return out;
 }
 
-std::string quoted_list(const std::vector<std::string>& items) {
+// Names as string literals: identifiers only, so that nothing needs escaping.
+std::string quoted_list(const std::vector<std::string>& items, std::string_view what) {
     std::string out;
-    for (std::size_t i = 0; i < items.size(); ++i) out += (i ? ", \"" : "\"") + items[i] + "\"";
+    for (std::size_t i = 0; i < items.size(); ++i) out += (i ? ", \"" : "\"") + checked_identifier(items[i], what) + "\"";
     return out;
 }
 
-std::string number_list(const std::vector<double>& values) {
+// Labels (Santilli's "S1(x,y)") as escaped string literals.
+std::string literal_list(const std::vector<std::string>& items) {
     std::string out;
-    for (std::size_t i = 0; i < values.size(); ++i) out += (i ? ", " : "") + fmt::format("{}", values[i]);
+    for (std::size_t i = 0; i < items.size(); ++i) out += (i ? ", " : "") + string_literal(items[i]);
     return out;
 }
 
-std::string replace_all(std::string text, const std::string& key, const std::string& value) {
-    const std::string marker = "{{" + key + "}}";
-    for (std::size_t at = text.find(marker); at != std::string::npos; at = text.find(marker, at + value.size()))
-        text.replace(at, marker.size(), value);
-    return text;
+std::string number_list(const std::vector<double>& values, std::string_view what) {
+    std::string out;
+    for (std::size_t i = 0; i < values.size(); ++i) out += (i ? ", " : "") + double_literal(values[i], what);
+    return out;
 }
 
 bool uses_kepler_solver(const KernelIR& ir) {
@@ -319,11 +343,12 @@ bool uses_kepler_solver(const KernelIR& ir) {
 
 }  // namespace
 
-// A comment block: each line of `text` behind "// ".
+// A comment block: each line of `text` behind "// ", words made inert (comment_text).
 std::string comment(const std::string& text, std::size_t width = 92) {
     std::string out, line;
     std::istringstream words(text);
     for (std::string word; words >> word;) {
+        word = comment_text(word);
         if (!line.empty() && line.size() + 1 + word.size() > width) {
             out += "// " + line + "\n";
             line.clear();
@@ -337,7 +362,6 @@ std::string comment(const std::string& text, std::size_t width = 92) {
 std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
     const LocalNames names(ir);
     const std::size_t N = ir.state.size(), nu = ir.n_velocities;
-    std::string text = kernel_template();
 
     std::vector<std::string> state_names, parameter_names;
     for (const auto& s : ir.state) state_names.push_back(s.name);
@@ -345,7 +369,8 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
 
     std::string members;
     for (std::size_t i = 0; i < ir.parameters.size(); ++i)
-        members += fmt::format("        double {} = {};\n", names[ir.parameters[i].symbol], ir.parameter_defaults[i]);
+        members += fmt::format("        double {} = {};\n", names[ir.parameters[i].symbol],
+                               double_literal(ir.parameter_defaults[i], "the default of parameter " + ir.parameters[i].name));
     if (!members.empty()) members.pop_back();
 
     std::string rhs, jacobian, private_part, includes, table;
@@ -368,20 +393,30 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
         row("jacobian", ir.jacobian_explicit);
     } else {
         includes += "#include <Eigen/Core>\n#include <Eigen/Cholesky>\n";  // LDLT only: Dense would double the compile time
-        rhs = "Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;\n"
-              "Eigen::Matrix<S, n_velocities, 1> f;\n"
+        // Fixed sizes keep small kernels off the heap; past 4096 entries in G a scalar of 16
+        // bytes (float128) would near Eigen's 128 KiB limit on fixed-size objects, which is a
+        // static assertion, so large systems use dynamic sizes.
+        const bool fixed = nu * N <= 4096;
+        const std::string square = fixed ? "Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;\n"
+                                         : "Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> M(n_velocities, n_velocities);\n";
+        const std::string column = fixed ? "Eigen::Matrix<S, n_velocities, 1> f;\n"
+                                         : "Eigen::Matrix<S, Eigen::Dynamic, 1> f(n_velocities);\n";
+        const std::string vector_type = fixed ? "Eigen::Matrix<S, n_velocities, 1>" : "Eigen::Matrix<S, Eigen::Dynamic, 1>";
+        const std::string wide_type = fixed ? "Eigen::Matrix<S, n_velocities, n_state, Eigen::RowMajor>"
+                                            : "Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>";
+        const std::string wide_size = fixed ? "" : "(n_velocities, n_state)";
+        rhs = square + column +
               "mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);\n"
               "explicit_rates_(t, x, dxdt, p);\n"
-              "Eigen::Map<Eigen::Matrix<S, n_velocities, 1>>(dxdt + velocity_offset) = M.ldlt().solve(f);";
-        jacobian = "Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;\n"
-                   "Eigen::Matrix<S, n_velocities, 1> f;\n"
+              "Eigen::Map<" + vector_type + ">(dxdt + velocity_offset" + (fixed ? "" : ", n_velocities") + ") = M.ldlt().solve(f);";
+        jacobian = square + column +
                    "mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);\n"
-                   "const Eigen::Matrix<S, n_velocities, 1> acc = M.ldlt().solve(f);\n"
-                   "Eigen::Matrix<S, n_velocities, n_state, Eigen::RowMajor> G;\n"
+                   "const " + vector_type + " acc = M.ldlt().solve(f);\n" +
+                   wide_type + " G" + wide_size + ";\n"
                    "mass_matrix_and_jacobian_terms_(t, x, acc.data(), M.data(), G.data(), p);\n"
                    "explicit_rates_jacobian_(t, x, out, p);\n"
                    "// d(M⁻¹f)/dx = M⁻¹ (∂f/∂x − (∂M/∂x) u̇)\n"
-                   "const Eigen::Matrix<S, n_velocities, n_state, Eigen::RowMajor> lower = M.ldlt().solve(G);\n"
+                   "const " + wide_type + " lower = M.ldlt().solve(G);\n"
                    "for (int i = 0; i < n_velocities; ++i)\n"
                    "    for (int j = 0; j < n_state; ++j) out[(velocity_offset + i) * n_state + j] = lower(i, j);";
         row("mass_matrix + forcing", ir.mass_and_forcing);
@@ -513,14 +548,16 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
     // need no derivation of their own; only on request, so that other kernels keep their bytes.
     std::string variational;
     if (options.variational) {
+        if (N * N > 4096) includes += "#include <vector>\n";
         variational =
             "\n    // Variational equations (seed §2.9): y = (x, Φ), Φ row-major n_state × n_state, with\n"
             "    // Φ̇ = (∂ẋ/∂x) Φ through jacobian(). From Φ(t0) = I, δx(t) = Φ(t) δx(t0) to first order.\n"
             "    static constexpr int n_variational = n_state + n_state * n_state;\n\n"
             "    template <class S>\n"
             "    static void variational_rhs(S t, const S* y, S* dydt, const Parameters& p) {\n"
-            "        rhs(t, y, dydt, p);\n"
-            "        std::array<S, n_state * n_state> J;\n"
+            "        rhs(t, y, dydt, p);\n" +
+            std::string(N * N <= 4096 ? "        std::array<S, n_state * n_state> J;\n"
+                                      : "        std::vector<S> J(std::size_t(n_state) * n_state);  // too large for the stack\n") +
             "        jacobian(t, y, J.data(), p);\n"
             "        const S* Phi = y + n_state;\n"
             "        for (int i = 0; i < n_state; ++i)\n"
@@ -550,7 +587,7 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
             "    static constexpr std::array<bool, n_events> event_terminal{{ {} }};\n\n"
             "    template <class S>\n"
             "    static void events(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n",
-            ir.event_names.size(), quoted_list(ir.event_names), directions, terminal,
+            ir.event_names.size(), quoted_list(ir.event_names, "an event name"), directions, terminal,
             indent(body(ir.events, "out"), 8));
     }
 
@@ -560,7 +597,7 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
             "\n    template <class S>\n    static S {}(S t, const S* x, const Parameters& p) {{\n"
             "        std::array<S, n_invariants> all;\n        invariants(t, x, all.data(), p);\n"
             "        return all[{}];\n    }}\n",
-            ir.invariant_names[k], k);
+            checked_identifier(ir.invariant_names[k], "an invariant name"), k);
     }
 
     // Newtonian scenes only, so that no other kernel changes: the self-adjointness residuals.
@@ -573,7 +610,7 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
             "    static constexpr std::array<const char*, n_santilli_residuals> santilli_residual_names{{ {} }};\n\n"
             "    template <class S>\n"
             "    static void santilli_residuals(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n",
-            ir.santilli_residual_names.size(), quoted_list(ir.santilli_residual_names),
+            ir.santilli_residual_names.size(), literal_list(ir.santilli_residual_names),
             indent(body(ir.santilli_residuals, "out"), 8));
     }
 
@@ -582,14 +619,14 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
                                                         : "M u̇ = f is solved at run time (Eigen LDLT).";
     const std::vector<std::pair<std::string, std::string>> fields{
         {"version", options.generator_version},
-        {"source", ir.source},
-        {"summary", ir.summary.empty() ? ir.scene_name : ir.summary},
+        {"source", comment_text(ir.source)},
+        {"summary", comment_text(ir.summary.empty() ? ir.scene_name : ir.summary)},
         {"description", comment(ir.description + " " + solve_note)},
         {"operation_table", table},
         {"includes", includes},
         {"runtime_version", "1"},
-        {"struct_name", ir.struct_name},
-        {"scene_name", ir.scene_name},
+        {"struct_name", checked_identifier(ir.struct_name, "the kernel's name")},
+        {"scene_name", checked_identifier(ir.scene_name, "the scene name")},
         {"n", std::to_string(ir.n_coordinates)},
         {"n_state", std::to_string(N)},
         {"velocity_offset", std::to_string(ir.velocity_offset)},
@@ -598,11 +635,11 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
         {"n_invariants", std::to_string(ir.invariant_names.size())},
         {"n_outputs", std::to_string(ir.output_names.size())},
         {"separable", ir.separable ? "true" : "false"},
-        {"state_names", quoted_list(state_names)},
-        {"parameter_names", quoted_list(parameter_names)},
-        {"invariant_names", quoted_list(ir.invariant_names)},
-        {"output_names", quoted_list(ir.output_names)},
-        {"initial_state", number_list(ir.initial_state)},
+        {"state_names", quoted_list(state_names, "a state name")},
+        {"parameter_names", quoted_list(parameter_names, "a parameter name")},
+        {"invariant_names", quoted_list(ir.invariant_names, "an invariant name")},
+        {"output_names", quoted_list(ir.output_names, "an output name")},
+        {"initial_state", number_list(ir.initial_state, "an initial value")},
         {"parameter_members", members},
         {"mass_matrix_body", indent(body(ir.mass_matrix, "out"), 8)},
         {"forcing_body", indent(body(ir.forcing, "out"), 8)},
@@ -617,8 +654,7 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
         {"invariant_accessors", accessors},
         {"private_part", private_part},
     };
-    for (const auto& [key, value] : fields) text = replace_all(text, key, value);
-    return text;
+    return fill_template(kernel_template(), fields);
 }
 
 std::string emit_reference_body(const KernelIR& ir, const std::vector<GiNaC::ex>& reference) {
