@@ -3,5 +3,5 @@
 # the kernel, simulate (summary printed), write the trajectory CSV — all into ./out.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/setup.sh
+scripts/setup.sh eomc   # the tool alone: scripts/test.sh builds the test suite
 build/generator/eomc run scenes/disk_tube_ball.toml -d out "$@"

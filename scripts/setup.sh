@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs what eomc needs from Debian's packages (only what is missing), then configures
-# and builds it in ./build. Safe to run again: a no-op when everything is in place.
+# and builds it in ./build: the given targets (scripts/quickstart.sh: eomc alone), else
+# everything, the test suite included. Safe to run again: a no-op when everything is in place.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -28,4 +29,8 @@ if ((${#missing[@]})); then
 fi
 
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build -j"$(nproc)"
+if (($#)); then
+  cmake --build build -j"$(nproc)" --target "$@"
+else
+  cmake --build build -j"$(nproc)"
+fi
