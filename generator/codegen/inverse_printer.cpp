@@ -206,6 +206,7 @@ void print_text(const model::Model& model, const inv::Analysis& a, std::ostream&
         text_steps(m.steps, out);
         if (m.g) out << "  Multiplier (" << m.kind << "): g = " << matrix_text(*m.g) << "\n";
         else if (m.singular_forced) out << "  No regular Lagrangian exists.\n";
+        else if (!m.undecided.empty()) out << "  Undecided: " << m.undecided << ".\n";
         else out << "  No multiplier found.\n";
     }
     if (a.multiplied_form) {
@@ -309,6 +310,7 @@ void print_latex(const model::Model& model, const inv::Analysis& a, std::ostream
         out << "\\end{enumerate}\n";
         if (m.g) out << "Multiplier (" << latex_prose(m.kind) << "): $g = " << matrix_latex(*m.g) << "$.\n";
         else if (m.singular_forced) out << "No regular Lagrangian exists.\n";
+        else if (!m.undecided.empty()) out << "Undecided: " << latex_prose(m.undecided) << ".\n";
         else out << "No multiplier found.\n";
     }
     if (a.multiplied_form) {
@@ -374,7 +376,8 @@ void print_json(const model::Model& model, const inv::Analysis& a, std::ostream&
         const auto& m = *a.multiplier;
         out << ",\n  \"multiplier_search\": {\"N\": " << matrix_json(m.N) << ", \"Phi\": " << matrix_json(m.Phi)
             << ", \"kind\": " << (m.g ? json_string(m.kind) : "null")
-            << ", \"singular_forced\": " << (m.singular_forced ? "true" : "false") << ", \"steps\": [";
+            << ", \"singular_forced\": " << (m.singular_forced ? "true" : "false")
+            << ", \"undecided\": " << (m.undecided.empty() ? "null" : json_string(m.undecided)) << ", \"steps\": [";
         for (std::size_t s = 0; s < m.steps.size(); ++s) {
             out << (s ? ",\n    " : "\n    ") << "{\"text\": " << json_string(m.steps[s].text) << ", \"equations\": [";
             for (std::size_t k = 0; k < m.steps[s].equations.size(); ++k)
