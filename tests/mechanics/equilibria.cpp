@@ -10,6 +10,9 @@
 #include "mechanics/lagrange.hpp"
 #include "model/model.hpp"
 #include "scene/scene.hpp"
+#include "support/diagnostic.hpp"
+
+#include "../support/command.hpp"
 
 using namespace eomc;
 
@@ -302,4 +305,50 @@ orientation = ["z:phi", "x:psi"]
     }
     BOOST_TEST(found[2].verdict == "stable");
     BOOST_TEST(found[3].verdict == "gyroscopically stabilised");
+}
+
+// ---- Singular points and orbit scenes ---------------------------------------------------------
+
+// A point mass about a centre with a J2-like r⁻³ term, in three coordinates: the grid of
+// Newton starts has its middle point on the centre (to round-off), where the steps shrink
+// with |q| while f ~ q/r⁵ is enormous. The centre is where the equations are singular, not an
+// equilibrium, and there is no other point at rest.
+BOOST_AUTO_TEST_CASE(the_centre_of_an_attraction_is_not_an_equilibrium) {
+    const auto found = equilibria_of(R"toml([scene]
+name = "attractor"
+[parameters]
+m = 1.0
+k = 1.0
+j = 0.1
+[coordinates]
+x = { initial = 1.0 }
+y = {}
+z = {}
+[[body]]
+name = "p"
+mass = "m"
+position = ["x", "y", "z"]
+[forces]
+potential = "-k/sqrt(x^2+y^2+z^2) - k*j/(x^2+y^2+z^2)^(3/2)"
+)toml");
+    BOOST_TEST(found.size() == 0u);
+}
+
+BOOST_AUTO_TEST_CASE(equilibria_of_an_orbit_scene_is_refused_with_exit_2) {
+    namespace fs = std::filesystem;
+    const fs::path dir = test_support::scratch("equilibria-scratch", "orbit");
+    for (const char* name : {"leo_j2", "leo_drag", "geo_equinoctial"}) {
+        BOOST_TEST_CONTEXT(name) {
+            const std::string path = (fs::path(EOMC_SOURCE_DIR) / "scenes" / (std::string(name) + ".toml")).string();
+            const auto r = test_support::run_eomc("equilibria " + path, dir);
+            BOOST_TEST(r.status == 2, r.err);
+            BOOST_TEST(r.out.empty(), r.out);
+            BOOST_TEST(r.err.find(path + ": error: '" + name + "' is an orbit scene ([orbit]): `eomc equilibria` finds "
+                                  "the relative equilibria of bodies carried by a steadily moving carrier") == 0u,
+                       r.err);
+        }
+    }
+    // The library refuses it the same way, before any search.
+    const model::Model leo = model::build_model(scene::parse_scene_file(std::string(EOMC_SOURCE_DIR) + "/scenes/leo_j2.toml"));
+    BOOST_CHECK_THROW(mechanics::relative_equilibria(leo, mechanics::derive(leo)), InputError);
 }
