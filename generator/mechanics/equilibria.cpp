@@ -171,6 +171,37 @@ bool regular_at(const RestSystem& r, Evaluation& at, const Eigen::VectorXd& q) {
     return sigma(0) > 0 && sigma(sigma.size() - 1) > 1e-14 * double(r.n) * sigma(0);
 }
 
+// q enters e only through sin and cos of n q + (terms free of q), n an integer: e has period
+// 2π in q.
+bool only_through_sin_cos(const ex& e, const GiNaC::symbol& q) {
+    if (!e.has(q)) return true;
+    if (e.is_equal(q)) return false;
+    if (GiNaC::is_a<GiNaC::function>(e)) {
+        const std::string name = GiNaC::ex_to<GiNaC::function>(e).get_name();
+        if (name == "sin" || name == "cos") {
+            const ex argument = e.op(0), n = argument.diff(q);
+            return GiNaC::is_a<GiNaC::numeric>(n) && GiNaC::ex_to<GiNaC::numeric>(n).is_integer() &&
+                   !(argument - n * q).expand().has(q);
+        }
+    }
+    for (std::size_t i = 0; i < e.nops(); ++i)
+        if (!only_through_sin_cos(e.op(i), q)) return false;
+    return true;
+}
+
+// Per coordinate: an angle, periodic in everything the equilibria and their stability are
+// computed from (f, M, ∂f/∂q, ∂f/∂q̇ at rest).
+std::vector<bool> angles(const model::Model& model, const RestSystem& r) {
+    std::vector<bool> out;
+    for (const auto& c : model.coordinates) {
+        bool periodic = true;
+        for (const auto* group : {&r.f, &r.M, &r.f_q, &r.f_qdot})
+            for (const ex& e : *group) periodic = periodic && only_through_sin_cos(e, c.q);
+        out.push_back(periodic);
+    }
+    return out;
+}
+
 Equilibrium classify(const RestSystem& r, Evaluation& at, const Eigen::VectorXd& q) {
     const Eigen::Index n = Eigen::Index(r.n);
     at.set(q);
@@ -523,6 +554,40 @@ std::vector<Equilibrium> relative_equilibria(const model::Model& model, const Eq
             while (k < n && ++pick[k] == images[k].size()) pick[k++] = 0;
             if (k == n) break;
         }
+    }
+
+    // An angle's q and q + 2π are one configuration (θ = −π and θ = π are the top of the hoop):
+    // each root is taken to (−π, π] in its angles and reported once.
+    {
+        const std::vector<bool> angle = angles(model, r);
+        const double turn = 2 * std::numbers::pi;
+        std::vector<Eigen::VectorXd> kept;
+        std::vector<std::optional<GiNaC::exmap>> kept_exact;
+        for (std::size_t i = 0; i < roots.size(); ++i) {
+            Eigen::VectorXd q = roots[i];
+            std::optional<GiNaC::exmap> form = exact[i];
+            for (std::size_t k = 0; k < n; ++k) {
+                if (!angle[k] || r.free[k]) continue;
+                const double v = q(Eigen::Index(k));
+                double w = std::remainder(v, turn);  // in [−π, π]
+                if (w <= -std::numbers::pi * (1 - 1e-12)) w += turn;
+                const long turns = std::lround((w - v) / turn);
+                if (turns == 0) continue;
+                q(Eigen::Index(k)) = v + double(turns) * turn;
+                if (form) (*form)[model.coordinates[k].q] = ((*form)[model.coordinates[k].q] + 2 * turns * GiNaC::Pi).eval();
+            }
+            auto it = std::find_if(kept.begin(), kept.end(), [&](const Eigen::VectorXd& other) {
+                return (other - q).norm() <= 1e-7 * (1.0 + q.norm());
+            });
+            if (it == kept.end()) {
+                kept.push_back(q);
+                kept_exact.push_back(form);
+            } else if (form && !kept_exact[std::size_t(it - kept.begin())]) {
+                kept_exact[std::size_t(it - kept.begin())] = form;
+            }
+        }
+        roots = std::move(kept);
+        exact = std::move(kept_exact);
     }
 
     std::vector<std::size_t> order(roots.size());
