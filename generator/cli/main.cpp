@@ -401,6 +401,11 @@ int main(int argc, char** argv) {
     inverse->add_option("--format", format, "text | latex | json")->check(CLI::IsMember({"text", "latex", "json"}));
     inverse->add_option("-o,--output", output, "write to FILE instead of standard output");
     inverse->add_option("--emit-scene", emit_scene, "write the constructed Lagrangian as a [lagrangian] scene to FILE");
+    mechanics::inverse::SearchBudget search_budget;
+    inverse
+        ->add_option("--search-budget", search_budget.nodes,
+                     "expression nodes the multiplier search may build before it stops undecided (default 1000000)")
+        ->check(CLI::PositiveNumber);
 
     auto* run = app.add_subcommand("run", "derive + generate + simulate: the whole job on one scene");
     run->add_option("scene", scene_path, "scene file (TOML)")->required();
@@ -539,7 +544,7 @@ int main(int argc, char** argv) {
         } else if (equilibria->parsed()) {
             print_equilibria(p.model, mechanics::relative_equilibria(p.model, p.equations), format, std::cout);
         } else if (inverse->parsed()) {
-            const auto analysis = mechanics::inverse::analyse(p.model, p.equations);
+            const auto analysis = mechanics::inverse::analyse(p.model, p.equations, search_budget);
             // Everything is computed before anything is written: a refusal leaves no file behind.
             std::string scene_text;
             if (!emit_scene.empty()) {

@@ -37,13 +37,30 @@ std::string matrix_json(const GiNaC::matrix& m) {
     return out + "]";
 }
 
+// TeX stops with "Dimension too large" on a formula wider than about 5.7 m (16384 pt): a few
+// thousand characters of LaTeX on one line. Longer expressions (leo_drag's Φ under drag: 60 000)
+// are named by their size instead; the text and JSON outputs have them in full.
+constexpr std::size_t latex_limit = 2000;
+
+std::string elided(const std::string& what, std::size_t length) {
+    return fmt::format("\\text{{({} of {} characters of \\LaTeX{{}}: too wide to typeset; see the text or JSON "
+                       "output)}}",
+                       what, length);
+}
+
+std::string ex_latex(const ex& e) {
+    const std::string out = latex(display_form(e));
+    return out.size() <= latex_limit ? out : elided("an expression", out.size());
+}
+
 std::string matrix_latex(const GiNaC::matrix& m) {
     std::string out = "\\begin{pmatrix}";
     for (unsigned i = 0; i < m.rows(); ++i) {
         for (unsigned j = 0; j < m.cols(); ++j) out += (j ? " & " : "") + latex(display_form(m(i, j)));
         out += i + 1 < m.rows() ? " \\\\ " : "";
     }
-    return out + "\\end{pmatrix}";
+    out += "\\end{pmatrix}";
+    return out.size() <= latex_limit ? out : elided(fmt::format("a {}×{} matrix", m.rows(), m.cols()), out.size());
 }
 
 // Prose for LaTeX: the Unicode of the step texts kept (inputenc utf8 handles the letters;
@@ -207,6 +224,7 @@ void print_text(const model::Model& model, const inv::Analysis& a, std::ostream&
         text_steps(m.steps, out);
         if (m.g) out << "  Multiplier (" << m.kind << "): g = " << matrix_text(*m.g) << "\n";
         else if (m.singular_forced) out << "  No regular Lagrangian exists.\n";
+        else if (!m.undecided.empty()) out << "  Undecided: " << m.undecided << ".\n";
         else out << "  No multiplier found.\n";
     }
     if (a.multiplied_form) {
@@ -237,12 +255,12 @@ void latex_forms(const model::Model& model, const inv::Forms& forms, std::ostrea
     const std::size_t n = model.coordinates.size();
     out << "\\subsection*{The equations}\nKinematic form $\\ddot q = f(t, q, \\dot q)$:\n\\begin{align*}\n";
     for (std::size_t i = 0; i < n; ++i)
-        out << latex(model.coordinates[i].q_ddot) << " &= " << latex(display_form(forms.kinematic[i]))
+        out << latex(model.coordinates[i].q_ddot) << " &= " << ex_latex(forms.kinematic[i])
             << (i + 1 < n ? "\\\\\n" : "\n");
     out << "\\end{align*}\nFundamental form $A(t,q,\\dot q)\\,\\ddot q + B(t,q,\\dot q) = 0$:\n\\begin{align*}\n"
         << "A &= " << matrix_latex(forms.fundamental.A) << "\\\\\n";
     for (std::size_t i = 0; i < n; ++i)
-        out << "B_{" << latex(model.coordinates[i].q) << "} &= " << latex(display_form(forms.fundamental.B[i]))
+        out << "B_{" << latex(model.coordinates[i].q) << "} &= " << ex_latex(forms.fundamental.B[i])
             << (i + 1 < n ? "\\\\\n" : "\n");
     out << "\\end{align*}\n";
 }
@@ -250,7 +268,7 @@ void latex_forms(const model::Model& model, const inv::Forms& forms, std::ostrea
 void latex_residuals(const model::Model& model, const std::vector<inv::Residual>& residuals, std::ostream& out) {
     out << "\\begin{align*}\n";
     for (std::size_t k = 0; k < residuals.size(); ++k)
-        out << residual_latex(model, residuals[k]) << " &= " << latex(display_form(residuals[k].value))
+        out << residual_latex(model, residuals[k]) << " &= " << ex_latex(residuals[k].value)
             << (k + 1 < residuals.size() ? "\\\\\n" : "\n");
     out << "\\end{align*}\n";
 }
@@ -263,10 +281,10 @@ void latex_construction(const model::Model& model, const inv::Construction& c, c
         return;
     }
     out << "$L = K + D_k \\dot q_k + C$, homotopy centres $\\dot q = " << c.v_centre << "$, $q = " << c.q_centre
-        << "$:\n\\begin{align*}\nK &= " << latex(display_form(c.K)) << "\\\\\n";
+        << "$:\n\\begin{align*}\nK &= " << ex_latex(c.K) << "\\\\\n";
     for (std::size_t i = 0; i < c.D.size(); ++i)
-        out << "D_{" << latex(model.coordinates[i].q) << "} &= " << latex(display_form(c.D[i])) << "\\\\\n";
-    out << "C &= " << latex(display_form(c.C)) << "\\\\\nL &= " << latex(display_form(c.L)) << "\n\\end{align*}\n";
+        out << "D_{" << latex(model.coordinates[i].q) << "} &= " << ex_latex(c.D[i]) << "\\\\\n";
+    out << "C &= " << ex_latex(c.C) << "\\\\\nL &= " << ex_latex(c.L) << "\n\\end{align*}\n";
     out << (c.verified ? "Verified: $\\varepsilon_s(L) - E_s$ simplifies to $0$ for every $s$.\n"
                        : "Not verified symbolically.\n");
 }
@@ -303,13 +321,14 @@ void print_latex(const model::Model& model, const inv::Analysis& a, std::ostream
                 out << "\\begin{align*}\n";
                 for (std::size_t k = 0; k < step.equations.size(); ++k)
                     out << "\\text{" << latex_prose(step.equations[k].first) << "} &= "
-                        << latex(display_form(step.equations[k].second)) << (k + 1 < step.equations.size() ? "\\\\\n" : "\n");
+                        << ex_latex(step.equations[k].second) << (k + 1 < step.equations.size() ? "\\\\\n" : "\n");
                 out << "\\end{align*}\n";
             }
         }
         out << "\\end{enumerate}\n";
         if (m.g) out << "Multiplier (" << latex_prose(m.kind) << "): $g = " << matrix_latex(*m.g) << "$.\n";
         else if (m.singular_forced) out << "No regular Lagrangian exists.\n";
+        else if (!m.undecided.empty()) out << "Undecided: " << latex_prose(m.undecided) << ".\n";
         else out << "No multiplier found.\n";
     }
     if (a.multiplied_form) {
@@ -375,7 +394,8 @@ void print_json(const model::Model& model, const inv::Analysis& a, std::ostream&
         const auto& m = *a.multiplier;
         out << ",\n  \"multiplier_search\": {\"N\": " << matrix_json(m.N) << ", \"Phi\": " << matrix_json(m.Phi)
             << ", \"kind\": " << (m.g ? json_string(m.kind) : "null")
-            << ", \"singular_forced\": " << (m.singular_forced ? "true" : "false") << ", \"steps\": [";
+            << ", \"singular_forced\": " << (m.singular_forced ? "true" : "false")
+            << ", \"undecided\": " << (m.undecided.empty() ? "null" : json_string(m.undecided)) << ", \"steps\": [";
         for (std::size_t s = 0; s < m.steps.size(); ++s) {
             out << (s ? ",\n    " : "\n    ") << "{\"text\": " << json_string(m.steps[s].text) << ", \"equations\": [";
             for (std::size_t k = 0; k < m.steps[s].equations.size(); ++k)

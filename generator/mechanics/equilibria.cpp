@@ -29,10 +29,21 @@ struct RestSystem {
     // they are equally many, the search runs over the rest, the free ones held at 0.
     std::vector<bool> free;
     std::vector<std::size_t> rows, columns;  // the equations and coordinates the search solves
+    double scale = 0;  // the largest |f|, |∂f/∂q| seen at random points: the size of f where it is regular
 };
 
 RestSystem rest_system(const model::Model& model, const Equations& eqs) {
     RestSystem r;
+    // An orbit scene has no carrier, and a point mass about a central body is at rest nowhere:
+    // the central attraction −μq/|q|³ dominates every perturbation it takes, and only vanishes
+    // in the limit at its singularity q = 0 (which the numeric search used to report).
+    if (model.orbit)
+        throw InputError(SourcePos{model.source, 0, 0},
+                         fmt::format("'{}' is an orbit scene ([orbit]): `eomc equilibria` finds the relative equilibria "
+                                     "of bodies carried by a steadily moving carrier (states at rest, f(q, 0) = 0), and "
+                                     "a point mass about a central body has none (its only candidate is the "
+                                     "singularity r = 0); use `eomc derive` or `eomc simulate` for an orbit",
+                                     model.name));
     if (model.free_carrier())
         throw InputError(SourcePos{model.source, 0, 0},
                          "relative equilibria are defined for a carrier whose motion is prescribed and steady; this "
@@ -55,6 +66,7 @@ RestSystem rest_system(const model::Model& model, const Equations& eqs) {
     for (const auto& at : points)
         for (const auto* group : {&r.f, &r.f_q})
             for (const ex& e : *group) scale = std::max(scale, std::abs(evaluate(e, at)));
+    r.scale = scale;
     const double zero = 1e-10 * (1 + scale);
     auto vanishes = [&](const ex& e) {
         return std::all_of(points.begin(), points.end(), [&](const ProbePoint& at) { return std::abs(evaluate(e, at)) <= zero; });
@@ -138,6 +150,56 @@ bool newton(const RestSystem& r, Evaluation& at, Eigen::VectorXd& q) {
         if (step.norm() <= 1e-13 * (1.0 + q.norm())) return q.allFinite();
     }
     return false;
+}
+
+// The equations are regular at q: f, M and their derivatives finite, M invertible. A root of
+// a numerator where a denominator vanishes too (a centre of attraction, 0/0) is a singular
+// point of the equations, not an equilibrium.
+bool regular_at(const RestSystem& r, Evaluation& at, const Eigen::VectorXd& q) {
+    at.set(q);
+    const Eigen::VectorXd F = at.vector(r.f);
+    // Newton's steps also shrink to round-off next to a pole (−μq/|q|³: q → 1.5 q away from it,
+    // or onto it from the side of a perturbation), with f there enormous, not zero: a root has
+    // f at round-off of the size f has where the equations are regular.
+    if (!(F.norm() <= 1e-8 * (1 + r.scale))) return false;
+    const Eigen::MatrixXd M = at.matrix(r.M, r.n), Fq = at.matrix(r.f_q, r.n), Fv = at.matrix(r.f_qdot, r.n);
+    if (!F.allFinite() || !M.allFinite() || !Fq.allFinite() || !Fv.allFinite()) return false;
+    if (r.n == 0) return true;
+    // Singular to round-off: the smallest singular value of M below ε·n times the largest.
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(M);
+    const Eigen::VectorXd sigma = svd.singularValues();
+    return sigma(0) > 0 && sigma(sigma.size() - 1) > 1e-14 * double(r.n) * sigma(0);
+}
+
+// q enters e only through sin and cos of n q + (terms free of q), n an integer: e has period
+// 2π in q.
+bool only_through_sin_cos(const ex& e, const GiNaC::symbol& q) {
+    if (!e.has(q)) return true;
+    if (e.is_equal(q)) return false;
+    if (GiNaC::is_a<GiNaC::function>(e)) {
+        const std::string name = GiNaC::ex_to<GiNaC::function>(e).get_name();
+        if (name == "sin" || name == "cos") {
+            const ex argument = e.op(0), n = argument.diff(q);
+            return GiNaC::is_a<GiNaC::numeric>(n) && GiNaC::ex_to<GiNaC::numeric>(n).is_integer() &&
+                   !(argument - n * q).expand().has(q);
+        }
+    }
+    for (std::size_t i = 0; i < e.nops(); ++i)
+        if (!only_through_sin_cos(e.op(i), q)) return false;
+    return true;
+}
+
+// Per coordinate: an angle, periodic in everything the equilibria and their stability are
+// computed from (f, M, ∂f/∂q, ∂f/∂q̇ at rest).
+std::vector<bool> angles(const model::Model& model, const RestSystem& r) {
+    std::vector<bool> out;
+    for (const auto& c : model.coordinates) {
+        bool periodic = true;
+        for (const auto* group : {&r.f, &r.M, &r.f_q, &r.f_qdot})
+            for (const ex& e : *group) periodic = periodic && only_through_sin_cos(e, c.q);
+        out.push_back(periodic);
+    }
+    return out;
 }
 
 Equilibrium classify(const RestSystem& r, Evaluation& at, const Eigen::VectorXd& q) {
@@ -422,7 +484,7 @@ std::vector<Equilibrium> relative_equilibria(const model::Model& model, const Eq
         Eigen::VectorXd q(static_cast<Eigen::Index>(n));
         for (std::size_t k = 0; k < n; ++k)
             q(Eigen::Index(k)) = r.free[k] ? 0.0 : -search.range + 2 * search.range * (index[k] + 0.5) / per;
-        if (newton(r, at, q) && q.cwiseAbs().maxCoeff() <= search.range * (1 + 1e-9)) {
+        if (newton(r, at, q) && q.cwiseAbs().maxCoeff() <= search.range * (1 + 1e-9) && regular_at(r, at, q)) {
             const bool known = std::any_of(roots.begin(), roots.end(), [&](const Eigen::VectorXd& other) {
                 return (other - q).norm() <= 1e-7 * (1.0 + q.norm());
             });
@@ -479,8 +541,8 @@ std::vector<Equilibrium> relative_equilibria(const model::Model& model, const Eq
             auto it = std::find_if(roots.begin(), roots.end(), [&](const Eigen::VectorXd& other) {
                 return (other - point).norm() <= 1e-7 * (1.0 + point.norm());
             });
-            if (!(residual <= 1e-9 * scale)) {
-                // not an equilibrium at these parameters
+            if (!(residual <= 1e-9 * scale) || !regular_at(r, at, point)) {
+                // not an equilibrium at these parameters, or a singular point of the equations
             } else if (it == roots.end()) {
                 roots.push_back(point);
                 exact.push_back(shifted);
@@ -492,6 +554,40 @@ std::vector<Equilibrium> relative_equilibria(const model::Model& model, const Eq
             while (k < n && ++pick[k] == images[k].size()) pick[k++] = 0;
             if (k == n) break;
         }
+    }
+
+    // An angle's q and q + 2π are one configuration (θ = −π and θ = π are the top of the hoop):
+    // each root is taken to (−π, π] in its angles and reported once.
+    {
+        const std::vector<bool> angle = angles(model, r);
+        const double turn = 2 * std::numbers::pi;
+        std::vector<Eigen::VectorXd> kept;
+        std::vector<std::optional<GiNaC::exmap>> kept_exact;
+        for (std::size_t i = 0; i < roots.size(); ++i) {
+            Eigen::VectorXd q = roots[i];
+            std::optional<GiNaC::exmap> form = exact[i];
+            for (std::size_t k = 0; k < n; ++k) {
+                if (!angle[k] || r.free[k]) continue;
+                const double v = q(Eigen::Index(k));
+                double w = std::remainder(v, turn);  // in [−π, π]
+                if (w <= -std::numbers::pi * (1 - 1e-12)) w += turn;
+                const long turns = std::lround((w - v) / turn);
+                if (turns == 0) continue;
+                q(Eigen::Index(k)) = v + double(turns) * turn;
+                if (form) (*form)[model.coordinates[k].q] = ((*form)[model.coordinates[k].q] + 2 * turns * GiNaC::Pi).eval();
+            }
+            auto it = std::find_if(kept.begin(), kept.end(), [&](const Eigen::VectorXd& other) {
+                return (other - q).norm() <= 1e-7 * (1.0 + q.norm());
+            });
+            if (it == kept.end()) {
+                kept.push_back(q);
+                kept_exact.push_back(form);
+            } else if (form && !kept_exact[std::size_t(it - kept.begin())]) {
+                kept_exact[std::size_t(it - kept.begin())] = form;
+            }
+        }
+        roots = std::move(kept);
+        exact = std::move(kept_exact);
     }
 
     std::vector<std::size_t> order(roots.size());

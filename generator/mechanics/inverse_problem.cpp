@@ -99,6 +99,10 @@ ex safe_normal(const ex& e) {
 }  // namespace
 
 ex simplified(const ex& e) {
+    // normal() puts everything over one denominator, treating each square root and exponential
+    // as a new variable: on tens of thousands of nodes with several of them (drag's
+    // exp(−h/H)·|v_rel| under J2) it ran for minutes without end. Past this size only expansion.
+    constexpr std::size_t normal_limit = 8000;
     ex best = e;
     std::size_t best_size = size_of(e);
     auto consider = [&](const ex& c) {
@@ -109,6 +113,7 @@ ex simplified(const ex& e) {
     };
     ex a = combine_exponentials(combine_exponentials(e).expand()).expand();
     if (consider(a)) return 0;
+    if (size_of(a) > normal_limit) return best;
     if (consider(safe_normal(a))) return 0;
     // sin² + cos² = 1 and cosh² − sinh² = 1: rewrite the even powers of sin and cosh away.
     const ex u = GiNaC::wild(0);
@@ -615,7 +620,9 @@ std::optional<GiNaC::exmap> solve_identically(const std::vector<ex>& conditions,
     for (const ex& c : conditions) {
         ex numerator = c;
         try {
-            numerator = GiNaC::normal(c).numer();
+            // Large conditions are grouped term by term as they stand: their terms keep their
+            // denominators as part of the state factor, which is still exact (stricter at worst).
+            if (size_of(c) <= 8000) numerator = GiNaC::normal(c).numer();
         } catch (const std::exception&) {
         }
         numerator = combine_exponentials(numerator.expand()).expand();
@@ -684,14 +691,23 @@ struct AnsatzResult {
     matrix family;
     std::vector<symbol> free;
     std::optional<matrix> g;
+    std::size_t over_budget = 0;  // the size of the conditions when over the budget (then not solved)
 };
 
 AnsatzResult solve_ansatz(const model::Model& model, const std::vector<ex>& f, const FlowMatrices& m,
                           const matrix& ansatz, const std::vector<symbol>& unknowns,
-                          const std::vector<bool>& unknown_on_diagonal) {
+                          const std::vector<bool>& unknown_on_diagonal, const SearchBudget& budget) {
     AnsatzResult r;
     std::vector<ex> conditions;
-    for (const auto& [name, value] : helmholtz(model, f, m, ansatz, false)) conditions.push_back(value);
+    std::size_t size = 0;
+    for (const auto& [name, value] : helmholtz(model, f, m, ansatz, false)) {
+        conditions.push_back(value);
+        size += size_of(value);
+    }
+    if (size > budget.nodes) {
+        r.over_budget = size;
+        return r;
+    }
     const auto solution = solve_identically(conditions, unknowns, state_symbols(model));
     if (!solution) return r;
     r.family = ex_to<matrix>(ansatz.subs(*solution));
@@ -822,7 +838,7 @@ void one_degree_of_freedom(const model::Model& model, const std::vector<ex>& f_,
 // enough they are also solved symbolically, for the reasoning steps, and a general solution
 // with det g ≡ 0 proves singularity as well. Either way no regular multiplier, hence no
 // regular Lagrangian, exists.
-bool singular_forced(const model::Model& model, const std::vector<ex>& f, Multiplier& m) {
+bool singular_forced(const model::Model& model, const std::vector<ex>& f, const SearchBudget& budget, Multiplier& m) {
     const unsigned n = unsigned(model.coordinates.size());
     matrix G(n, n);
     std::vector<symbol> unknowns;
@@ -919,7 +935,6 @@ bool singular_forced(const model::Model& model, const std::vector<ex>& f, Multip
             step.text += fmt::format("; the conditions so far have rank {} on the {} entries of g (at random points)", rank, u);
         }
         m.steps.push_back(std::move(step));
-        previous_rank = rank;
         if (rank == u) {
             m.steps.push_back({fmt::format("H1 and H2 leave only g = 0 ({0} independent conditions on the {0} entries), "
                                            "det g = 0. No regular multiplier exists, so no regular Lagrangian (Douglas).",
@@ -927,6 +942,19 @@ bool singular_forced(const model::Model& model, const std::vector<ex>& f, Multip
                                {}});
             return true;
         }
+        if (rank == previous_rank) {
+            // The conditions close: each level is the derivative of the one before (with H2
+            // for dg/dt), so once a level adds nothing every later one adds nothing either
+            // (Sarlet, J. Phys. A 15 (1982) 1503, §4; Crampin et al., Inverse Problems 10
+            // (1994) 245). H1–H2 then leave a space of g of dimension u − rank at each point.
+            m.steps.push_back({fmt::format("The algebraic conditions close at rank {} of {} (at random points): every "
+                                           "further derivative along the motion is implied by them, so they leave "
+                                           "g free in {} dimension{} at each point.",
+                                           rank, u, u - rank, u - rank == 1 ? "" : "s"),
+                               {}});
+            return false;
+        }
+        previous_rank = rank;
         if (solution) {
             const matrix general = ex_to<matrix>(G.subs(*solution));
             std::size_t size = 0;
@@ -939,6 +967,18 @@ bool singular_forced(const model::Model& model, const std::vector<ex>& f, Multip
                 return true;
             }
         }
+        // Each derivative along the motion multiplies the size of ∇ᵏΦ by 10–20 for a
+        // non-polynomial force (drag: exp and square roots of the state), so the next level is
+        // only formed while the current one is within the budget.
+        std::size_t size = 0;
+        for (unsigned i = 0; i < n * n; ++i) size += size_of(X(i / n, i % n));
+        if (size > budget.nodes) {
+            m.undecided = fmt::format("the algebraic consequences of H1–H2 were cut after {}Φ (rank {} of {}): it has "
+                                      "{} expression nodes, over the budget of {} for forming the next derivative",
+                                      k == 0 ? "" : k == 1 ? "∇" : fmt::format("∇^{}", k), rank, u, size, budget.nodes);
+            m.steps.push_back({"Stopped: " + m.undecided, {}});
+            return false;
+        }
         matrix next(n, n);
         const matrix commutator = Gamma.mul(X).sub(X.mul(Gamma));
         for (unsigned i = 0; i < n; ++i)
@@ -948,18 +988,27 @@ bool singular_forced(const model::Model& model, const std::vector<ex>& f, Multip
     return false;
 }
 
-void several_degrees_of_freedom(const model::Model& model, const std::vector<ex>& f, Multiplier& m) {
+void several_degrees_of_freedom(const model::Model& model, const std::vector<ex>& f, const SearchBudget& budget,
+                                Multiplier& m) {
     const unsigned n = unsigned(model.coordinates.size());
     m.steps.push_back({"n degrees of freedom: first the algebraic consequences of H1 and H2, then constant and "
                        "diagonal multipliers, whose conditions H1–H3 are linear in unknown constant coefficients "
                        "(solved identically in t, q, q̇).",
                        {}});
-    if (singular_forced(model, f, m)) {
+    if (singular_forced(model, f, budget, m)) {
         m.singular_forced = true;
         return;
     }
     const FlowMatrices fm{m.N, m.Phi};
     auto finish = [&](const AnsatzResult& r, const std::string& kind) {
+        if (r.over_budget) {
+            const std::string why = fmt::format("the {} ansatz's conditions H1–H3 have {} expression nodes, over the "
+                                                "budget of {}",
+                                                kind, r.over_budget, budget.nodes);
+            m.undecided += (m.undecided.empty() ? "" : "; ") + why;
+            m.steps.push_back({kind + ": not solved: " + why, {}});
+            return false;
+        }
         if (!r.any) {
             m.steps.push_back({kind + ": H1–H3 leave only g = 0", {}});
             return false;
@@ -996,7 +1045,7 @@ void several_degrees_of_freedom(const model::Model& model, const std::vector<ex>
                 diagonal.push_back(i == j);
                 g(i, j) = g(j, i) = unknowns.back();
             }
-        if (finish(solve_ansatz(model, f, fm, g, unknowns, diagonal), "constant")) return;
+        if (finish(solve_ansatz(model, f, fm, g, unknowns, diagonal, budget), "constant")) return;
     }
     // Diagonal g_ii = c_i exp(φ_i(t, q)): the diagonal part of H2 reads dφ_i/dt = −∂f_i/∂q̇_i,
     // so −∂f_i/∂q̇_i must be a_i(t,q) + q̇_k b_ik(t,q) with (a_i, b_i) a gradient in (t, q).
@@ -1034,7 +1083,7 @@ void several_degrees_of_freedom(const model::Model& model, const std::vector<ex>
                                      : depends_q            ? "diagonal in q"
                                      : depends_t            ? "diagonal in t"
                                                             : "constant diagonal";
-            if (finish(solve_ansatz(model, f, fm, g, unknowns, std::vector<bool>(n, true)), kind)) return;
+            if (finish(solve_ansatz(model, f, fm, g, unknowns, std::vector<bool>(n, true), budget), kind)) return;
         }
     }
     m.steps.push_back({"No constant or diagonal multiplier satisfies H1–H3; the question is left open (a multiplier "
@@ -1049,18 +1098,20 @@ std::vector<std::pair<std::string, ex>> helmholtz_residuals(const model::Model& 
     return helmholtz(model, f, flow_matrices(model, f), g, true);
 }
 
-Multiplier search_multiplier(const model::Model& model, const std::vector<ex>& f) {
+Multiplier search_multiplier(const model::Model& model, const std::vector<ex>& f, const SearchBudget& budget) {
     Multiplier m;
     const FlowMatrices fm = flow_matrices(model, f);
     m.N = fm.N;
     m.Phi = fm.Phi;
     try {
         if (model.coordinates.size() == 1) one_degree_of_freedom(model, f, m);
-        else several_degrees_of_freedom(model, f, m);
+        else several_degrees_of_freedom(model, f, budget, m);
     } catch (const std::exception& e) {  // a pole met while substituting, or a GiNaC limit
         m.g.reset();
+        m.undecided = std::string("GiNaC stopped it: ") + e.what();
         m.steps.push_back({std::string("The search stopped: ") + e.what(), {}});
     }
+    if (m.g) m.undecided.clear();  // a verified multiplier decides, whatever was cut short before it
     return m;
 }
 
@@ -1329,7 +1380,7 @@ std::optional<Alternative> alternative_lagrangian(const model::Model& model, con
             diagonal.push_back(i == j);
             g(i, j) = g(j, i) = unknowns.back();
         }
-    const AnsatzResult r = solve_ansatz(model, forms.kinematic, fm, g, unknowns, diagonal);
+    const AnsatzResult r = solve_ansatz(model, forms.kinematic, fm, g, unknowns, diagonal, SearchBudget{});
     if (r.free.size() < 2) return std::nullopt;
     for (std::size_t k = 0; k < r.free.size(); ++k) {
         GiNaC::exmap unit;
@@ -1344,7 +1395,7 @@ std::optional<Alternative> alternative_lagrangian(const model::Model& model, con
 
 }  // namespace
 
-Analysis analyse(const model::Model& model, const Equations& equations) {
+Analysis analyse(const model::Model& model, const Equations& equations, const SearchBudget& budget) {
     Analysis a;
     a.forms = forms(model, equations);
     a.conditions = santilli_conditions(model, a.forms.fundamental);
@@ -1370,7 +1421,7 @@ Analysis analyse(const model::Model& model, const Equations& equations) {
     if (a.decision.verdict != Verdict::not_self_adjoint) {
         target = &a.forms.fundamental;
     } else if (model.inverse.multiplier_search) {
-        a.multiplier = search_multiplier(model, a.forms.kinematic);
+        a.multiplier = search_multiplier(model, a.forms.kinematic, budget);
         if (a.multiplier->g) {
             a.multiplied_form = multiplied(*a.multiplier->g, a.forms.kinematic);
             a.multiplied_conditions = santilli_conditions(model, *a.multiplied_form);
@@ -1379,6 +1430,9 @@ Analysis analyse(const model::Model& model, const Equations& equations) {
                               a.multiplier->kind);
         } else if (a.multiplier->singular_forced) {
             how = "; H1–H2 force every multiplier to be singular: no regular Lagrangian exists";
+        } else if (!a.multiplier->undecided.empty()) {
+            how = "; the multiplier search is undecided: " + a.multiplier->undecided +
+                  " (no multiplier among the forms it reached)";
         } else {
             how = "; no multiplier of the forms tried";
         }

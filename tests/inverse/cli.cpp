@@ -210,3 +210,44 @@ BOOST_AUTO_TEST_CASE(derive_on_a_newtonian_scene_prints_both_forms) {
     std::ofstream(dir / "d.json") << j.out;
     BOOST_TEST(std::system(("python3 -m json.tool " + (dir / "d.json").string() + " > /dev/null").c_str()) == 0);
 }
+
+BOOST_AUTO_TEST_CASE(leo_drag_ends_with_a_verdict_within_the_default_budget) {
+    // It used to run past 600 s in the multiplier search (normal() on ∇Φ of drag under J2).
+    const fs::path dir = scratch("leo_drag");
+    const Result r = run("inverse " + scene("scenes/leo_drag.toml"), dir);
+    BOOST_TEST_REQUIRE(r.status == 0, r.err);
+    BOOST_TEST(r.out.find("Verdict: not self-adjoint — S3(x,x)") != std::string::npos, r.out);
+    BOOST_TEST(r.out.find("The algebraic conditions close at rank") != std::string::npos, r.out);
+    BOOST_TEST(r.out.find("Conclusion: not self-adjoint") != std::string::npos, r.out);
+}
+
+BOOST_AUTO_TEST_CASE(undecided_search_is_reported_in_text_latex_and_json) {
+    const fs::path dir = scratch("undecided");
+    const std::string args = "inverse " + scene("scenes/leo_drag.toml") + " --search-budget 10000";
+    const Result text = run(args, dir);
+    BOOST_TEST_REQUIRE(text.status == 0, text.err);
+    BOOST_TEST(text.out.find("  Undecided: the algebraic consequences of H1–H2 were cut after Φ (rank 2 of 6): it has "
+                             "17388 expression nodes, over the budget of 10000") != std::string::npos,
+               text.out);
+    BOOST_TEST(text.out.find("; the multiplier search is undecided: ") != std::string::npos);
+
+    const Result json = run(args + " --format json -o " + (dir / "leo.json").string(), dir);
+    BOOST_TEST_REQUIRE(json.status == 0, json.err);
+    const std::string shape = "python3 " + scene("tests/inverse/check_inverse_json.py") + " " + (dir / "leo.json").string() +
+                              " 3 false no no > " + (dir / "check.log").string() + " 2>&1";
+    BOOST_TEST(std::system(shape.c_str()) == 0, slurp(dir / "check.log"));
+    const std::string undecided =
+        "python3 -c \"import json,sys; d=json.load(open(sys.argv[1])); m=d['multiplier_search']; "
+        "assert m['undecided'].startswith('the algebraic consequences'), m['undecided']; "
+        "assert m['singular_forced'] is False and m['kind'] is None; "
+        "assert 'the multiplier search is undecided' in d['reason']\" " +
+        (dir / "leo.json").string() + " > " + (dir / "undecided.log").string() + " 2>&1";
+    BOOST_TEST(std::system(undecided.c_str()) == 0, slurp(dir / "undecided.log"));
+
+    const Result latex = run(args + " --format latex -o " + (dir / "leo.tex").string(), dir);
+    BOOST_TEST_REQUIRE(latex.status == 0, latex.err);
+    BOOST_TEST(slurp(dir / "leo.tex").find("Undecided: the algebraic consequences") != std::string::npos);
+    const std::string compile = "cd " + dir.string() +
+                                " && pdflatex -interaction=nonstopmode -halt-on-error leo.tex > leo.pdflatex.log 2>&1";
+    BOOST_TEST(std::system(compile.c_str()) == 0, "pdflatex failed on leo.tex, see " << dir);
+}

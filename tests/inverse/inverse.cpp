@@ -485,3 +485,42 @@ BOOST_AUTO_TEST_CASE(inverse_settings_switch_the_steps_off) {
     BOOST_TEST(bool(no_construct.analysis.multiplier && no_construct.analysis.multiplier->g));
     BOOST_TEST(!no_construct.analysis.construction);
 }
+
+// ---------------------------------------------------------------------------------------
+// Bounds of the multiplier search
+
+BOOST_AUTO_TEST_CASE(algebraic_conditions_stop_at_the_first_level_that_adds_nothing) {
+    // Polar central force: H1 gives g_rθ = 0, its derivative g_rr = g_θθ/r², the second
+    // derivative nothing new, so the chain closes there (Sarlet 1982) at rank 2 of 3.
+    const Loaded l = load_file("tests/inverse/scenes/central_force_polar.toml");
+    BOOST_REQUIRE(l.analysis.multiplier);
+    std::string steps;
+    std::size_t levels = 0;
+    for (const auto& step : l.analysis.multiplier->steps) {
+        steps += step.text + "\n";
+        if (step.text.find("H1 differentiated along the motion") == 0) ++levels;
+    }
+    BOOST_TEST(levels == 2u, steps);
+    BOOST_TEST(steps.find("The algebraic conditions close at rank 2 of 3") != std::string::npos, steps);
+    BOOST_TEST(l.analysis.multiplier->undecided.empty());
+    BOOST_TEST(l.analysis.multiplier->g.has_value());
+}
+
+BOOST_AUTO_TEST_CASE(search_over_its_node_budget_is_undecided_not_negative) {
+    // The same scene with a budget below the size of Φ: every stage is cut, nothing is found,
+    // and the verdict says the search is undecided and why, never that no multiplier exists.
+    Loaded l = load_file("tests/inverse/scenes/central_force_polar.toml");
+    const inv::Analysis a = inv::analyse(l.model, l.equations, inv::SearchBudget{4});
+    BOOST_REQUIRE(a.multiplier);
+    const auto& m = *a.multiplier;
+    BOOST_TEST(!m.g);
+    BOOST_TEST(!m.singular_forced);
+    BOOST_TEST(m.undecided.find("were cut after Φ (rank 1 of 3)") != std::string::npos, m.undecided);
+    BOOST_TEST(m.undecided.find("over the budget of 4") != std::string::npos, m.undecided);
+    BOOST_TEST(m.undecided.find("the constant ansatz's conditions H1–H3 have") != std::string::npos, m.undecided);
+    BOOST_TEST(a.reason.find("the multiplier search is undecided: ") != std::string::npos, a.reason);
+    BOOST_TEST(a.reason.find("no multiplier of the forms tried") == std::string::npos, a.reason);
+    BOOST_TEST(!a.construction);
+    // With the default budget the multiplier diag(1, r²) is found (previous case).
+    BOOST_TEST(l.analysis.multiplier->g.has_value());
+}
