@@ -1,9 +1,12 @@
-// Parses the scene's expression strings against one symbol table.
+// Parses the scene's expressions against one symbol table.
 //
-// GiNaC's parser reports neither positions nor which name is unknown, so identifiers are
-// scanned first to give file:line:column diagnostics; decimal literals are turned into
-// exact rationals (0.5 -> 1/2) so that the algebra stays exact and the generated code
-// prints the same constants on every machine.
+// A hand-written recursive-descent parser (expression_parser.cpp): it reports every error at
+// its file:line:column, binds every name to the scene's own symbol (GiNaC's parser binds I,
+// Euler and Catalan to its constants first, and crashes on "sin()"), and bounds what a hostile
+// scene can ask for: the nesting depth, the length of an expression and of a number, numbers
+// outside double's range, and powers of numbers whose exact value would be huge. Decimal
+// literals become exact rationals (0.5 -> 1/2), so that the algebra stays exact and the
+// generated code prints the same constants on every machine.
 #pragma once
 
 #include <map>
@@ -29,6 +32,12 @@ inline constexpr unsigned any_symbol = 0x1f;
 
 const char* describe(SymbolKind kind);  // "a coordinate", "a velocity", ...
 
+// The bounds on one expression (each refused with its place).
+inline constexpr int max_expression_depth = 64;              // nested parentheses, calls, signs, exponents
+inline constexpr std::size_t max_expression_length = 65536;  // characters
+inline constexpr std::size_t max_literal_length = 200;       // characters of one number
+inline constexpr std::size_t max_power_bits = 4096;          // the exact value of a power of numbers
+
 class SymbolTable {
 public:
     // The one factory: declaring a name twice returns the same symbol. Plain GiNaC::symbol,
@@ -37,17 +46,15 @@ public:
     // would then change whenever eomc itself is rebuilt.
     GiNaC::symbol declare(const std::string& name, SymbolKind kind);
     bool contains(const std::string& name) const { return kinds_.count(name) != 0; }
+    const GiNaC::symbol& symbol(const std::string& name) const;  // a declared name
 
     // Parses `expr`; only names of the `allowed` kinds may appear (`what` names the place
     // in messages, e.g. "a body position"). Throws InputError at the offending character.
     GiNaC::ex parse(const scene::Expr& expr, unsigned allowed, const std::string& what) const;
 
 private:
-    GiNaC::symtab table_;
+    std::map<std::string, GiNaC::symbol> symbols_;
     std::map<std::string, SymbolKind> kinds_;
 };
-
-// "0.25*x + 1e-3" -> "(1/4)*x + (1/1000)"; identifiers (m1, x_dot) are left alone.
-std::string exact_decimals(const std::string& text);
 
 }  // namespace eomc::model

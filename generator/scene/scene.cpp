@@ -1,5 +1,9 @@
 #include "scene/scene.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -987,20 +991,39 @@ Scene parse_scene_string(std::string_view toml_text, const std::string& path) {
 
 Scene parse_scene_file(const std::string& path) {
     const SourcePos where{path, 0, 0};
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec))
-        throw InputError(where, fmt::format("cannot read scene file '{}': it is a directory", path));
-    errno = 0;
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
+    // A scene is a regular file of bounded size: /dev/zero, a FIFO or a huge file would never
+    // finish reading (or fill memory) before the first line is checked. O_NONBLOCK keeps the
+    // open of a FIFO from waiting for a writer; the type is checked on what was opened.
+    constexpr std::size_t max_scene_bytes = 4u << 20;
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) {
         const int err = errno;
-        throw InputError(where, fmt::format("cannot open scene file '{}': {}", path,
-                                            err ? lower_first(std::strerror(err)) : std::string("unknown reason")));
+        throw InputError(where, fmt::format("cannot open scene file '{}': {}", path, lower_first(std::strerror(err))));
     }
-    std::ostringstream text;
-    text << in.rdbuf();
-    if (in.bad()) throw InputError(where, fmt::format("cannot read scene file '{}': read error", path));
-    Scene s = parse_scene_string(text.str(), path);
+    struct Closer {
+        int fd;
+        ~Closer() { ::close(fd); }
+    } closer{fd};
+    struct stat info {};
+    if (::fstat(fd, &info) != 0)
+        throw InputError(where, fmt::format("cannot read scene file '{}': {}", path, lower_first(std::strerror(errno))));
+    if (S_ISDIR(info.st_mode))
+        throw InputError(where, fmt::format("cannot read scene file '{}': it is a directory", path));
+    if (!S_ISREG(info.st_mode))
+        throw InputError(where, fmt::format("cannot read scene file '{}': it is not a regular file", path));
+    std::string text;
+    char buffer[65536];
+    for (;;) {
+        const ssize_t n = ::read(fd, buffer, sizeof buffer);
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) throw InputError(where, fmt::format("cannot read scene file '{}': read error", path));
+        if (n == 0) break;
+        text.append(buffer, std::size_t(n));
+        if (text.size() > max_scene_bytes)
+            throw InputError(where, fmt::format("cannot read scene file '{}': it is larger than {} MiB", path,
+                                                max_scene_bytes >> 20));
+    }
+    Scene s = parse_scene_string(text, path);
     s.path = path;
     return s;
 }

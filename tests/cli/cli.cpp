@@ -76,7 +76,8 @@ BOOST_AUTO_TEST_CASE(bad_scenes_are_refused_with_their_place) {
                        "'p' is not a declared coordinate");
     expect_input_error(replaced(tube, R"(["q", "0", "0"])", R"(["q", "q_dot", "0"])"), "13:19",
                        "may not appear in the position");
-    expect_input_error(replaced(tube, R"("Omega", "0"])", R"("Omega*(", "0"])"), "9:27", "cannot parse");
+    // The place is the character where parsing stopped: the end of "Omega*(".
+    expect_input_error(replaced(tube, R"("Omega", "0"])", R"("Omega*(", "0"])"), "9:34", "cannot parse");
     expect_input_error(replaced(tube, "m = 0.5", "m = -0.5"), "12:9", "must be positive");
     expect_input_error(replaced(tube, "[carrier]\n", "[carrier]\nmotion = \"free\"\n"), "8:1", "missing required key 'mass'");
     expect_input_error(replaced(tube, "[carrier]\n", "[carrier]\nmotion = \"free\"\nmass = \"m\"\ninertia = [\"1\", \"1\", \"1\"]\n"),

@@ -3,6 +3,8 @@
 #define BOOST_TEST_MODULE scene_parser
 #include <boost/test/unit_test.hpp>
 
+#include <sys/stat.h>
+
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -678,4 +680,31 @@ BOOST_AUTO_TEST_CASE(reference_section) {
                  "[reference] gives no value for 'q_dot'; a reference gives the whole state (q, q_dot)");
     expect_error(head + "[reference]\nq = \"1\"\nq_dot = [0]\n", 12, 9, "'reference.q_dot': expected an expression");
     expect_error("reference = 1\n" + head, 1, 13, "'reference': expected a table, got an integer");
+}
+
+// Reading /dev/zero, a FIFO with no writer or a huge file never ended: a scene is a regular
+// file of at most 4 MiB, and the refusal comes before anything is read.
+BOOST_AUTO_TEST_CASE(only_a_regular_file_of_bounded_size_is_read_as_a_scene) {
+    const auto refusal = [](const std::string& path) {
+        try {
+            parse_scene_file(path);
+        } catch (const InputError& e) {
+            return e.message();
+        }
+        return std::string();
+    };
+    BOOST_TEST(refusal("/dev/zero") == "cannot read scene file '/dev/zero': it is not a regular file");
+    const auto dir = std::filesystem::temp_directory_path() / "eomc_test_scene_bounded";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    const std::string fifo = (dir / "scene.fifo").string();
+    BOOST_TEST_REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+    BOOST_TEST(refusal(fifo) == "cannot read scene file '" + fifo + "': it is not a regular file");
+    const std::string big = (dir / "big.toml").string();
+    {
+        std::ofstream out(big, std::ios::binary);
+        out << "# " << std::string((4u << 20) + 10, 'x') << "\n";
+    }
+    BOOST_TEST(refusal(big) == "cannot read scene file '" + big + "': it is larger than 4 MiB");
+    std::filesystem::remove_all(dir);
 }
