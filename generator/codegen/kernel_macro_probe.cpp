@@ -26,7 +26,6 @@
 #include <vector>
 
 #include <dlfcn.h>
-#include <quadmath.h>
 #include <unistd.h>
 
 #include <Eigen/Cholesky>
@@ -41,5 +40,9 @@
 #include <boost/numeric/odeint/stepper/runge_kutta_fehlberg78.hpp>
 #include <boost/numeric/odeint/stepper/symplectic_rkn_sb3a_mclachlan.hpp>
 
+#if __has_include(<quadmath.h>)  // GCC's libquadmath: the float128 references need it
+#include <quadmath.h>
+
 #include <eomc/runtime/float128.hpp>
+#endif
 #include <eomc/runtime/runtime.hpp>
