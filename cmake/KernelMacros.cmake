@@ -25,7 +25,7 @@ list(SORT names COMPARE STRING)  # byte order, as std::string_view's operator< c
 list(LENGTH names count)
 set(body "")
 foreach(name IN LISTS names)
-  string(APPEND body "    \"${name}\",\n")
+  string(APPEND body "    \"${name}\"sv,\n")
 endforeach()
 file(WRITE "${OUT}.tmp" "// Generated at build time by cmake/KernelMacros.cmake. Do not edit.
 #pragma once
@@ -34,6 +34,7 @@ file(WRITE "${OUT}.tmp" "// Generated at build time by cmake/KernelMacros.cmake.
 #include <string_view>
 
 namespace eomc::codegen {
+using namespace std::string_view_literals;  // "…"sv: no constexpr strlen over 10⁴ names
 inline constexpr std::array<std::string_view, ${count}> kernel_macro_names{
 ${body}};
 }  // namespace eomc::codegen

@@ -37,6 +37,20 @@
 namespace fs = std::filesystem;
 using namespace eomc;
 
+// In a sanitizer build (scripts/sanitize.sh), eomc also runs inside the build, where no
+// LSAN_OPTIONS reach it: LeakSanitizer asks this hook for its suppressions. CLN allocates its
+// tables at start-up and keeps them for the life of the process (scripts/lsan.supp).
+#if defined(__SANITIZE_ADDRESS__)
+#define EOMC_ADDRESS_SANITIZER 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define EOMC_ADDRESS_SANITIZER 1
+#endif
+#endif
+#ifdef EOMC_ADDRESS_SANITIZER
+extern "C" const char* __lsan_default_suppressions() { return "leak:libcln.so\n"; }
+#endif
+
 namespace {
 
 // GiNaC seeds its hash values with the addresses of type_info names, and the order it

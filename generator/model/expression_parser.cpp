@@ -140,16 +140,42 @@ private:
         throw InputError(expr_.pos.shifted(int(offset)), fmt::format("cannot parse {} '{}': {}", what_, text_, detail));
     }
 
-    // GiNaC's arithmetic throws on 1/0, 0^-1, log(0), …: an error at the operator.
+    // GiNaC's arithmetic throws on 1/0, 0^0, log(0), tan(π/2), and leaks the object it was
+    // building when it does: those cases are refused before GiNaC sees them (undefined()),
+    // and anything else it throws is still an error at the operator. A value that comes out
+    // complex (sqrt(-1) is GiNaC's I) is no value of a real scene.
     template <class F>
     GiNaC::ex evaluated(std::size_t op, F&& f) const {
+        GiNaC::ex value;
         try {
-            return f();
-        } catch (const InputError&) {
-            throw;
+            value = f();
         } catch (const std::exception& e) {
             fail(op, fmt::format("the value is undefined ({})", e.what()));
         }
+        if (GiNaC::is_a<GiNaC::numeric>(value) && !GiNaC::ex_to<GiNaC::numeric>(value).is_real())
+            fail(op, "the value is not real");
+        return value;
+    }
+
+    static bool is_numeric_zero(const GiNaC::ex& e) { return GiNaC::is_a<GiNaC::numeric>(e) && e.is_zero(); }
+
+    // The reason GiNaC would throw on base^exponent, f(argument) or a/b, or nullptr.
+    static const char* undefined_power(const GiNaC::ex& base, const GiNaC::ex& exponent) {
+        if (!is_numeric_zero(base) || !GiNaC::is_a<GiNaC::numeric>(exponent)) return nullptr;
+        const GiNaC::numeric& k = GiNaC::ex_to<GiNaC::numeric>(exponent);
+        if (k.is_zero()) return "0^0 is undefined";
+        if (k.is_negative()) return "a negative power of 0 is undefined";
+        return nullptr;
+    }
+    static const char* undefined_call(const std::string& function, const GiNaC::ex& argument) {
+        if (function == "log" && is_numeric_zero(argument)) return "log(0) is undefined";
+        if (function == "tan") {  // GiNaC finds the pole at odd multiples of π/2
+            const GiNaC::ex ratio = argument / GiNaC::Pi;
+            if (GiNaC::is_a<GiNaC::numeric>(ratio) && ratio.info(GiNaC::info_flags::rational) &&
+                GiNaC::ex_to<GiNaC::numeric>(ratio).denom() == 2)
+                return "tan is undefined at odd multiples of π/2";
+        }
+        return nullptr;
     }
 
     void skip_space() {
@@ -192,6 +218,7 @@ private:
             const bool divide = text_[at_++] == '/';
             if (!divide && peek('*')) fail(op, "'**' is not an operator; write powers with '^'");
             const GiNaC::ex rhs = signed_term();
+            if (divide && is_numeric_zero(rhs)) fail(op, "the value is undefined (division by zero)");
             e = evaluated(op, [&] { return divide ? e / rhs : e * rhs; });
         }
         return e;
@@ -249,6 +276,7 @@ private:
                     fail(op, fmt::format("the power of numbers would have more than {} bits", max_power_bits));
             }
         }
+        if (const char* why = undefined_power(base, exponent)) fail(op, fmt::format("the value is undefined ({})", why));
         return evaluated(op, [&] { return GiNaC::pow(base, exponent); });
     }
 
@@ -341,6 +369,7 @@ private:
             fail(at_, fmt::format("expected ')' to close the call of '{}' at column {}, found {}", id,
                                   expr_.pos.shifted(int(start)).column, describe_here()));
         ++at_;
+        if (const char* why = undefined_call(id, argument)) fail(start, fmt::format("the value is undefined ({})", why));
         return evaluated(start, [&] { return f->second(argument); });
     }
 

@@ -128,6 +128,10 @@ BOOST_AUTO_TEST_CASE(undefined_values_are_errors_at_their_operator) {
     BOOST_TEST(error_of("q + 1/0").find("the value is undefined") != std::string::npos);
     BOOST_TEST(error_of("0^(-1)").find("scene.toml:3:11:") == 0u);
     BOOST_TEST(error_of("log(0)").find("scene.toml:3:10:") == 0u);
+    BOOST_TEST(error_of("0^0").find("0^0 is undefined") != std::string::npos);
+    BOOST_TEST(error_of("q*tan(3*Pi/2)").find("scene.toml:3:12:") == 0u);
+    // GiNaC writes sqrt(-1) as its imaginary unit: no value of a mechanical scene.
+    BOOST_TEST(error_of("q + sqrt(-4)").find("the value is not real") != std::string::npos);
 }
 
 BOOST_AUTO_TEST_CASE(precedence_is_that_of_mathematics) {
