@@ -38,8 +38,8 @@ namespace fs = std::filesystem;
 using namespace eomc;
 
 // In a sanitizer build (scripts/sanitize.sh), eomc also runs inside the build, where no
-// LSAN_OPTIONS reach it: LeakSanitizer asks this hook for its suppressions. CLN allocates its
-// tables at start-up and keeps them for the life of the process (scripts/lsan.supp).
+// LSAN_OPTIONS reach it: LeakSanitizer asks this hook for its suppressions, the same as
+// scripts/lsan.supp's (CLN's start-up tables; GiNaC's objects half built when it throws).
 #if defined(__SANITIZE_ADDRESS__)
 #define EOMC_ADDRESS_SANITIZER 1
 #elif defined(__has_feature)
@@ -48,7 +48,7 @@ using namespace eomc;
 #endif
 #endif
 #ifdef EOMC_ADDRESS_SANITIZER
-extern "C" const char* __lsan_default_suppressions() { return "leak:libcln.so\n"; }
+extern "C" const char* __lsan_default_suppressions() { return "leak:libcln.so\nleak:libginac.so\n"; }
 #endif
 
 namespace {
