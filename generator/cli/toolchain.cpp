@@ -323,7 +323,14 @@ void compile(const CompileRequest& request, const fs::path& target) {
 
     // The record, then fsync: the rename must publish a complete object (a crash after the rename
     // must not find a short file under the key).
-    const std::string record = record_for(cache_key(request), read_file(partial.path()));
+    // A compiler that says it succeeded must have written an ELF object (Linux loads nothing else):
+    // a stand-in that wrote nothing must not become a cache entry.
+    const std::string object = read_file(partial.path());
+    if (object.compare(0, 4, "\x7f" "ELF") != 0)
+        throw std::runtime_error(fmt::format("compiling {}: {} exited with status 0 but wrote {} to {}", request.what,
+                                             argv[0], object.empty() ? "nothing" : "no ELF object",
+                                             partial.path().string()));
+    const std::string record = record_for(cache_key(request), object);
     const int fd = ::open(partial.path().c_str(), O_WRONLY | O_APPEND | O_NOFOLLOW | O_CLOEXEC);
     bool written = fd >= 0 && ::write(fd, record.data(), record.size()) == static_cast<ssize_t>(record.size());
     written = fd >= 0 && ::fsync(fd) == 0 && written;
