@@ -5,10 +5,13 @@
 #include <cctype>
 #include <chrono>
 #include <filesystem>
+#include <iostream>
 #include <stdexcept>
 #include <utility>
 
 #include <fmt/format.h>
+
+#include "cli/sha256.hpp"
 
 namespace eomc::cli {
 
@@ -18,7 +21,8 @@ namespace {
 
 // Bumped whenever the C interface below changes; the loader refuses a library that reports
 // another value (a cache written by an older eomc).
-constexpr int adapter_abi = 6;  // 3: acceleration and events; 4: project; 5: variational_rhs; 6: project(t, x, p)
+constexpr int adapter_abi = 7;  // 3: acceleration and events; 4: project; 5: variational_rhs; 6: project(t, x, p);
+                                // 7: eomc_kernel_identity
 
 // The adapter: C functions over double, so that the host needs no knowledge of the kernel's
 // C++ types. Parameters travel by position in parameter_names order, never by member name
@@ -123,6 +127,8 @@ void events(double t, const double* x, double* out, const void* p) {
 #define EOMC_EXPORT extern "C" __attribute__((visibility("default")))
 
 EOMC_EXPORT int eomc_adapter_abi() { return @ABI@; }
+// Which kernel this is: the struct and the SHA-256 of the header it was compiled from.
+EOMC_EXPORT const char* eomc_kernel_identity() { return "@IDENTITY@"; }
 EOMC_EXPORT const char* eomc_scene_name() { return K::scene_name; }
 EOMC_EXPORT int eomc_n_state() { return K::n_state; }
 EOMC_EXPORT int eomc_n_parameters() { return K::n_parameters; }
@@ -190,7 +196,7 @@ bool is_identifier(const std::string& s) {
 // symbol table).
 CompileRequest kernel_request(const std::string& header_text, const std::string& struct_name) {
     CompileRequest r;
-    r.files = {{"adapter.cpp", adapter_source(struct_name)}, {"kernel.hpp", header_text}};
+    r.files = {{"adapter.cpp", adapter_source(struct_name, header_text)}, {"kernel.hpp", header_text}};
     r.flags = {"-fPIC", "-shared", "-fvisibility=hidden"};
     r.suffix = ".so";
     r.what = "the generated kernel";
@@ -210,10 +216,15 @@ std::vector<std::string> names(const char* const* array, int n) {
 
 }  // namespace
 
-std::string adapter_source(const std::string& struct_name) {
+static std::string kernel_identity(const std::string& struct_name, const std::string& header_text) {
+    return struct_name + " " + sha256_hex(header_text);
+}
+
+std::string adapter_source(const std::string& struct_name, const std::string& header_text) {
     if (!is_identifier(struct_name))
         throw std::runtime_error(fmt::format("'{}' is not a C++ identifier (expected the kernel's struct name)", struct_name));
-    return replace_all(replace_all(adapter_template, "@STRUCT@", struct_name), "@ABI@", std::to_string(adapter_abi));
+    return replace_all(replace_all(replace_all(adapter_template, "@STRUCT@", struct_name), "@ABI@", std::to_string(adapter_abi)),
+                       "@IDENTITY@", kernel_identity(struct_name, header_text));
 }
 
 std::string cache_key(const std::string& header_text, const std::string& struct_name) {
@@ -224,24 +235,38 @@ KernelLibrary KernelLibrary::load(const std::string& header_text, const std::str
                                   const std::string& cache_dir) {
     const auto start = std::chrono::steady_clock::now();
     const CompileRequest request = kernel_request(header_text, struct_name);
-    const fs::path path = cached_path(request, cache_dir);
+    // Verified against its record before dlopen (which runs the object's initialisers and maps
+    // its pages: a truncated file would SIGBUS later): a bad entry is rebuilt, never loaded.
+    const Artifact artifact = find_or_compile(request, cache_dir);
+    const fs::path path = artifact.path;
 
     KernelLibrary lib;
     lib.path_ = path.string();
-    lib.handle_ = fs::exists(path) ? ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL) : nullptr;
-    lib.cache_hit_ = lib.handle_ != nullptr;
-    if (!lib.handle_) {
-        // Missing, or present but unloadable (damaged by hand, a foreign file): build it afresh.
+    lib.cache_hit_ = artifact.cache_hit;
+    // And once loaded, the kernel must say it is this one: the same struct, from the same header.
+    const std::string identity = kernel_identity(struct_name, header_text);
+    const auto identity_of = [&](void* handle) -> std::string {
+        const auto abi = reinterpret_cast<int (*)()>(::dlsym(handle, "eomc_adapter_abi"));
+        const auto id = reinterpret_cast<const char* (*)()>(::dlsym(handle, "eomc_kernel_identity"));
+        if (!abi || !id) return "it is not an eomc kernel library";
+        if (abi() != adapter_abi) return fmt::format("it has adapter interface {}, not {}", abi(), adapter_abi);
+        return id() == identity ? "" : fmt::format("it is the kernel '{}', not '{}'", id(), identity);
+    };
+    lib.handle_ = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+    std::string wrong = lib.handle_ ? identity_of(lib.handle_) : std::string(::dlerror());
+    if (!wrong.empty() && lib.cache_hit_) {
+        if (lib.handle_) ::dlclose(lib.handle_);
+        lib.handle_ = nullptr;
+        std::cerr << fmt::format("eomc: note: rebuilding {} cached as {}: {}\n", request.what, path.string(), wrong);
         compile(request, path);
+        lib.cache_hit_ = false;
         lib.handle_ = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
-        if (!lib.handle_) throw std::runtime_error(fmt::format("cannot load the compiled kernel: {}", ::dlerror()));
+        wrong = lib.handle_ ? identity_of(lib.handle_) : std::string(::dlerror());
     }
+    if (!wrong.empty()) throw std::runtime_error(fmt::format("cannot load the compiled kernel {}: {}", path.string(), wrong));
 
     void* h = lib.handle_;
     const std::string& p = lib.path_;
-    const int abi = symbol<int (*)()>(h, "eomc_adapter_abi", p)();
-    if (abi != adapter_abi)
-        throw std::runtime_error(fmt::format("{}: adapter interface {} (expected {}); delete it to rebuild", p, abi, adapter_abi));
     lib.scene_name_ = symbol<const char* (*)()>(h, "eomc_scene_name", p)();
     const int n_state = symbol<int (*)()>(h, "eomc_n_state", p)();
     const int n_par = symbol<int (*)()>(h, "eomc_n_parameters", p)();

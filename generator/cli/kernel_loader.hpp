@@ -112,9 +112,10 @@ private:
     void (*events_)(double, const double*, double*, const void*) = nullptr;
 };
 
-// Exposed for tests: the adapter source for a struct, and the cache key (FNV-1a 64, hex) of
-// a header compiled with it by the configured compiler and flags.
-std::string adapter_source(const std::string& struct_name);
+// Exposed for tests: the adapter source for a struct and its header (it exports the kernel's
+// identity, "<struct> <SHA-256 of the header>", checked after loading), and the cache key of a
+// header compiled with it by the configured compiler and flags.
+std::string adapter_source(const std::string& struct_name, const std::string& header_text);
 std::string cache_key(const std::string& header_text, const std::string& struct_name);
 
 }  // namespace eomc::cli

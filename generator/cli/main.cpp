@@ -1,6 +1,7 @@
 // eomc: the command line. It only wires the pipeline stages together:
 //   scene --parse--> Scene --build--> Model --derive--> Equations --lower--> KernelIR --emit--> header
 // Exit codes: 0 success, 2 bad input (file:line:column: error: …), 1 any other failure.
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -17,6 +18,7 @@
 #include <fmt/format.h>
 
 #include "cli/bench.hpp"
+#include "cli/cleanup.hpp"
 #include "cli/output_file.hpp"
 #include "cli/simulate.hpp"
 #include "codegen/cpp_emitter.hpp"
@@ -156,27 +158,78 @@ codegen::DerivationFormat derivation_format(const std::string& name) {
     return codegen::DerivationFormat::text;
 }
 
-// --set NAME=VALUE, checked for shape here; the names are checked against the kernel.
+// Blanks (spaces, tabs) around a --set name or value, or a list item, are dropped.
+std::string_view trimmed(std::string_view text) {
+    const auto first = text.find_first_not_of(" \t"), last = text.find_last_not_of(" \t");
+    return first == std::string_view::npos ? std::string_view{} : text.substr(first, last - first + 1);
+}
+
+// One decimal grammar for every number given on the command line: [+|-] digits [. digits]
+// [e|E [+|-] digits], the whole text, a finite double. Hex floats, "inf" and "nan" are not
+// decimals; subnormal numbers are numbers. std::from_chars (C++17 [charconv.from.chars]) is
+// locale-independent and reports out-of-range results, unlike strtod/stod, whose ERANGE also
+// rejects subnormals. Throws InputError at `where` with the reason.
+double parse_decimal(std::string_view text, const SourcePos& where) {
+    const std::string_view t = trimmed(text);
+    const auto not_a_number = [&] { return InputError(where, fmt::format("'{}' is not a number", text)); };
+    if (t.empty() || t.find_first_not_of("0123456789.eE+-") != std::string_view::npos) throw not_a_number();
+    std::string_view digits = t;
+    if (digits.front() == '+') {  // from_chars takes no '+'; TOML (and people) write +1.5
+        digits.remove_prefix(1);
+        if (digits.empty() || digits.front() == '+' || digits.front() == '-') throw not_a_number();
+    }
+    double v = 0;
+    const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), v, std::chars_format::general);
+    if (end != digits.data() + digits.size() || ec == std::errc::invalid_argument) throw not_a_number();
+    if (ec == std::errc::result_out_of_range)
+        throw InputError(where, fmt::format("'{}' is outside the range of a double ({} in magnitude)", text,
+                                            std::abs(std::strtod(std::string(digits).c_str(), nullptr)) > 1
+                                                ? "above 1.8e308"
+                                                : "below 4.9e-324, the smallest subnormal"));
+    if (!std::isfinite(v)) throw not_a_number();
+    return v;
+}
+
+// --set NAME=VALUE, checked for shape here; the names are checked against the kernel, the values
+// against the scene (check_overrides_against_scene).
 std::vector<std::pair<std::string, double>> parse_overrides(const std::vector<std::string>& items) {
     std::vector<std::pair<std::string, double>> out;
     for (const auto& item : items) {
         const auto eq = item.find('=');
         SourcePos where{"--set " + item, 0, 0};
-        if (eq == std::string::npos || eq == 0)
-            throw InputError(where, "expected NAME=VALUE");
-        const std::string value = item.substr(eq + 1);
-        std::size_t used = 0;
-        double v = 0;
-        try {
-            v = std::stod(value, &used);
-        } catch (const std::exception&) {
-            used = 0;
-        }
-        if (used != value.size() || value.empty())
-            throw InputError(where, fmt::format("'{}' is not a number", value));
-        out.emplace_back(item.substr(0, eq), v);
+        const std::string_view name = eq == std::string::npos ? std::string_view{} : trimmed(std::string_view(item).substr(0, eq));
+        if (name.empty()) throw InputError(where, "expected NAME=VALUE");
+        out.emplace_back(std::string(name), parse_decimal(std::string_view(item).substr(eq + 1), where));
     }
     return out;
+}
+
+// The scene's own checks on the values --set gives its parameters: a body's mass must stay
+// positive, and so must an orbit's μ and radius, as when the scene itself gives them. The scene
+// is built again with those values as its parameters' (only when --set names a parameter).
+void check_overrides_against_scene(const std::string& scene_path, const std::string& orbit_formulation,
+                                   const std::vector<std::string>& items) {
+    const auto overrides = parse_overrides(items);
+    scene::Scene s = scene::parse_scene_file(scene_path);
+    if (!orbit_formulation.empty())
+        scene::set_orbit_formulation(s, orbit_formulation, SourcePos{"--orbit-formulation " + orbit_formulation});
+    std::string given;
+    for (std::size_t i = 0; i < overrides.size(); ++i)
+        for (auto& parameter : s.parameters)
+            if (parameter.name == overrides[i].first) {
+                parameter.value = overrides[i].second;
+                given += (given.empty() ? "--set " : " --set ") + items[i];
+            }
+    if (given.empty()) return;
+    try {
+        (void)model::build_model(s);
+    } catch (const InputError& e) {
+        std::string message = e.message();
+        const std::string defaults = "with the default parameters";
+        if (const auto at = message.find(defaults); at != std::string::npos)
+            message.replace(at, defaults.size(), "with the values --set gives");
+        throw InputError(SourcePos{given}, fmt::format("{} (checked as in {})", message, to_string(e.where())));
+    }
 }
 
 struct SimulateOptions {
@@ -184,18 +237,32 @@ struct SimulateOptions {
     std::string integrator, output, summary = "text", compensated;
     std::vector<std::string> overrides;
     std::string cache_dir;
+    std::optional<std::size_t> max_steps;
+    std::size_t max_rows = cli::SimulationRequest::default_max_rows;
 };
 
+// CLI11 would read "0x10" and "inf" as numbers: the numeric options take parse_decimal's grammar.
+const CLI::Validator decimal(
+    [](std::string& text) {
+        try {
+            (void)parse_decimal(text, SourcePos{});
+            return std::string();
+        } catch (const InputError& e) {
+            return e.message();
+        }
+    },
+    "DECIMAL");
+
 void add_simulate_options(CLI::App* cmd, SimulateOptions& o) {
-    cmd->add_option("--t-end", o.t_end, "final time (default: [simulate] t_end)")->check(CLI::PositiveNumber);
+    cmd->add_option("--t-end", o.t_end, "final time (default: [simulate] t_end)")->check(decimal)->check(CLI::PositiveNumber);
     cmd->add_option("--integrator", o.integrator,
                     "rk4 | dopri5 | dop853 | gl4 | gl6 | gl8 | verlet | yoshida6 | kahanli8 (default: [simulate] "
                     "integrator; the last three need a separable system)")
         ->check(CLI::IsMember(std::vector<std::string>(scene::integrator_names.begin(), scene::integrator_names.end())));
-    cmd->add_option("--rtol", o.rtol, "relative tolerance (dopri5, dop853)")->check(CLI::PositiveNumber);
-    cmd->add_option("--atol", o.atol, "absolute tolerance (dopri5, dop853)")->check(CLI::PositiveNumber);
+    cmd->add_option("--rtol", o.rtol, "relative tolerance (dopri5, dop853)")->check(decimal)->check(CLI::PositiveNumber);
+    cmd->add_option("--atol", o.atol, "absolute tolerance (dopri5, dop853)")->check(decimal)->check(CLI::PositiveNumber);
     cmd->add_option("--step", o.step, "step size (rk4, gl4, gl6, gl8, verlet, yoshida6, kahanli8)")
-        ->check(CLI::PositiveNumber);
+        ->check(decimal)->check(CLI::PositiveNumber);
     cmd->add_option("--compensated", o.compensated,
                     "on | off: compensated (Kahan) summation of the state update (default: [simulate] compensated, "
                     "else on for gl4-8, verlet, yoshida6, kahanli8 and off for the others)")
@@ -204,6 +271,15 @@ void add_simulate_options(CLI::App* cmd, SimulateOptions& o) {
     cmd->add_option("--output", o.output, "trajectory CSV (t, state, invariants)");
     cmd->add_option("--summary", o.summary, "text | json")->check(CLI::IsMember({"text", "json"}));
     cmd->add_option("--cache-dir", o.cache_dir, "where compiled kernels are kept (default ~/.cache/eomc)");
+    cmd->add_option("--max-steps", o.max_steps,
+                    fmt::format("the most steps the run may take (default: {} for the fixed-step methods, refused "
+                                "before the run when t_end/step is more; 10000000 attempts for dopri5 and dop853)",
+                                cli::SimulationRequest::default_max_fixed_steps))
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--max-rows", o.max_rows,
+                    fmt::format("the most rows the CSV may hold (default {}); a run that would write more leaves no CSV",
+                                cli::SimulationRequest::default_max_rows))
+        ->check(CLI::PositiveNumber);
 }
 
 cli::SimulationRequest simulation_request(const Pipeline& p, const std::string& header, const SimulateOptions& o) {
@@ -224,6 +300,8 @@ cli::SimulationRequest simulation_request(const Pipeline& p, const std::string& 
     r.csv_path = o.output;
     r.summary_format = o.summary;
     r.cache_dir = o.cache_dir;
+    r.max_steps = o.max_steps;
+    r.max_rows = o.max_rows;
     return r;
 }
 
@@ -241,17 +319,7 @@ std::vector<std::string> comma_list(const std::string& text) {
 // A comma-separated list of numbers (--tolerances 1e-6,1e-9), checked for shape here.
 std::vector<double> number_list(const std::string& text, const char* option) {
     std::vector<double> out;
-    for (const auto& item : comma_list(text)) {
-        std::size_t used = 0;
-        double v = 0;
-        try {
-            v = std::stod(item, &used);
-        } catch (const std::exception&) {
-            used = 0;
-        }
-        if (used != item.size()) throw InputError(SourcePos{option}, fmt::format("'{}' is not a number", item));
-        out.push_back(v);
-    }
+    for (const auto& item : comma_list(text)) out.push_back(parse_decimal(item, SourcePos{option}));
     return out;
 }
 
@@ -359,6 +427,8 @@ int main(int argc, char** argv) {
     // EOMC_TEST_ASLR keeps randomisation on: for measuring how far the output itself is
     // independent of GiNaC's hash order (see ensure_reproducible_layout).
     ensure_reproducible_layout(argv);
+    // After the re-execution above: temporaries and the compiler go with a SIGINT/SIGTERM/SIGHUP.
+    cli::install_signal_cleanup();
     CLI::App app{"eomc — equations-of-motion compiler for analytical mechanics"};
     app.set_version_flag("--version", std::string(EOMC_VERSION));
     app.require_subcommand(1);
@@ -491,6 +561,7 @@ int main(int argc, char** argv) {
             codegen::KernelIR ir;
             const std::string header = kernel_header(p, nullptr, &ir);
             const cli::SimulationRequest request = simulation_request(p, header, sim);
+            check_overrides_against_scene(scene_path, orbit_formulation, sim.overrides);
             cli::check_separable(request.integrator, request.integrator_pos, ir.separable, ir.scene_name);
             const auto result = cli::simulate(request);
             cli::print_summary(result, sim.summary, std::cout);
@@ -578,6 +649,7 @@ int main(int argc, char** argv) {
             const fs::path header_path = fs::path(out_dir) / (p.model.name + ".hpp");
             if (sim.output.empty()) sim.output = (fs::path(out_dir) / (p.model.name + ".csv")).string();
             const cli::SimulationRequest request = simulation_request(p, header, sim);
+            check_overrides_against_scene(scene_path, orbit_formulation, sim.overrides);
             cli::check_separable(request.integrator, request.integrator_pos, ir.separable, ir.scene_name);
             codegen::print_derivation(p.model, p.equations, codegen::DerivationFormat::text, std::cout, canonical);
             cli::write_file_atomically(header_path, header);

@@ -18,6 +18,7 @@
 #include <fmt/format.h>
 
 #include "cli/kernel_loader.hpp"
+#include "cli/output_file.hpp"
 #include "eomc/runtime/runtime.hpp"
 #include "scene/scene.hpp"
 #include "support/diagnostic.hpp"
@@ -60,6 +61,23 @@ void validate(const SimulationRequest& r) {
             throw InputError(SourcePos{"--rtol"}, fmt::format("tolerances must be finite, non-negative and not both zero "
                                                               "(rtol {}, atol {})", r.rtol, r.atol));
     }
+    if (r.max_steps && *r.max_steps == 0)
+        throw InputError(SourcePos{"--max-steps"}, "the step budget must be at least 1");
+    if (fixed) {
+        // Known before the run: refuse it now rather than after hours, or after a disk is full.
+        const double steps = std::ceil(r.t_end / r.step);
+        const std::size_t budget = r.max_steps.value_or(SimulationRequest::default_max_fixed_steps);
+        if (steps > static_cast<double>(budget))
+            throw InputError(SourcePos{"--step"},
+                             fmt::format("{} with step {} to t_end = {} takes {:.3g} steps, more than the budget of {} "
+                                         "(--max-steps); take a larger step or a shorter run, or raise --max-steps",
+                                         r.integrator, r.step, r.t_end, steps, budget));
+        if (!r.csv_path.empty() && steps + 1.0 > static_cast<double>(r.max_rows))
+            throw InputError(SourcePos{"--output"},
+                             fmt::format("the CSV {} would hold {:.3g} rows (one per step), more than the limit of {} "
+                                         "(--max-rows); take a larger step or a shorter run, or raise --max-rows",
+                                         r.csv_path, steps + 1.0, r.max_rows));
+    }
     if (r.summary_format != "text" && r.summary_format != "json")
         throw InputError(SourcePos{"--summary"},
                          fmt::format("unknown summary format '{}' (expected text or json)", r.summary_format));
@@ -95,26 +113,15 @@ void apply_overrides(const SimulationRequest& r, const KernelLibrary& lib, std::
 // The CSV goes to a temporary file next to the target and is renamed over it when the run ends:
 // after a successful integration, or after one that failed mid-run (a collision, a step-size
 // collapse), when it holds every row up to the last accepted state. A run that fails in any other
-// way (bad input, an I/O error) leaves neither a half-written file nor a clobbered old one.
+// way (bad input, an I/O error, the row limit, a signal) leaves neither a half-written file nor a
+// clobbered old one (cli/output_file.hpp: what may be replaced, and how).
 class CsvOutput {
 public:
-    CsvOutput(const std::string& path, const std::vector<std::string>& columns) : path_(path) {
+    CsvOutput(const std::string& path, const std::vector<std::string>& columns, std::size_t max_rows)
+        : max_rows_(max_rows) {
         if (path.empty()) return;
-        if (std::filesystem::is_directory(path))  // found now rather than after a long run
-            throw std::runtime_error(fmt::format("cannot write the CSV {}: it is a directory", path));
-        static std::atomic<unsigned> serial{0};
-        for (int attempt = 0; !file_; ++attempt) {
-            temp_ = fmt::format("{}.tmp.{}.{}", path, ::getpid(), serial++);
-            // O_EXCL: never adopt a file someone else is writing; mode 0666 leaves the umask in charge.
-            const int fd = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-            if (fd < 0 && errno == EEXIST && attempt < 100) continue;
-            if (fd < 0) throw std::runtime_error(fmt::format("cannot write the CSV {}: {}", temp_, std::strerror(errno)));
-            file_ = ::fdopen(fd, "w");
-            if (!file_) {
-                ::close(fd);
-                throw std::runtime_error(fmt::format("cannot write the CSV {}: {}", temp_, std::strerror(errno)));
-            }
-        }
+        out_.emplace(path);  // refuses a target that is not a regular file now, not after a long run
+        file_ = out_->stream();
         std::setvbuf(file_, nullptr, _IOFBF, 1 << 20);
         std::string header;
         for (const auto& c : columns) header += (header.empty() ? "" : ",") + c;
@@ -124,16 +131,12 @@ public:
     CsvOutput(const CsvOutput&) = delete;
     CsvOutput& operator=(const CsvOutput&) = delete;
 
-    ~CsvOutput() {
-        if (!file_) return;
-        std::fclose(file_);
-        std::remove(temp_.c_str());
-    }
-
     // `event`: the name of the event located at t, or null; with_event_column: the CSV has one.
+    // Throws RowLimit before writing row max_rows + 1.
     void row(double t, const State<double>& x, const std::vector<double>& invariants, const std::vector<double>& outputs,
              const std::string* event = nullptr, bool with_event_column = false) {
         if (!file_) return;
+        if (rows_ >= max_rows_) throw RowLimit(t);
         buffer_.clear();
         fmt::format_to(std::back_inserter(buffer_), "{:.17g}", t);
         for (double v : x) fmt::format_to(std::back_inserter(buffer_), ",{:.17g}", v);
@@ -148,26 +151,24 @@ public:
         ++rows_;
     }
 
-    // Flushes, closes and renames into place; throws (and removes the temporary) on any I/O error.
+    // Flushes, syncs, closes and renames into place; throws (and removes the temporary) on any I/O error.
     void commit() {
         if (!file_) return;
-        const bool write_error = std::ferror(file_) != 0;
-        const bool close_error = std::fclose(file_) != 0;
         file_ = nullptr;
-        if (write_error || close_error || std::rename(temp_.c_str(), path_.c_str()) != 0) {
-            const int err = errno;
-            std::remove(temp_.c_str());
-            throw std::runtime_error(fmt::format("cannot write the CSV {}: {}", path_, std::strerror(err)));
-        }
+        out_->commit();
     }
 
     std::size_t rows() const { return rows_; }
 
+    struct RowLimit {
+        double t;
+    };
+
 private:
-    std::string path_, temp_;
+    std::optional<AtomicOutput> out_;
     std::FILE* file_ = nullptr;
     fmt::memory_buffer buffer_;
-    std::size_t rows_ = 0;
+    std::size_t rows_ = 0, max_rows_;
 };
 
 // A one-line bar on stderr, for people watching a terminal: silent for runs under ~1 s,
@@ -305,7 +306,7 @@ SimulationResult simulate(const SimulationRequest& request) {
     columns.insert(columns.end(), lib.invariant_names().begin(), lib.invariant_names().end());
     columns.insert(columns.end(), lib.output_names().begin(), lib.output_names().end());
     if (n_ev > 0) columns.push_back("event");  // only for scenes with [events]: other CSVs keep their shape
-    CsvOutput csv(request.csv_path, columns);
+    CsvOutput csv(request.csv_path, columns, request.max_rows);
     std::vector<double> outputs(lib.output_names().size());
 
     // The kernel as a runtime system. One whose state holds a unit quaternion puts it back on
@@ -364,20 +365,22 @@ SimulationResult simulate(const SimulationRequest& request) {
     runtime::EventOutcome<double> outcome;
     try {
         auto fixed_step = [&](auto&& stepper, auto& sys) {
-            // The step count is the user's choice here, not a sign of no progress: the budget
-            // must not stop a long fixed-step run short of t_end.
+            // The step count is the user's choice here, not a sign of no progress: the budget must
+            // not stop a long fixed-step run short of t_end. validate() bounded it by max_steps;
+            // the two spare attempts are the runtime's (a last partial step, an event re-step).
             runtime::Limits limits;
             const double steps = std::ceil(request.t_end / request.step) + 2.0;
-            limits.max_steps = std::max(limits.max_steps, steps >= 1e18 ? std::size_t{1'000'000'000'000'000'000}
-                                                                        : static_cast<std::size_t>(steps));
+            limits.max_steps = std::max(limits.max_steps, static_cast<std::size_t>(steps));
             return runtime::integrate_fixed_events(stepper, sys, x, 0.0, request.t_end, request.step, locator,
                                                    event_functions, observer, on_event, limits);
         };
         auto adaptive = [&](auto&& stepper) {
             stepper.set_compensated(compensated);
+            runtime::Limits limits;
+            if (request.max_steps) limits.max_steps = *request.max_steps;
             return runtime::integrate_adaptive_events(stepper, system, x, 0.0, request.t_end, 0.0,
                                                       runtime::Tolerances{request.rtol, request.atol}, locator,
-                                                      event_functions, observer, on_event);
+                                                      event_functions, observer, on_event, limits);
         };
         runtime::GaussLegendreOptions gauss;
         gauss.compensated = compensated;
@@ -395,6 +398,13 @@ SimulationResult simulate(const SimulationRequest& request) {
         else if (name == "kahanli8") outcome = fixed_step(runtime::KahanLi8<double>{splitting}, acceleration);
         else if (name == "dop853") outcome = adaptive(runtime::Dop853<double>{});
         else outcome = adaptive(runtime::Dopri5<double>{});
+    } catch (const CsvOutput::RowLimit& limit) {
+        // Not a failure of the integration but a refusal of its size: nothing is kept.
+        throw std::runtime_error(fmt::format("simulating {} with {}: the CSV {} reached its limit of {} rows at t = {} "
+                                             "(of t_end = {}) and was not written; raise --max-rows, shorten --t-end, "
+                                             "or run without --output",
+                                             lib.scene_name(), request.integrator, request.csv_path, request.max_rows,
+                                             number(limit.t), number(request.t_end)));
     } catch (const runtime::IntegrationError& e) {
         // Say which variable failed and where the solution was last seen; the rows up to there are
         // a valid trajectory, kept for the post-mortem.

@@ -32,6 +32,17 @@ struct SimulationRequest {
     // its entries named Phi_<i>_<j> (indices into the kernel's state). The kernel must have been
     // generated with --variational.
     bool variational = false;
+    // Bounds on the work a request can ask for (a hostile or mistyped --t-end 1e300, --step 1e-15).
+    // Step attempts: absent = default_max_fixed_steps for the fixed-step methods, whose count
+    // ceil(t_end/step) is known and checked before anything is compiled, and the runtime's own
+    // budget (runtime::Limits, 10^7 attempts) for the adaptive ones, which fail when it runs out.
+    std::optional<std::size_t> max_steps;
+    // CSV rows (the header not counted): a fixed-step run that would write more is refused before
+    // it starts; an adaptive one stops when it reaches the limit, and leaves no CSV.
+    std::size_t max_rows = default_max_rows;
+
+    static constexpr std::size_t default_max_fixed_steps = 100'000'000;
+    static constexpr std::size_t default_max_rows = 10'000'000;  // ~1 GB for a handful of columns
 };
 
 struct InvariantReport {
@@ -79,7 +90,8 @@ struct SimulationResult {
 };
 
 // Throws eomc::InputError for a bad request (unknown override name, with the nearest known
-// name; unknown integrator; bad t_end, step or tolerances; a splitting method on a kernel that
+// name; unknown integrator; bad t_end, step or tolerances; a fixed-step run longer than its step
+// budget or its CSV row limit; an output path that is not a regular file; a splitting method on a kernel that
 // is not separable, at request.integrator_pos), std::runtime_error when the kernel
 // does not compile (with the compiler's output) or the CSV cannot be written, and
 // runtime::IntegrationError when the integration fails (then no CSV is left behind).

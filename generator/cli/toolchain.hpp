@@ -11,10 +11,25 @@
 #include <string>
 #include <vector>
 
+#include "cli/cleanup.hpp"
+
 namespace eomc::cli {
 
-// $XDG_CACHE_HOME/eomc, else ~/.cache/eomc, else <tmp>/eomc-cache.
+// $XDG_CACHE_HOME/eomc, else ~/.cache/eomc, else <tmp>/eomc-cache-<euid>.
 std::string default_cache_dir();
+
+// The cache holds code this process loads and runs, so it must be private. Creates `dir` with
+// mode 0700 when missing (its parents as usual); an existing one must be a directory owned by the
+// effective uid and writable by nobody else (a symbolic link counts only when it is ours or
+// root's, and is resolved once). Throws eomc::InputError naming the directory and the fix
+// otherwise. Returns the directory to use (the link's target when it was one). The parents are
+// trusted, like a home directory's.
+std::filesystem::path ensure_private_directory(const std::filesystem::path& dir);
+
+// Checks a cached object against the record compile() appended to it (key, size, SHA-256;
+// toolchain.cpp says why and how). Returns "" when it matches, "missing" when there is no file,
+// else the reason it is refused.
+std::string verify_cache_entry(const std::filesystem::path& path, const std::string& key);
 
 // $EOMC_CXX when set (an installed eomc on a machine whose compiler lives elsewhere), else the
 // compiler that built eomc.
@@ -37,15 +52,22 @@ struct CompileRequest {
     std::string what;    // for messages: "the generated kernel"
 };
 
-// FNV-1a 64 (hex) of compiler, flags, libraries, runtime version and every file's name and text.
+// SHA-256 (first 128 bits, hex) of compiler, flags, libraries, runtime version and every file's
+// name and text.
 std::string cache_key(const CompileRequest& request);
 
-// <cache_dir>/<cache_key><suffix>, creating cache_dir ("" = default_cache_dir()) if needed.
+// <cache_dir>/<cache_key><suffix> in the private cache directory ("" = default_cache_dir(),
+// checked and created by ensure_private_directory).
+std::filesystem::path cache_entry_path(const CompileRequest& request, const std::string& cache_dir);
+
+// cache_entry_path(), after removing an entry there that fails verify_cache_entry (with a note on
+// stderr): what exists at the returned path afterwards may be used.
 std::filesystem::path cached_path(const CompileRequest& request, const std::string& cache_dir);
 
 // Compiles into `target` (normally cached_path(...)). The output goes to a temporary name beside
-// it and is renamed into place when complete, so a concurrent run sees no file or a whole one.
-// Throws std::runtime_error with the compiler's output (truncated) when compilation fails.
+// it, gets its record (verify_cache_entry) and is synced and renamed into place when complete, so
+// a concurrent run sees no file or a whole one. Throws std::runtime_error with the compiler's
+// output (truncated) when compilation fails.
 void compile(const CompileRequest& request, const std::filesystem::path& target);
 
 struct Artifact {
@@ -53,7 +75,8 @@ struct Artifact {
     bool cache_hit = false;
 };
 
-// cached_path(), compiled first unless it exists.
+// The cached object when it passes verify_cache_entry, else compiled afresh (a bad entry is
+// replaced, with a note on stderr).
 Artifact find_or_compile(const CompileRequest& request, const std::string& cache_dir);
 
 // Runs argv (searched on PATH when argv[0] has no slash) and waits for it. Its standard output
@@ -65,7 +88,8 @@ int run_process(const std::vector<std::string>& argv, const std::filesystem::pat
 // "exited with status 3", "was killed by signal 9".
 std::string describe_status(int status);
 
-// A fresh private directory, removed with everything in it when the object goes away.
+// A fresh private directory, removed with everything in it when the object goes away (or on a
+// signal, when it holds only files).
 class TempDir {
 public:
     explicit TempDir(const std::string& prefix = "eomc-");
@@ -76,6 +100,7 @@ public:
 
 private:
     std::filesystem::path path_;
+    CleanupEntry cleanup_;  // removed by the signal handler too (its files, then itself)
 };
 
 }  // namespace eomc::cli
