@@ -219,7 +219,11 @@ BOOST_AUTO_TEST_CASE(a_start_moved_below_the_surface_is_refused) {
                                 dir);
         BOOST_TEST_INFO(args);
         BOOST_TEST(r.status == 2);
-        BOOST_TEST(r.err.find("--set: error: the initial state of leo_j2") == 0);
+        // A moved state is refused against the kernel's re_entry; a moved radius already when the
+        // scene is checked again with the values --set gives (as the scene's own radius would be).
+        BOOST_TEST((r.err.find("--set: error: the initial state of leo_j2") == 0 ||
+                    r.err.find("--set Re=7000: error: the orbit starts at r = 6930 km") == 0),
+                   r.err);
         BOOST_TEST(r.err.find("below the central body's surface") != std::string::npos);
     }
 }
