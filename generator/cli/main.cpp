@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <optional>
 #include <sstream>
 
@@ -187,6 +188,12 @@ double parse_decimal(std::string_view text, const SourcePos& where) {
                                                 ? "above 1.8e308"
                                                 : "below 4.9e-324, the smallest subnormal"));
     if (!std::isfinite(v)) throw not_a_number();
+    // A subnormal double is a number, but not one the model's exact arithmetic takes: CLN
+    // (under GiNaC) has no subnormal floats and stops with "floating point underflow".
+    if (v != 0 && std::abs(v) < std::numeric_limits<double>::min())
+        throw InputError(where, fmt::format("'{}' is a subnormal double (below 2.2e-308 in magnitude), which eomc's "
+                                            "exact arithmetic cannot hold; use 0 or a normal number",
+                                            text));
     return v;
 }
 
@@ -538,6 +545,9 @@ int main(int argc, char** argv) {
     }
 
     try {
+        // An output that exists and is not a regular file is refused before any work is done.
+        for (const std::string* path : {&output, &sim.output, &emit_scene})
+            if (!path->empty()) cli::check_output_target(*path);
         StageClock clock;
         Pipeline p = front_end(scene_path, hamiltonian, orbit_formulation, timings ? &clock : nullptr);
         p.variational = variational;

@@ -120,7 +120,12 @@ void AtomicOutput::commit() {
         temporary_.remove();
         throw std::runtime_error(fmt::format("cannot write {}: {}", target_.string(), std::strerror(err)));
     }
-    check_output_target(target_);  // again: it may have changed during a long run
+    try {
+        check_output_target(target_);  // again: it may have changed during a long run
+    } catch (...) {
+        temporary_.remove();
+        throw;
+    }
     if (::rename(temporary_.path().c_str(), target_.c_str()) != 0) {
         err = errno;
         temporary_.remove();
