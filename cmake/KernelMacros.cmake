@@ -34,7 +34,7 @@ file(WRITE "${OUT}.tmp" "// Generated at build time by cmake/KernelMacros.cmake.
 #include <string_view>
 
 namespace eomc::codegen {
-using namespace std::string_view_literals;  // "…"sv: no constexpr strlen over 10⁴ names
+using namespace std::string_view_literals;  // sv literals: no constexpr strlen over 10⁴ names
 inline constexpr std::array<std::string_view, ${count}> kernel_macro_names{
 ${body}};
 }  // namespace eomc::codegen
