@@ -8,6 +8,7 @@
 #include "support/diagnostic.hpp"
 #include "symbolic/differentiation.hpp"
 #include "symbolic/numeric_probe.hpp"
+#include "symbolic/simplify.hpp"
 
 namespace eomc::mechanics {
 
@@ -16,23 +17,6 @@ using namespace eomc::symbolic;
 using GiNaC::ex;
 
 namespace {
-
-std::size_t nodes(const ex& e) {
-    std::size_t n = 1;
-    for (std::size_t i = 0; i < e.nops(); ++i) n += nodes(e.op(i));
-    return n;
-}
-
-// A smaller but equal form for the expressions the kernel and the printer will see: the
-// rational normal form, with sin² = 1 − cos² used where that shortens it (the inverse of a
-// mass matrix is full of sin² + cos²).
-ex tidy(const ex& e) {
-    const ex plain = GiNaC::normal(e.expand());
-    const ex u = GiNaC::wild(0);
-    const ex trig = GiNaC::normal(
-        e.expand().subs(GiNaC::pow(GiNaC::sin(u), 2) == 1 - GiNaC::pow(GiNaC::cos(u), 2), GiNaC::subs_options::algebraic).expand());
-    return nodes(trig) < nodes(plain) ? trig : plain;
-}
 
 std::string text(const ex& e) {
     std::ostringstream os;
@@ -68,7 +52,7 @@ CanonicalEquations canonical_equations(const model::Model& model, const Equation
         out.momentum.push_back(dL);
         b[i] = dL.subs(at_rest);
         for (std::size_t j = 0; j < n; ++j) {
-            const ex w = tidy(derivative(dL, model.coordinates[j].q_dot));
+            const ex w = normalized(derivative(dL, model.coordinates[j].q_dot));
             for (const auto& c : model.coordinates)
                 if (w.has(c.q_dot))
                     throw InputError(where, fmt::format("the Legendre transform needs L quadratic in the velocities, "
@@ -78,7 +62,7 @@ CanonicalEquations canonical_equations(const model::Model& model, const Equation
             W(unsigned(i), unsigned(j)) = w;
         }
     }
-    const ex det = tidy(W.determinant());
+    const ex det = normalized(W.determinant());
     if (det.is_zero())
         throw InputError(where, "the velocity Hessian ∂²L/∂q̇∂q̇ is singular: p = ∂L/∂q̇ cannot be solved for q̇, "
                                 "so there is no Hamiltonian (a degenerate Lagrangian)");
@@ -86,7 +70,7 @@ CanonicalEquations canonical_equations(const model::Model& model, const Equation
     // and H = ½ (p − b)ᵀ q̇(p) − L₀ left unexpanded: the kernel's CSE shares the rest.
     GiNaC::matrix W_inv = W.inverse();
     for (std::size_t i = 0; i < n; ++i)
-        for (std::size_t j = 0; j < n; ++j) W_inv(unsigned(i), unsigned(j)) = tidy(W_inv(unsigned(i), unsigned(j)));
+        for (std::size_t j = 0; j < n; ++j) W_inv(unsigned(i), unsigned(j)) = normalized(W_inv(unsigned(i), unsigned(j)));
     const ex L0 = L.subs(at_rest);
 
     for (const auto& c : model.coordinates) out.p.push_back(GiNaC::symbol("p_" + c.name));
