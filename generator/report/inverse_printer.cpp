@@ -187,19 +187,7 @@ void text_construction(const model::Model& model, const inv::Construction& c, co
                            c.points_agreeing);
 }
 
-void print_text(const model::Model& model, const inv::Analysis& a, std::ostream& out) {
-    out << "Inverse problem — " << model.name << (model.summary.empty() ? "" : ": " + model.summary) << "\n";
-    out << "Coordinates q_s:";
-    for (const auto& c : model.coordinates) out << " " << c.name;
-    out << "\nParameters:";
-    for (const auto& p : model.parameters) out << fmt::format(" {} = {}", p.name, p.value);
-    out << "\n\n";
-    text_forms(model, a.forms, out);
-
-    out << "\nSantilli's conditions of self-adjointness, D = ∂_t + q̇_k ∂/∂q_k\n";
-    for (const char* s : santilli_statement) out << "  " << s << "\n";
-    out << "Residuals (left minus right side, simplified)\n";
-    text_residuals(model, a.conditions, out);
+void text_verdict(const model::Model& model, const inv::Analysis& a, std::ostream& out) {
     out << "Verdict: " << verdict_name(a.decision.verdict);
     switch (a.decision.verdict) {
         case inv::Verdict::self_adjoint: out << " — every residual simplifies to 0\n"; break;
@@ -216,19 +204,37 @@ void print_text(const model::Model& model, const inv::Analysis& a, std::ostream&
             out << "\n";
             break;
     }
+}
 
-    if (a.multiplier) {
-        const auto& m = *a.multiplier;
-        out << "\nMultiplier g(t, q, q̇) for the kinematic form (Douglas; Sarlet), d/dt = ∂_t + q̇·∂_q + f·∂_q̇\n"
-            << "  N = ∂f/∂q̇ = " << matrix_text(m.N) << "\n"
-            << "  Φ = ½ dN/dt − ∂f/∂q − ¼ N² = " << matrix_text(m.Phi) << "\n"
-            << "  H1  g Φ symmetric\n  H2  dg/dt + ½ Nᵀ g + ½ g N = 0\n  H3  ∂g_ij/∂q̇_k symmetric in (j, k)\n";
-        text_steps(m.steps, out);
-        if (m.g) out << "  Multiplier (" << m.kind << "): g = " << matrix_text(*m.g) << "\n";
-        else if (m.singular_forced) out << "  No regular Lagrangian exists.\n";
-        else if (!m.undecided.empty()) out << "  Undecided: " << m.undecided << ".\n";
-        else out << "  No multiplier found.\n";
-    }
+// The multiplier search: N, Φ, the conditions H1–H3, the steps and the outcome.
+void text_multiplier(const inv::Multiplier& m, std::ostream& out) {
+    out << "\nMultiplier g(t, q, q̇) for the kinematic form (Douglas; Sarlet), d/dt = ∂_t + q̇·∂_q + f·∂_q̇\n"
+        << "  N = ∂f/∂q̇ = " << matrix_text(m.N) << "\n"
+        << "  Φ = ½ dN/dt − ∂f/∂q − ¼ N² = " << matrix_text(m.Phi) << "\n"
+        << "  H1  g Φ symmetric\n  H2  dg/dt + ½ Nᵀ g + ½ g N = 0\n  H3  ∂g_ij/∂q̇_k symmetric in (j, k)\n";
+    text_steps(m.steps, out);
+    if (m.g) out << "  Multiplier (" << m.kind << "): g = " << matrix_text(*m.g) << "\n";
+    else if (m.singular_forced) out << "  No regular Lagrangian exists.\n";
+    else if (!m.undecided.empty()) out << "  Undecided: " << m.undecided << ".\n";
+    else out << "  No multiplier found.\n";
+}
+
+void print_text(const model::Model& model, const inv::Analysis& a, std::ostream& out) {
+    out << "Inverse problem — " << model.name << (model.summary.empty() ? "" : ": " + model.summary) << "\n";
+    out << "Coordinates q_s:";
+    for (const auto& c : model.coordinates) out << " " << c.name;
+    out << "\nParameters:";
+    for (const auto& p : model.parameters) out << fmt::format(" {} = {}", p.name, p.value);
+    out << "\n\n";
+    text_forms(model, a.forms, out);
+
+    out << "\nSantilli's conditions of self-adjointness, D = ∂_t + q̇_k ∂/∂q_k\n";
+    for (const char* s : santilli_statement) out << "  " << s << "\n";
+    out << "Residuals (left minus right side, simplified)\n";
+    text_residuals(model, a.conditions, out);
+    text_verdict(model, a, out);
+
+    if (a.multiplier) text_multiplier(*a.multiplier, out);
     if (a.multiplied_form) {
         out << "\nMultiplied equations g (q̈ − f) = 0 in fundamental form\n";
         const std::size_t n = model.coordinates.size();
@@ -291,6 +297,31 @@ void latex_construction(const model::Model& model, const inv::Construction& c, c
                        : "Not verified symbolically.\n");
 }
 
+void latex_multiplier(const inv::Multiplier& m, std::ostream& out) {
+    out << "\\subsection*{Multiplier (Douglas; Sarlet)}\n"
+        << "$\\frac{d}{dt} = \\partial_t + \\dot q\\cdot\\partial_q + f\\cdot\\partial_{\\dot q}$, "
+        << "$N = \\partial f/\\partial\\dot q$, $\\Phi = \\frac12 \\dot N - \\partial f/\\partial q - \\frac14 N^2$; "
+        << "$H_1$: $g\\Phi$ symmetric, $H_2$: $\\dot g + \\frac12 N^T g + \\frac12 g N = 0$, "
+        << "$H_3$: $\\partial g_{ij}/\\partial \\dot q_k$ symmetric in $(j,k)$.\n\\begin{align*}\n"
+        << "N &= " << matrix_latex(m.N) << "\\\\\n\\Phi &= " << matrix_latex(m.Phi) << "\n\\end{align*}\n"
+        << "\\begin{enumerate}\n";
+    for (const auto& step : m.steps) {
+        out << "\\item " << latex_prose(step.text) << "\n";
+        if (!step.equations.empty()) {
+            out << "\\begin{align*}\n";
+            for (std::size_t k = 0; k < step.equations.size(); ++k)
+                out << "\\text{" << latex_prose(step.equations[k].first) << "} &= "
+                    << ex_latex(step.equations[k].second) << (k + 1 < step.equations.size() ? "\\\\\n" : "\n");
+            out << "\\end{align*}\n";
+        }
+    }
+    out << "\\end{enumerate}\n";
+    if (m.g) out << "Multiplier (" << latex_prose(m.kind) << "): $g = " << matrix_latex(*m.g) << "$.\n";
+    else if (m.singular_forced) out << "No regular Lagrangian exists.\n";
+    else if (!m.undecided.empty()) out << "Undecided: " << latex_prose(m.undecided) << ".\n";
+    else out << "No multiplier found.\n";
+}
+
 void print_latex(const model::Model& model, const inv::Analysis& a, std::ostream& out) {
     out << "\\documentclass[10pt]{article}\n\\usepackage[utf8]{inputenc}\n\\usepackage{amsmath}\n"
         << "\\allowdisplaybreaks\n\\begin{document}\n\\section*{Inverse problem: " << latex_escape(model.name) << "}\n";
@@ -308,31 +339,7 @@ void print_latex(const model::Model& model, const inv::Analysis& a, std::ostream
     if (a.decision.verdict == inv::Verdict::undecided)
         out << fmt::format(": residuals that do not simplify vanish at all {} random points tried", a.decision.points_tried);
     out << ".\n";
-    if (a.multiplier) {
-        const auto& m = *a.multiplier;
-        out << "\\subsection*{Multiplier (Douglas; Sarlet)}\n"
-            << "$\\frac{d}{dt} = \\partial_t + \\dot q\\cdot\\partial_q + f\\cdot\\partial_{\\dot q}$, "
-            << "$N = \\partial f/\\partial\\dot q$, $\\Phi = \\frac12 \\dot N - \\partial f/\\partial q - \\frac14 N^2$; "
-            << "$H_1$: $g\\Phi$ symmetric, $H_2$: $\\dot g + \\frac12 N^T g + \\frac12 g N = 0$, "
-            << "$H_3$: $\\partial g_{ij}/\\partial \\dot q_k$ symmetric in $(j,k)$.\n\\begin{align*}\n"
-            << "N &= " << matrix_latex(m.N) << "\\\\\n\\Phi &= " << matrix_latex(m.Phi) << "\n\\end{align*}\n"
-            << "\\begin{enumerate}\n";
-        for (const auto& step : m.steps) {
-            out << "\\item " << latex_prose(step.text) << "\n";
-            if (!step.equations.empty()) {
-                out << "\\begin{align*}\n";
-                for (std::size_t k = 0; k < step.equations.size(); ++k)
-                    out << "\\text{" << latex_prose(step.equations[k].first) << "} &= "
-                        << ex_latex(step.equations[k].second) << (k + 1 < step.equations.size() ? "\\\\\n" : "\n");
-                out << "\\end{align*}\n";
-            }
-        }
-        out << "\\end{enumerate}\n";
-        if (m.g) out << "Multiplier (" << latex_prose(m.kind) << "): $g = " << matrix_latex(*m.g) << "$.\n";
-        else if (m.singular_forced) out << "No regular Lagrangian exists.\n";
-        else if (!m.undecided.empty()) out << "Undecided: " << latex_prose(m.undecided) << ".\n";
-        else out << "No multiplier found.\n";
-    }
+    if (a.multiplier) latex_multiplier(*a.multiplier, out);
     if (a.multiplied_form) {
         out << "\\subsection*{Multiplied equations $g(\\ddot q - f) = 0$}\nSantilli's residuals:\n";
         latex_residuals(model, a.multiplied_conditions, out);
@@ -371,6 +378,22 @@ std::string construction_json(const inv::Construction& c) {
     return out + "}";
 }
 
+// The multiplier search as a JSON object (N, Φ, outcome, steps).
+std::string multiplier_json(const inv::Multiplier& m) {
+    std::string out = "{\"N\": " + matrix_json(m.N) + ", \"Phi\": " + matrix_json(m.Phi) +
+                      ", \"kind\": " + (m.g ? json_string(m.kind) : "null") +
+                      ", \"singular_forced\": " + (m.singular_forced ? "true" : "false") +
+                      ", \"undecided\": " + (m.undecided.empty() ? "null" : json_string(m.undecided)) + ", \"steps\": [";
+    for (std::size_t s = 0; s < m.steps.size(); ++s) {
+        out += std::string(s ? ",\n    " : "\n    ") + "{\"text\": " + json_string(m.steps[s].text) + ", \"equations\": [";
+        for (std::size_t k = 0; k < m.steps[s].equations.size(); ++k)
+            out += std::string(k ? ", " : "") + "[" + json_string(m.steps[s].equations[k].first) + ", " +
+                   json_ex(m.steps[s].equations[k].second) + "]";
+        out += "]}";
+    }
+    return out + (m.steps.empty() ? "]}" : "\n  ]}");
+}
+
 void print_json(const model::Model& model, const inv::Analysis& a, std::ostream& out) {
     const std::size_t n = model.coordinates.size();
     out << "{\n  \"scene\": " << json_string(model.name) << ",\n  \"coordinates\": [";
@@ -392,21 +415,7 @@ void print_json(const model::Model& model, const inv::Analysis& a, std::ostream&
     }
     if (a.decision.verdict == inv::Verdict::undecided) out << ",\n  \"points_tried\": " << a.decision.points_tried;
     out << ",\n  \"multiplier\": " << (a.multiplier && a.multiplier->g ? matrix_json(*a.multiplier->g) : "null");
-    if (a.multiplier) {
-        const auto& m = *a.multiplier;
-        out << ",\n  \"multiplier_search\": {\"N\": " << matrix_json(m.N) << ", \"Phi\": " << matrix_json(m.Phi)
-            << ", \"kind\": " << (m.g ? json_string(m.kind) : "null")
-            << ", \"singular_forced\": " << (m.singular_forced ? "true" : "false")
-            << ", \"undecided\": " << (m.undecided.empty() ? "null" : json_string(m.undecided)) << ", \"steps\": [";
-        for (std::size_t s = 0; s < m.steps.size(); ++s) {
-            out << (s ? ",\n    " : "\n    ") << "{\"text\": " << json_string(m.steps[s].text) << ", \"equations\": [";
-            for (std::size_t k = 0; k < m.steps[s].equations.size(); ++k)
-                out << (k ? ", " : "") << "[" << json_string(m.steps[s].equations[k].first) << ", "
-                    << json_ex(m.steps[s].equations[k].second) << "]";
-            out << "]}";
-        }
-        out << (m.steps.empty() ? "]}" : "\n  ]}");
-    }
+    if (a.multiplier) out << ",\n  \"multiplier_search\": " << multiplier_json(*a.multiplier);
     if (a.multiplied_form) out << ",\n  \"multiplied_conditions\": " << residuals_json(a.multiplied_conditions);
     const bool built = a.construction && a.construction->built;
     out << ",\n  \"lagrangian\": " << (built ? json_ex(a.construction->L) : "null");
