@@ -1,16 +1,11 @@
-// eomc: the command line. It only wires the pipeline stages together:
-//   scene --parse--> Scene --build--> Model --derive--> Equations --lower--> KernelIR --emit--> header
+// eomc: the command line. It parses options and wires one call of the library per command:
+// the pipeline (host/pipeline), a printer (report/), a simulation or a benchmark (host/).
 // Exit codes: 0 success, 2 bad input (file:line:column: error: …), 1 any other failure.
-#include <charconv>
-#include <chrono>
-#include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
-#include <limits>
-#include <optional>
 #include <sstream>
+#include <string>
 
 #include <sys/personality.h>
 #include <unistd.h>
@@ -18,27 +13,25 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
-#include "codegen/cpp_emitter.hpp"
+#include "cli/options.hpp"
 #include "codegen/cpp_text.hpp"
-#include "codegen/kernel_ir.hpp"
 #include "host/bench.hpp"
+#include "host/orbit_bench.hpp"
+#include "host/pipeline.hpp"
 #include "host/simulate.hpp"
-#include "mechanics/canonical/hamiltonian.hpp"
-#include "mechanics/derive.hpp"
 #include "mechanics/inverse/inverse_problem.hpp"
 #include "mechanics/relative/equilibria.hpp"
-#include "model/model.hpp"
 #include "report/derivation_printer.hpp"
+#include "report/equilibria_printer.hpp"
 #include "report/inverse_printer.hpp"
 #include "scene/scene.hpp"
 #include "support/cleanup.hpp"
 #include "support/diagnostic.hpp"
-#include "support/json.hpp"
 #include "support/output_file.hpp"
-#include "symbolic/expression_text.hpp"
 
 namespace fs = std::filesystem;
 using namespace eomc;
+using host::Pipeline;
 
 // In a sanitizer build (scripts/sanitize.sh), eomc also runs inside the build, where no
 // LSAN_OPTIONS reach it: LeakSanitizer asks this hook for its suppressions, the same as
@@ -80,77 +73,90 @@ void ensure_reproducible_layout(char** argv) {
               << "), so generated code may differ from run to run in the form of its expressions\n";
 }
 
-// Seconds per pipeline stage, for `eomc generate --timings` and the benchmarks.
-class StageClock {
-public:
-    void lap(const char* stage) {
-        const auto now = std::chrono::steady_clock::now();
-        stages_.emplace_back(stage, std::chrono::duration<double>(now - last_).count());
-        last_ = now;
-    }
-    void add(const char* stage, double seconds) { stages_.emplace_back(stage, seconds); }
-    void print(std::ostream& out) const {
-        double total = 0;
-        for (const auto& [stage, seconds] : stages_) {
-            out << fmt::format("timing {} {:.6f}\n", stage, seconds);
-            if (std::string_view(stage) != "lower") total += seconds;  // lower is the sum of its parts
-        }
-        out << fmt::format("timing total {:.6f}\n", total);
-    }
 
-private:
-    std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
-    std::vector<std::pair<const char*, double>> stages_;
+// Every option of every command; each command reads the ones it declares.
+struct Options {
+    std::string scene_path, format = "text", output, out_dir = ".", emit_scene;
+    host::FrontEndOptions front;
+    bool timings = false;
+    cli::SimulateOptions simulate;
+    cli::BenchOptions bench;
+    mechanics::inverse::SearchBudget search_budget;
 };
 
-struct Pipeline {
-    model::Model model;
-    mechanics::Equations equations;
-    std::optional<mechanics::CanonicalEquations> canonical;  // the Hamiltonian formulation, when asked for
-    bool variational = false;                                // emit variational_rhs too (--variational)
+struct Commands {
+    CLI::App *derive, *generate, *simulate, *equilibria, *inverse, *run, *bench;
 };
 
-// `orbit_formulation` ("" = the scene's own) is --orbit-formulation.
-// `flag` names the option that chose it, for messages (bench's --formulations).
-Pipeline front_end(const std::string& scene_path, bool hamiltonian, const std::string& orbit_formulation,
-                   StageClock* clock = nullptr, const char* flag = "--orbit-formulation") {
-    scene::Scene scene = scene::parse_scene_file(scene_path);
-    if (!orbit_formulation.empty())
-        scene::set_orbit_formulation(scene, orbit_formulation, SourcePos{std::string(flag) + " " + orbit_formulation});
-    Pipeline p{model::build_model(scene), {}, std::nullopt};
-    for (const auto& w : p.model.warnings) std::cerr << format_warning(w) << "\n";
-    if (clock) clock->lap("parse");
-    p.equations = mechanics::derive(p.model);
-    const std::string formulation = p.model.orbit ? p.model.orbit->formulation : "";
-    if (formulation == "equinoctial" && (hamiltonian || p.model.hamiltonian))
-        throw InputError(p.model.orbit->formulation_pos,
-                         "the equinoctial formulation integrates Gauss's equations, not Hamilton's; use formulation = "
-                         "\"cowell\" with the Hamiltonian formulation");
-    if (formulation == "encke" && (hamiltonian || p.model.hamiltonian))
-        throw InputError(p.model.orbit->formulation_pos,
-                         "the encke formulation integrates the deviation from a reference orbit, not Hamilton's "
-                         "equations; use formulation = \"cowell\" with the Hamiltonian formulation");
-    if (hamiltonian || p.model.hamiltonian) p.canonical = mechanics::canonical_equations(p.model, p.equations);
+Commands declare_commands(CLI::App& app, Options& o) {
+    auto scene_argument = [&](CLI::App* cmd) { cmd->add_option("scene", o.scene_path, "scene file (TOML)")->required(); };
+    auto hamiltonian_flag = [&](CLI::App* cmd) {
+        cmd->add_flag("--hamiltonian", o.front.hamiltonian,
+                      "Hamilton's equations in (q, p) instead of Lagrange's in (q, q̇) (as [formulation] kind = "
+                      "\"hamiltonian\")");
+    };
+    auto orbit_formulation = [&](CLI::App* cmd) {
+        cmd->add_option("--orbit-formulation", o.front.orbit_formulation,
+                        "an orbit scene in another formulation (" +
+                            fmt::format("{}", fmt::join(scene::orbit_formulation_names, ", ")) +
+                            "); the kernel's name gains _<formulation>");
+    };
+    auto variational_flag = [&](CLI::App* cmd, const char* what) { cmd->add_flag("--variational", o.front.variational, what); };
+    const char* integrate_phi = "integrate the state-transition matrix Φ too (Φ(0) = I; CSV columns Phi_<i>_<j>)";
+    Commands c{};
 
-    if (clock) clock->lap("derive");
-    return p;
-}
+    c.derive = app.add_subcommand("derive", "print the derivation (text, LaTeX or JSON)");
+    scene_argument(c.derive);
+    c.derive->add_option("--format", o.format, "text | latex | json")->check(CLI::IsMember({"text", "latex", "json"}));
+    c.derive->add_option("-o,--output", o.output, "write to FILE instead of standard output");
+    hamiltonian_flag(c.derive);
+    orbit_formulation(c.derive);
 
-// The emitted header; `ir` (when given) receives the kernel IR it was printed from.
-std::string kernel_header(const Pipeline& p, StageClock* clock = nullptr, codegen::KernelIR* ir_out = nullptr) {
-    codegen::LoweringTimes lowering;
-    const codegen::KernelIR ir = p.canonical ? codegen::lower(p.model, p.canonical->form, &lowering)
-                                             : codegen::lower(p.model, p.equations, &lowering);
-    if (ir_out) *ir_out = ir;
-    if (clock) {
-        clock->lap("lower");
-        clock->add("cse_mass_forcing", lowering.mass_and_forcing);
-        clock->add("jacobian", lowering.jacobian);
-        clock->add("invariants", lowering.invariants);
-    }
-    std::string header = codegen::emit_header(ir, {EOMC_VERSION, p.variational});
-    if (clock) clock->lap("emit");
-    return header;
+    c.generate = app.add_subcommand("generate", "emit the C++ kernel header <name>.hpp");
+    scene_argument(c.generate);
+    c.generate->add_option("-o,--output-dir", o.out_dir, "directory for the header (default: .)");
+    c.generate->add_flag("--timings", o.timings, "print the time of each stage on stderr (`timing <stage> <seconds>`)");
+    hamiltonian_flag(c.generate);
+    orbit_formulation(c.generate);
+    variational_flag(c.generate, "also emit variational_rhs: the state extended by the state-transition matrix, "
+                                 "Φ̇ = (∂ẋ/∂x) Φ (seed §2.9)");
+
+    c.simulate = app.add_subcommand("simulate", "generate, compile, integrate; write CSV and a summary");
+    scene_argument(c.simulate);
+    cli::add_simulate_options(c.simulate, o.simulate);
+    hamiltonian_flag(c.simulate);
+    orbit_formulation(c.simulate);
+    variational_flag(c.simulate, integrate_phi);
+
+    c.equilibria = app.add_subcommand("equilibria", "relative equilibria of a steady carrier and their stability");
+    scene_argument(c.equilibria);
+    c.equilibria->add_option("--format", o.format, "text | json")->check(CLI::IsMember({"text", "json"}));
+
+    c.inverse = app.add_subcommand("inverse", "the inverse problem: self-adjointness, a multiplier, a Lagrangian");
+    scene_argument(c.inverse);
+    c.inverse->add_option("--format", o.format, "text | latex | json")->check(CLI::IsMember({"text", "latex", "json"}));
+    c.inverse->add_option("-o,--output", o.output, "write to FILE instead of standard output");
+    c.inverse->add_option("--emit-scene", o.emit_scene, "write the constructed Lagrangian as a [lagrangian] scene to FILE");
+    c.inverse
+        ->add_option("--search-budget", o.search_budget.nodes,
+                     "expression nodes the multiplier search may build before it stops undecided (default 1000000)")
+        ->check(CLI::PositiveNumber);
+
+    c.run = app.add_subcommand("run", "derive + generate + simulate: the whole job on one scene");
+    scene_argument(c.run);
+    c.run->add_option("-d,--dir", o.out_dir, "directory for the header and the CSV (default: .)");
+    cli::add_simulate_options(c.run, o.simulate);
+    hamiltonian_flag(c.run);
+    orbit_formulation(c.run);
+    variational_flag(c.run, integrate_phi);
+
+    c.bench = app.add_subcommand(
+        "bench", "work-precision sweeps of every integrator, ours and Boost.Odeint's, on one scene: CSV, plot, table");
+    scene_argument(c.bench);
+    c.bench->add_option("-o,--output-dir", o.out_dir, "directory for work_precision.csv and work_precision.png (default: .)");
+    cli::add_bench_options(c.bench, o.bench);
+    orbit_formulation(c.bench);
+    return c;
 }
 
 report::DerivationFormat derivation_format(const std::string& name) {
@@ -159,273 +165,77 @@ report::DerivationFormat derivation_format(const std::string& name) {
     return report::DerivationFormat::text;
 }
 
-// Blanks (spaces, tabs) around a --set name or value, or a list item, are dropped.
-std::string_view trimmed(std::string_view text) {
-    const auto first = text.find_first_not_of(" \t"), last = text.find_last_not_of(" \t");
-    return first == std::string_view::npos ? std::string_view{} : text.substr(first, last - first + 1);
+// Standard output, or the file, written whole or not at all.
+void deliver(const std::string& text, const std::string& output) {
+    if (output.empty()) std::cout << text;
+    else write_file_atomically(output, text);
 }
 
-// One decimal grammar for every number given on the command line: [+|-] digits [. digits]
-// [e|E [+|-] digits], the whole text, a finite double. Hex floats, "inf" and "nan" are not
-// decimals; subnormal numbers are numbers. std::from_chars (C++17 [charconv.from.chars]) is
-// locale-independent and reports out-of-range results, unlike strtod/stod, whose ERANGE also
-// rejects subnormals. Throws InputError at `where` with the reason.
-double parse_decimal(std::string_view text, const SourcePos& where) {
-    const std::string_view t = trimmed(text);
-    const auto not_a_number = [&] { return InputError(where, fmt::format("'{}' is not a number", text)); };
-    if (t.empty() || t.find_first_not_of("0123456789.eE+-") != std::string_view::npos) throw not_a_number();
-    std::string_view digits = t;
-    if (digits.front() == '+') {  // from_chars takes no '+'; TOML (and people) write +1.5
-        digits.remove_prefix(1);
-        if (digits.empty() || digits.front() == '+' || digits.front() == '-') throw not_a_number();
+const mechanics::CanonicalEquations* canonical(const Pipeline& p) { return p.canonical ? &*p.canonical : nullptr; }
+
+void derive_command(const Pipeline& p, const Options& o) {
+    std::ostringstream text;
+    report::print_derivation(p.model, p.equations, derivation_format(o.format), text, canonical(p));
+    deliver(text.str(), o.output);
+}
+
+void generate_command(const Pipeline& p, const Options& o, host::StageClock* clock) {
+    const fs::path path = fs::path(o.out_dir) / (p.model.name + ".hpp");
+    write_file_atomically(path, host::kernel_header(p, clock));
+    if (clock) clock->print(std::cerr);
+    std::cerr << "wrote " << path.string() << "\n";
+}
+
+// `simulate`, and `run` (which also prints the derivation and writes the header first).
+void simulate_command(const Pipeline& p, Options& o, bool whole_job) {
+    codegen::KernelIR ir;
+    const std::string header = host::kernel_header(p, nullptr, &ir);
+    const fs::path header_path = fs::path(o.out_dir) / (p.model.name + ".hpp");
+    if (whole_job && o.simulate.output.empty()) o.simulate.output = (fs::path(o.out_dir) / (p.model.name + ".csv")).string();
+    const host::SimulationRequest request = cli::simulation_request(p, header, o.simulate);
+    cli::check_overrides_against_scene(o.scene_path, o.front.orbit_formulation, o.simulate.overrides);
+    host::check_separable(request.integrator, request.integrator_pos, ir.separable, ir.scene_name);
+    if (whole_job) {
+        report::print_derivation(p.model, p.equations, report::DerivationFormat::text, std::cout, canonical(p));
+        write_file_atomically(header_path, header);
+        std::cout << "\nKernel: " << header_path.string() << "\n\nSimulation\n";
     }
-    double v = 0;
-    const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), v, std::chars_format::general);
-    if (end != digits.data() + digits.size() || ec == std::errc::invalid_argument) throw not_a_number();
-    if (ec == std::errc::result_out_of_range)
-        throw InputError(where, fmt::format("'{}' is outside the range of a double ({} in magnitude)", text,
-                                            std::abs(std::strtod(std::string(digits).c_str(), nullptr)) > 1
-                                                ? "above 1.8e308"
-                                                : "below 4.9e-324, the smallest subnormal"));
-    if (!std::isfinite(v)) throw not_a_number();
-    // A subnormal double is a number, but not one the model's exact arithmetic takes: CLN
-    // (under GiNaC) has no subnormal floats and stops with "floating point underflow".
-    if (v != 0 && std::abs(v) < std::numeric_limits<double>::min())
-        throw InputError(where, fmt::format("'{}' is a subnormal double (below 2.2e-308 in magnitude), which eomc's "
-                                            "exact arithmetic cannot hold; use 0 or a normal number",
-                                            text));
-    return v;
+    host::print_summary(host::simulate(request), o.simulate.summary, std::cout);
+    if (whole_job) std::cout << "Trajectory: " << o.simulate.output << "\n";
 }
 
-// --set NAME=VALUE, checked for shape here; the names are checked against the kernel, the values
-// against the scene (check_overrides_against_scene).
-std::vector<std::pair<std::string, double>> parse_overrides(const std::vector<std::string>& items) {
-    std::vector<std::pair<std::string, double>> out;
-    for (const auto& item : items) {
-        const auto eq = item.find('=');
-        SourcePos where{"--set " + item, 0, 0};
-        const std::string_view name = eq == std::string::npos ? std::string_view{} : trimmed(std::string_view(item).substr(0, eq));
-        if (name.empty()) throw InputError(where, "expected NAME=VALUE");
-        out.emplace_back(std::string(name), parse_decimal(std::string_view(item).substr(eq + 1), where));
+void bench_command(const Pipeline& p, const Options& o) {
+    codegen::KernelIR ir;
+    const std::string header = host::kernel_header(p, nullptr, &ir);
+    host::BenchRequest r = cli::bench_request(p, header, ir, o.scene_path, o.out_dir, o.bench);
+    const std::vector<std::string> formulations = cli::comma_list(o.bench.formulations);
+    if (!o.bench.formulations.empty() && !p.model.orbit)
+        throw InputError(SourcePos{"--formulations"},
+                         fmt::format("{} has no [orbit]; --formulations compares the formulations of an orbit scene",
+                                     o.scene_path));
+    if (!formulations.empty() && !o.front.orbit_formulation.empty())
+        throw InputError(SourcePos{"--formulations"},
+                         "give the formulations either by --formulations or by --orbit-formulation, not both");
+    if (!o.bench.formulations.empty() && formulations.empty())
+        throw InputError(SourcePos{"--formulations"}, "the list is empty");
+    if (p.model.orbit) host::add_orbit_formulations(r, o.scene_path, formulations, o.front.orbit_formulation);
+    host::print_bench_table(host::bench(r), std::cout);
+}
+
+void inverse_command(const Pipeline& p, const Options& o) {
+    const auto analysis = mechanics::inverse::analyse(p.model, p.equations, o.search_budget);
+    // Everything is computed before anything is written: a refusal leaves no file behind.
+    std::string scene_text;
+    if (!o.emit_scene.empty()) {
+        if (!analysis.construction || !analysis.construction->built || !analysis.construction->verified)
+            throw std::runtime_error(
+                fmt::format("no verified Lagrangian to write to {}: {}", o.emit_scene, analysis.reason));
+        scene_text = report::lagrangian_scene(p.model, analysis);
     }
-    return out;
-}
-
-// The scene's own checks on the values --set gives its parameters: a body's mass must stay
-// positive, and so must an orbit's μ and radius, as when the scene itself gives them. The scene
-// is built again with those values as its parameters' (only when --set names a parameter).
-void check_overrides_against_scene(const std::string& scene_path, const std::string& orbit_formulation,
-                                   const std::vector<std::string>& items) {
-    const auto overrides = parse_overrides(items);
-    scene::Scene s = scene::parse_scene_file(scene_path);
-    if (!orbit_formulation.empty())
-        scene::set_orbit_formulation(s, orbit_formulation, SourcePos{"--orbit-formulation " + orbit_formulation});
-    std::string given;
-    for (std::size_t i = 0; i < overrides.size(); ++i)
-        for (auto& parameter : s.parameters)
-            if (parameter.name == overrides[i].first) {
-                parameter.value = overrides[i].second;
-                given += (given.empty() ? "--set " : " --set ") + items[i];
-            }
-    if (given.empty()) return;
-    try {
-        (void)model::build_model(s);
-    } catch (const InputError& e) {
-        std::string message = e.message();
-        const std::string defaults = "with the default parameters";
-        if (const auto at = message.find(defaults); at != std::string::npos)
-            message.replace(at, defaults.size(), "with the values --set gives");
-        throw InputError(SourcePos{given}, fmt::format("{} (checked as in {})", message, to_string(e.where())));
-    }
-}
-
-struct SimulateOptions {
-    std::optional<double> t_end, rtol, atol, step;
-    std::string integrator, output, summary = "text", compensated;
-    std::vector<std::string> overrides;
-    std::string cache_dir;
-    std::optional<std::size_t> max_steps;
-    std::size_t max_rows = host::SimulationRequest::default_max_rows;
-};
-
-// CLI11 would read "0x10" and "inf" as numbers: the numeric options take parse_decimal's grammar.
-const CLI::Validator decimal(
-    [](std::string& text) {
-        try {
-            (void)parse_decimal(text, SourcePos{});
-            return std::string();
-        } catch (const InputError& e) {
-            return e.message();
-        }
-    },
-    "DECIMAL");
-
-void add_simulate_options(CLI::App* cmd, SimulateOptions& o) {
-    cmd->add_option("--t-end", o.t_end, "final time (default: [simulate] t_end)")->check(decimal)->check(CLI::PositiveNumber);
-    cmd->add_option("--integrator", o.integrator,
-                    "rk4 | dopri5 | dop853 | gl4 | gl6 | gl8 | verlet | yoshida6 | kahanli8 (default: [simulate] "
-                    "integrator; the last three need a separable system)")
-        ->check(CLI::IsMember(std::vector<std::string>(scene::integrator_names.begin(), scene::integrator_names.end())));
-    cmd->add_option("--rtol", o.rtol, "relative tolerance (dopri5, dop853)")->check(decimal)->check(CLI::PositiveNumber);
-    cmd->add_option("--atol", o.atol, "absolute tolerance (dopri5, dop853)")->check(decimal)->check(CLI::PositiveNumber);
-    cmd->add_option("--step", o.step, "step size (rk4, gl4, gl6, gl8, verlet, yoshida6, kahanli8)")
-        ->check(decimal)->check(CLI::PositiveNumber);
-    cmd->add_option("--compensated", o.compensated,
-                    "on | off: compensated (Kahan) summation of the state update (default: [simulate] compensated, "
-                    "else on for gl4-8, verlet, yoshida6, kahanli8 and off for the others)")
-        ->check(CLI::IsMember({"on", "off"}));
-    cmd->add_option("--set", o.overrides, "NAME=VALUE: a parameter, or an initial value (q, q_dot)");
-    cmd->add_option("--output", o.output, "trajectory CSV (t, state, invariants)");
-    cmd->add_option("--summary", o.summary, "text | json")->check(CLI::IsMember({"text", "json"}));
-    cmd->add_option("--cache-dir", o.cache_dir, "where compiled kernels are kept (default ~/.cache/eomc)");
-    cmd->add_option("--max-steps", o.max_steps,
-                    fmt::format("the most steps the run may take (default: {} for the fixed-step methods, refused "
-                                "before the run when t_end/step is more; 10000000 attempts for dopri5 and dop853)",
-                                host::SimulationRequest::default_max_fixed_steps))
-        ->check(CLI::PositiveNumber);
-    cmd->add_option("--max-rows", o.max_rows,
-                    fmt::format("the most rows the CSV may hold (default {}); a run that would write more leaves no CSV",
-                                host::SimulationRequest::default_max_rows))
-        ->check(CLI::PositiveNumber);
-}
-
-host::SimulationRequest simulation_request(const Pipeline& p, const std::string& header, const SimulateOptions& o) {
-    const scene::Simulate& d = p.model.simulate;
-    host::SimulationRequest r;
-    r.header_text = header;
-    r.struct_name = p.model.struct_name;
-    r.overrides = parse_overrides(o.overrides);
-    r.t_end = o.t_end.value_or(d.t_end);
-    r.integrator = o.integrator.empty() ? d.integrator : o.integrator;
-    r.integrator_pos = o.integrator.empty() ? d.integrator_pos : SourcePos{"--integrator"};
-    r.variational = p.variational;
-    if (!o.compensated.empty()) r.compensated = o.compensated == "on";
-    else r.compensated = d.compensated;
-    r.rtol = o.rtol.value_or(d.rtol);
-    r.atol = o.atol.value_or(d.atol);
-    r.step = o.step.value_or(d.step);
-    r.csv_path = o.output;
-    r.summary_format = o.summary;
-    r.cache_dir = o.cache_dir;
-    r.max_steps = o.max_steps;
-    r.max_rows = o.max_rows;
-    return r;
-}
-
-// A comma-separated list (--methods dop853,gl8); blanks around items are dropped.
-std::vector<std::string> comma_list(const std::string& text) {
-    std::vector<std::string> out;
-    std::stringstream in(text);
-    for (std::string item; std::getline(in, item, ',');) {
-        const auto first = item.find_first_not_of(" \t"), last = item.find_last_not_of(" \t");
-        if (first != std::string::npos) out.push_back(item.substr(first, last - first + 1));
-    }
-    return out;
-}
-
-// A comma-separated list of numbers (--tolerances 1e-6,1e-9), checked for shape here.
-std::vector<double> number_list(const std::string& text, const char* option) {
-    std::vector<double> out;
-    for (const auto& item : comma_list(text)) out.push_back(parse_decimal(item, SourcePos{option}));
-    return out;
-}
-
-struct BenchOptions {
-    std::optional<double> t_end;
-    std::string methods, tolerances, steps, cache_dir, odeint_state = "vector", formulations;
-    double reference_tolerance = 1e-26;
-    double min_time = 0.02;
-    int repeats = 3;
-};
-
-// The equations depend on t explicitly (a driven carrier, a time-dependent force).
-bool depends_on_time(const Pipeline& p) {
-    for (const auto& f : p.equations.forcing)
-        if (f.has(p.model.t)) return true;
-    for (unsigned i = 0; i < p.equations.mass_matrix.rows(); ++i)
-        for (unsigned j = 0; j < p.equations.mass_matrix.cols(); ++j)
-            if (p.equations.mass_matrix(i, j).has(p.model.t)) return true;
-    return false;
-}
-
-// The period of an orbit scene's initial osculating ellipse (0 when it is no ellipse), from the
-// Cowell model's initial state and μ at the parameters' defaults.
-double orbit_period(const model::Model& m) {
-    if (!m.orbit || m.coordinates.size() != 3) return 0.0;
-    GiNaC::lst defaults;
-    for (const auto& par : m.parameters) defaults.append(par.symbol == par.value);
-    const GiNaC::ex mu = GiNaC::evalf(m.orbit->mu.subs(defaults));
-    if (!GiNaC::is_a<GiNaC::numeric>(mu)) return 0.0;
-    const double gm = GiNaC::ex_to<GiNaC::numeric>(mu).to_double();
-    double r2 = 0, v2 = 0;
-    for (const auto& c : m.coordinates) r2 += c.initial * c.initial, v2 += c.rate * c.rate;
-    const double inverse_a = 2.0 / std::sqrt(r2) - v2 / gm;  // vis-viva
-    if (!(gm > 0.0 && inverse_a > 0.0)) return 0.0;
-    return 2.0 * M_PI * std::sqrt(1.0 / (inverse_a * inverse_a * inverse_a) / gm);
-}
-
-// `eomc equilibria`: each relative equilibrium with its eigenvalues and verdict.
-void print_equilibria(const model::Model& model, const std::vector<mechanics::Equilibrium>& found,
-                      const std::string& format, std::ostream& out) {
-    if (format == "json") {
-        out << "{\"equilibria\": [";
-        for (std::size_t i = 0; i < found.size(); ++i) {
-            out << (i ? ",\n  " : "\n  ") << "{\"q\": {";
-            for (std::size_t k = 0; k < found[i].q.size(); ++k)
-                out << (k ? ", " : "") << json_string(model.coordinates[k].name) << fmt::format(": {:.17g}", found[i].q[k]);
-            out << "}, \"free\": [";
-            for (std::size_t k = 0, listed = 0; k < found[i].free.size(); ++k)
-                if (found[i].free[k]) out << (listed++ ? ", " : "") << json_string(model.coordinates[k].name);
-            out << "], \"eigenvalues\": [";
-            for (std::size_t k = 0; k < found[i].eigenvalues.size(); ++k)
-                out << (k ? ", " : "")
-                    << fmt::format("[{:.17g}, {:.17g}]", found[i].eigenvalues[k].real(), found[i].eigenvalues[k].imag());
-            out << "], \"verdict\": \"" << found[i].verdict << "\"";
-            // The closed forms, in GiNaC syntax, when the equilibrium was solved symbolically.
-            out << ", \"exact\": ";
-            if (found[i].exact.empty()) {
-                out << "null";
-            } else {
-                out << "{";
-                for (std::size_t k = 0, listed = 0; k < found[i].exact.size(); ++k)
-                    if (!found[i].free[k])
-                        out << (listed++ ? ", " : "") << json_string(model.coordinates[k].name) << ": "
-                            << json_string(symbolic::text(found[i].exact[k]));
-                out << "}";
-            }
-            out << ", \"lambda_squared\": "
-                << (found[i].lambda_squared ? json_string(symbolic::text(*found[i].lambda_squared)) : "null") << "}";
-        }
-        out << (found.empty() ? "]}\n" : "\n]}\n");
-        return;
-    }
-    out << fmt::format("{} relative equilibri{} of {} (q̇ = 0, parameters at their defaults)\n", found.size(),
-                       found.size() == 1 ? "um" : "a", model.name);
-    if (!found.empty() && std::find(found[0].free.begin(), found[0].free.end(), true) != found[0].free.end())
-        out << "(\"any\": a coordinate absent from the equations at rest; each equilibrium is a family in it)\n";
-    for (const auto& e : found) {
-        out << "\n ";
-        for (std::size_t k = 0; k < e.q.size(); ++k)
-            out << (e.free[k] ? fmt::format(" {} = any", model.coordinates[k].name)
-                              : fmt::format(" {} = {:.12g}", model.coordinates[k].name, e.q[k]));
-        for (std::size_t k = 0, listed = 0; k < e.exact.size(); ++k)
-            if (!e.free[k])
-                out << fmt::format("{}{} = {}", listed++ ? ", " : "\n    closed form: ", model.coordinates[k].name,
-                                   symbolic::text(e.exact[k]));
-        if (e.lambda_squared) out << "\n    λ² = (∂f/∂q)/M = " << symbolic::text(*e.lambda_squared);
-        out << "\n    " << e.verdict;
-        // Growth rates above the eigensolver's noise (the tolerance the verdict used).
-        double largest = 0;
-        for (const auto& l : e.eigenvalues) largest = std::max(largest, std::abs(l));
-        std::string rates;
-        for (const auto& l : e.eigenvalues) {
-            if (e.verdict == "unstable" && l.real() > 1e-9 * (1 + largest)) rates += fmt::format(" {:.9g}", l.real());
-            if (e.verdict != "unstable" && l.imag() > 0) rates += fmt::format(" {:.9g}", l.imag());
-        }
-        out << (e.verdict == "unstable" ? ": growth rates" : ": frequencies") << rates << "\n    eigenvalues";
-        for (const auto& l : e.eigenvalues) out << fmt::format(" ({:.6g}{:+.6g}i)", l.real(), l.imag());
-        out << "\n";
-    }
+    std::ostringstream text;
+    report::print_inverse(p.model, analysis, derivation_format(o.format), text);
+    deliver(text.str(), o.output);
+    if (!o.emit_scene.empty()) write_file_atomically(o.emit_scene, scene_text);
 }
 
 }  // namespace
@@ -439,102 +249,8 @@ int main(int argc, char** argv) {
     CLI::App app{"eomc — equations-of-motion compiler for analytical mechanics"};
     app.set_version_flag("--version", std::string(EOMC_VERSION));
     app.require_subcommand(1);
-
-    std::string scene_path, format = "text", output, out_dir = ".";
-    bool hamiltonian = false;
-    auto add_hamiltonian_flag = [&](CLI::App* cmd) {
-        cmd->add_flag("--hamiltonian", hamiltonian,
-                      "Hamilton's equations in (q, p) instead of Lagrange's in (q, q̇) (as [formulation] kind = "
-                      "\"hamiltonian\")");
-    };
-
-    std::string orbit_formulation;
-    auto add_orbit_formulation = [&](CLI::App* cmd) {
-        cmd->add_option("--orbit-formulation", orbit_formulation,
-                        "an orbit scene in another formulation (cowell, encke, lagrange, gauss, delaunay, equinoctial, "
-                        "mean); the kernel's name gains _<formulation>");
-    };
-
-    auto* derive = app.add_subcommand("derive", "print the derivation (text, LaTeX or JSON)");
-    derive->add_option("scene", scene_path, "scene file (TOML)")->required();
-    derive->add_option("--format", format, "text | latex | json")->check(CLI::IsMember({"text", "latex", "json"}));
-    derive->add_option("-o,--output", output, "write to FILE instead of standard output");
-    add_hamiltonian_flag(derive);
-    add_orbit_formulation(derive);
-
-    bool timings = false;
-    auto* generate = app.add_subcommand("generate", "emit the C++ kernel header <name>.hpp");
-    generate->add_option("scene", scene_path, "scene file (TOML)")->required();
-    generate->add_option("-o,--output-dir", out_dir, "directory for the header (default: .)");
-    generate->add_flag("--timings", timings, "print the time of each stage on stderr (`timing <stage> <seconds>`)");
-    add_hamiltonian_flag(generate);
-    add_orbit_formulation(generate);
-    bool variational = false;
-    auto add_variational_flag = [&](CLI::App* cmd, const char* what) { cmd->add_flag("--variational", variational, what); };
-    add_variational_flag(generate, "also emit variational_rhs: the state extended by the state-transition matrix, "
-                                   "Φ̇ = (∂ẋ/∂x) Φ (seed §2.9)");
-
-    SimulateOptions sim;
-    auto* simulate = app.add_subcommand("simulate", "generate, compile, integrate; write CSV and a summary");
-    simulate->add_option("scene", scene_path, "scene file (TOML)")->required();
-    add_simulate_options(simulate, sim);
-    add_hamiltonian_flag(simulate);
-    add_orbit_formulation(simulate);
-    add_variational_flag(simulate, "integrate the state-transition matrix Φ too (Φ(0) = I; CSV columns Phi_<i>_<j>)");
-
-    auto* equilibria = app.add_subcommand("equilibria", "relative equilibria of a steady carrier and their stability");
-    equilibria->add_option("scene", scene_path, "scene file (TOML)")->required();
-    equilibria->add_option("--format", format, "text | json")->check(CLI::IsMember({"text", "json"}));
-
-    std::string emit_scene;
-    auto* inverse = app.add_subcommand("inverse", "the inverse problem: self-adjointness, a multiplier, a Lagrangian");
-    inverse->add_option("scene", scene_path, "scene file (TOML)")->required();
-    inverse->add_option("--format", format, "text | latex | json")->check(CLI::IsMember({"text", "latex", "json"}));
-    inverse->add_option("-o,--output", output, "write to FILE instead of standard output");
-    inverse->add_option("--emit-scene", emit_scene, "write the constructed Lagrangian as a [lagrangian] scene to FILE");
-    mechanics::inverse::SearchBudget search_budget;
-    inverse
-        ->add_option("--search-budget", search_budget.nodes,
-                     "expression nodes the multiplier search may build before it stops undecided (default 1000000)")
-        ->check(CLI::PositiveNumber);
-
-    auto* run = app.add_subcommand("run", "derive + generate + simulate: the whole job on one scene");
-    run->add_option("scene", scene_path, "scene file (TOML)")->required();
-    run->add_option("-d,--dir", out_dir, "directory for the header and the CSV (default: .)");
-    add_simulate_options(run, sim);
-    add_hamiltonian_flag(run);
-    add_orbit_formulation(run);
-    add_variational_flag(run, "integrate the state-transition matrix Φ too (Φ(0) = I; CSV columns Phi_<i>_<j>)");
-
-    BenchOptions bo;
-    auto* bench = app.add_subcommand(
-        "bench", "work-precision sweeps of every integrator, ours and Boost.Odeint's, on one scene: CSV, plot, table");
-    bench->add_option("scene", scene_path, "scene file (TOML)")->required();
-    bench->add_option("-o,--output-dir", out_dir, "directory for work_precision.csv and work_precision.png (default: .)");
-    bench->add_option("--methods", bo.methods,
-                      "comma-separated subset of rk4, dopri5, dop853, gl4, gl6, gl8, verlet, yoshida6, kahanli8, "
-                      "runge_kutta_dopri5, runge_kutta_fehlberg78, bulirsch_stoer, symplectic_rkn_sb3a_mclachlan "
-                      "(default: all)");
-    bench->add_option("--t-end", bo.t_end, "end time (default: [simulate] t_end)")->check(CLI::PositiveNumber);
-    bench->add_option("--tolerances", bo.tolerances, "comma-separated rtol = atol of the adaptive methods "
-                                                     "(default: 1e-3 .. 1e-15 in half decades)");
-    bench->add_option("--steps", bo.steps, "comma-separated step counts of the fixed-step methods "
-                                           "(default: 16 .. 2^20 in half octaves, until round-off)");
-    bench->add_option("--min-time", bo.min_time, "seconds the timed repetitions of a run add up to at least (default 0.02)")
-        ->check(CLI::NonNegativeNumber);
-    bench->add_option("--repeats", bo.repeats, "fewest timed repetitions of a run (default 3)")->check(CLI::PositiveNumber);
-    bench->add_option("--odeint-state", bo.odeint_state,
-                      "vector (default: the container eomc's runtime steps) | array (std::array of the kernel's size)")
-        ->check(CLI::IsMember({"vector", "array"}));
-    bench->add_option("--cache-dir", bo.cache_dir, "where compiled programs are kept (default ~/.cache/eomc)");
-    add_orbit_formulation(bench);
-    bench->add_option("--formulations", bo.formulations,
-                      "orbit scenes: comma-separated formulations to compare by their position at t_end against a "
-                      "float128 Cowell run (default: all built: " +
-                          std::string(fmt::format("{}", fmt::join(scene::orbit_formulation_names, ", "))) + ")");
-    bench->add_option("--reference-tolerance", bo.reference_tolerance,
-                      "orbit scenes: rtol = atol of the float128 Cowell reference (default 1e-26; checked against a run "
-                      "1000 times looser)");
+    Options o;
+    const Commands c = declare_commands(app, o);
 
     // Bad flags and values are bad input like any other: exit 2 (CLI11 would use its own codes).
     try {
@@ -546,134 +262,25 @@ int main(int argc, char** argv) {
 
     try {
         // An output that exists and is not a regular file is refused before any work is done.
-        for (const std::string* path : {&output, &sim.output, &emit_scene})
+        for (const std::string* path : {&o.output, &o.simulate.output, &o.emit_scene})
             if (!path->empty()) check_output_target(*path);
-        StageClock clock;
-        Pipeline p = front_end(scene_path, hamiltonian, orbit_formulation, timings ? &clock : nullptr);
-        p.variational = variational;
-        // Φ would have to follow each rectification's change of variables, which it does not.
-        if (variational && p.model.orbit && p.model.orbit->formulation == "encke")
-            throw InputError(p.model.orbit->formulation_pos,
-                             "--variational cannot follow the encke formulation's rectifications (each one changes "
-                             "the state's variables); use formulation = \"cowell\" for the state-transition matrix");
-        const mechanics::CanonicalEquations* canonical = p.canonical ? &*p.canonical : nullptr;
-        if (derive->parsed()) {
-            std::ostringstream text;
-            report::print_derivation(p.model, p.equations, derivation_format(format), text, canonical);
-            if (output.empty()) std::cout << text.str();
-            else write_file_atomically(output, text.str());
-        } else if (generate->parsed()) {
-            const fs::path path = fs::path(out_dir) / (p.model.name + ".hpp");
-            write_file_atomically(path, kernel_header(p, timings ? &clock : nullptr));
-            if (timings) clock.print(std::cerr);
-            std::cerr << "wrote " << path.string() << "\n";
-        } else if (simulate->parsed()) {
-            codegen::KernelIR ir;
-            const std::string header = kernel_header(p, nullptr, &ir);
-            const host::SimulationRequest request = simulation_request(p, header, sim);
-            check_overrides_against_scene(scene_path, orbit_formulation, sim.overrides);
-            host::check_separable(request.integrator, request.integrator_pos, ir.separable, ir.scene_name);
-            const auto result = host::simulate(request);
-            host::print_summary(result, sim.summary, std::cout);
-        } else if (bench->parsed()) {
-            codegen::KernelIR ir;
-            host::BenchRequest r;
-            r.header_text = kernel_header(p, nullptr, &ir);
-            r.struct_name = p.model.struct_name;
-            r.scene_name = p.model.name;
-            r.scene_path = scene_path;
-            if (!p.model.reference.empty()) r.reference_body = codegen::emit_reference_body(ir, p.model.reference);
-            r.autonomous = !depends_on_time(p);
-            r.t_end = bo.t_end.value_or(p.model.simulate.t_end);
-            r.methods = comma_list(bo.methods);
-            r.tolerances = number_list(bo.tolerances, "--tolerances");
-            r.steps = number_list(bo.steps, "--steps");
-            r.odeint_array = bo.odeint_state == "array";
-            r.min_time = bo.min_time;
-            r.repeats = bo.repeats;
-            r.out_dir = out_dir;
-            r.cache_dir = bo.cache_dir;
-            r.reference_tolerance = bo.reference_tolerance;
-            const std::vector<std::string> formulations = comma_list(bo.formulations);
-            if (!bo.formulations.empty() && !p.model.orbit)
-                throw InputError(SourcePos{"--formulations"},
-                                 fmt::format("{} has no [orbit]; --formulations compares the formulations of an orbit "
-                                             "scene", scene_path));
-            if (!formulations.empty() && !orbit_formulation.empty())
-                throw InputError(SourcePos{"--formulations"},
-                                 "give the formulations either by --formulations or by --orbit-formulation, not both");
-            if (!bo.formulations.empty() && formulations.empty())
-                throw InputError(SourcePos{"--formulations"}, "the list is empty");
-            if (p.model.orbit) {
-                // The formulation axis: every kernel judged by its position against a float128 Cowell
-                // run (the request's own kernel). Names are checked before anything is generated.
-                std::vector<std::string> names = formulations;
-                if (names.empty() && !orbit_formulation.empty()) names = {orbit_formulation};
-                if (names.empty()) names.assign(scene::orbit_formulation_names.begin(), scene::orbit_formulation_names.end());
-                for (const auto& name : names) scene::check_orbit_formulation(name, SourcePos{"--formulations"});
-                const Pipeline cowell = front_end(scene_path, false, "cowell", nullptr, "--formulations");
-                r.header_text = kernel_header(cowell);
-                r.struct_name = cowell.model.struct_name;
-                r.scene_name = scene::parse_scene_file(scene_path).name;  // not a formulation's kernel name
-                r.reference_body.clear();
-                r.orbit_period = orbit_period(cowell.model);
-                const bool all_built = formulations.empty() && orbit_formulation.empty();
-                for (const auto& name : names) {
-                    try {
-                        const Pipeline f =
-                            name == "cowell" ? cowell : front_end(scene_path, false, name, nullptr, "--formulations");
-                        r.formulations.push_back({name, name == "cowell" ? r.header_text : kernel_header(f),
-                                                  f.model.struct_name, f.model.name, !depends_on_time(f)});
-                    } catch (const InputError& e) {
-                        // Asked for by name: bad input. Among "all built": a formulation that does not
-                        // take this scene (mean with drag) is left out, and the table says why.
-                        if (!all_built) throw;
-                        r.skipped.push_back(fmt::format("{}: left out: {}", name, e.message()));
-                    }
-                }
-                if (r.formulations.empty())
-                    throw InputError(SourcePos{"--formulations"},
-                                     "no formulation takes this scene: " + fmt::format("{}", fmt::join(r.skipped, "; ")));
-            }
-            host::print_bench_table(host::bench(r), std::cout);
-        } else if (equilibria->parsed()) {
-            print_equilibria(p.model, mechanics::relative_equilibria(p.model, p.equations), format, std::cout);
-        } else if (inverse->parsed()) {
-            const auto analysis = mechanics::inverse::analyse(p.model, p.equations, search_budget);
-            // Everything is computed before anything is written: a refusal leaves no file behind.
-            std::string scene_text;
-            if (!emit_scene.empty()) {
-                if (!analysis.construction || !analysis.construction->built || !analysis.construction->verified)
-                    throw std::runtime_error(fmt::format("no verified Lagrangian to write to {}: {}", emit_scene,
-                                                         analysis.reason));
-                scene_text = report::lagrangian_scene(p.model, analysis);
-            }
-            std::ostringstream text;
-            report::print_inverse(p.model, analysis, derivation_format(format), text);
-            if (output.empty()) std::cout << text.str();
-            else write_file_atomically(output, text.str());
-            if (!emit_scene.empty()) write_file_atomically(emit_scene, scene_text);
-        } else if (run->parsed()) {
-            codegen::KernelIR ir;
-            const std::string header = kernel_header(p, nullptr, &ir);
-            const fs::path header_path = fs::path(out_dir) / (p.model.name + ".hpp");
-            if (sim.output.empty()) sim.output = (fs::path(out_dir) / (p.model.name + ".csv")).string();
-            const host::SimulationRequest request = simulation_request(p, header, sim);
-            check_overrides_against_scene(scene_path, orbit_formulation, sim.overrides);
-            host::check_separable(request.integrator, request.integrator_pos, ir.separable, ir.scene_name);
-            report::print_derivation(p.model, p.equations, report::DerivationFormat::text, std::cout, canonical);
-            write_file_atomically(header_path, header);
-            std::cout << "\nKernel: " << header_path.string() << "\n\nSimulation\n";
-            const auto result = host::simulate(request);
-            host::print_summary(result, sim.summary, std::cout);
-            std::cout << "Trajectory: " << sim.output << "\n";
-        }
+        host::StageClock clock;
+        host::StageClock* timing = o.timings ? &clock : nullptr;
+        const Pipeline p = host::front_end(o.scene_path, o.front, timing);
+        if (c.derive->parsed()) derive_command(p, o);
+        else if (c.generate->parsed()) generate_command(p, o, timing);
+        else if (c.simulate->parsed()) simulate_command(p, o, false);
+        else if (c.run->parsed()) simulate_command(p, o, true);
+        else if (c.bench->parsed()) bench_command(p, o);
+        else if (c.equilibria->parsed())
+            report::print_equilibria(p.model, mechanics::relative_equilibria(p.model, p.equations), o.format, std::cout);
+        else if (c.inverse->parsed()) inverse_command(p, o);
     } catch (const InputError& e) {
         std::cerr << e.what() << "\n";
         return 2;
     } catch (const codegen::EmitError& e) {
         // The scene asks for what a kernel cannot hold (a constant beyond double's range, …).
-        std::cerr << codegen::comment_text(scene_path) << ": error: " << e.what() << "\n";
+        std::cerr << codegen::comment_text(o.scene_path) << ": error: " << e.what() << "\n";
         return 2;
     } catch (const std::exception& e) {
         std::cerr << "eomc: error: " << e.what() << "\n";

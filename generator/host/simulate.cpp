@@ -256,6 +256,117 @@ void refuse_start_below_surface(const SimulationRequest& r, const KernelLibrary&
                                      lib.scene_name(), number(-height), number(height)));
 }
 
+namespace {
+
+// The run's description for the summary: the method with its step or tolerances.
+std::string describe_method(const SimulationRequest& request, bool compensated) {
+    return scene::is_fixed_step(request.integrator)
+               ? fmt::format("{} (step {}{})", request.integrator, request.step, compensated ? ", compensated" : "")
+               : fmt::format("{} (rtol {}, atol {}{})", request.integrator, request.rtol, request.atol,
+                             compensated ? ", compensated" : "");
+}
+
+// The variational run extends the state by Φ, starting from the identity, and names its entries.
+void extend_by_transition_matrix(const SimulationRequest& request, const KernelLibrary& lib, State<double>& x,
+                                 std::vector<std::string>& state_names) {
+    if (!lib.variational()) throw std::runtime_error("the kernel has no variational_rhs: generate it with --variational");
+    if (scene::is_splitting(request.integrator))
+        throw InputError(request.integrator_pos,
+                         fmt::format("the {} integrator steps q and q̇ by the acceleration alone and cannot carry "
+                                     "the variational equations; use rk4, gl4, gl6, gl8, dopri5 or dop853",
+                                     request.integrator));
+    const std::size_t n = x.size();
+    x.resize(n + n * n, 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+        x[n + i * n + i] = 1.0;
+        for (std::size_t j = 0; j < n; ++j) state_names.push_back(fmt::format("Phi_{}_{}", i, j));
+    }
+}
+
+// The kernel as a runtime system. One whose state holds a unit quaternion puts it back on
+// |e| = 1 after every step, an encke kernel rectifies its reference orbit (runtime::Projecting);
+// for the others project() changes nothing, and an unchanged state costs the steppers nothing.
+struct KernelSystem {
+    const KernelLibrary& lib;
+    const KernelLibrary::Parameters& parameters;
+    bool variational;
+    void operator()(double t, const State<double>& xs, State<double>& dxdt) const {
+        if (variational) lib.variational_rhs(t, xs.data(), dxdt.data(), parameters);
+        else lib.rhs(t, xs.data(), dxdt.data(), parameters);
+    }
+    void project(double t, State<double>& xs) const {
+        if (lib.projects()) lib.project(t, xs.data(), parameters);
+    }
+};
+
+// The request's method over [0, t_end] from x (advanced in place), with the kernel's events.
+template <class Observer, class OnEvent>
+runtime::EventOutcome<double> integrate(const SimulationRequest& request, bool compensated, const KernelSystem& system,
+                                        State<double>& x, runtime::EventLocator<double>& locator, Observer&& observer,
+                                        OnEvent&& on_event) {
+    const KernelLibrary& lib = system.lib;
+    KernelSystem sys = system;  // the drivers take the system by reference
+    auto acceleration = [&](double t, const State<double>& q, State<double>& a) {
+        lib.acceleration(t, q.data(), a.data(), system.parameters);
+    };
+    auto event_functions = [&](double t, const State<double>& xs, State<double>& g) {
+        lib.events(t, xs.data(), g.data(), system.parameters);
+    };
+    auto fixed_step = [&](auto&& stepper, auto& f) {
+        // The step count is the user's choice here, not a sign of no progress: the budget must
+        // not stop a long fixed-step run short of t_end. validate() bounded it by max_steps;
+        // the two spare attempts are the runtime's (a last partial step, an event re-step).
+        runtime::Limits limits;
+        const double steps = std::ceil(request.t_end / request.step) + 2.0;
+        limits.max_steps = std::max(limits.max_steps, static_cast<std::size_t>(steps));
+        return runtime::integrate_fixed_events(stepper, f, x, 0.0, request.t_end, request.step, locator,
+                                               event_functions, observer, on_event, limits);
+    };
+    auto adaptive = [&](auto&& stepper) {
+        stepper.set_compensated(compensated);
+        runtime::Limits limits;
+        if (request.max_steps) limits.max_steps = *request.max_steps;
+        return runtime::integrate_adaptive_events(stepper, sys, x, 0.0, request.t_end, 0.0,
+                                                  runtime::Tolerances{request.rtol, request.atol}, locator,
+                                                  event_functions, observer, on_event, limits);
+    };
+    runtime::GaussLegendreOptions gauss;
+    gauss.compensated = compensated;
+    runtime::SplittingOptions splitting;
+    splitting.compensated = compensated;
+    runtime::Rk4<double> rk4;
+    rk4.set_compensated(compensated);
+    const std::string& name = request.integrator;
+    if (name == "rk4") return fixed_step(rk4, sys);
+    if (name == "gl4") return fixed_step(runtime::Gl4<double>{gauss}, sys);
+    if (name == "gl6") return fixed_step(runtime::Gl6<double>{gauss}, sys);
+    if (name == "gl8") return fixed_step(runtime::Gl8<double>{gauss}, sys);
+    if (name == "verlet") return fixed_step(runtime::Verlet<double>{splitting}, acceleration);
+    if (name == "yoshida6") return fixed_step(runtime::Yoshida6<double>{splitting}, acceleration);
+    if (name == "kahanli8") return fixed_step(runtime::KahanLi8<double>{splitting}, acceleration);
+    if (name == "dop853") return adaptive(runtime::Dop853<double>{});
+    return adaptive(runtime::Dopri5<double>{});
+}
+
+// Which variable failed and where the solution was last seen; the rows up to there are a valid
+// trajectory, kept for the post-mortem.
+runtime::IntegrationError failed_run(const runtime::IntegrationError& e, const SimulationRequest& request,
+                                     const std::string& scene_name, const std::vector<std::string>& state_names,
+                                     double t_last, const State<double>& x_last, CsvOutput& csv) {
+    std::string message = fmt::format("simulating {} with {}: {}", scene_name, request.integrator, e.what());
+    if (e.component() < state_names.size())
+        message += fmt::format("; component {} is {}", e.component(), state_names[e.component()]);
+    message += fmt::format("; last accepted state at t = {}:", number(t_last));
+    for (std::size_t i = 0; i < x_last.size(); ++i) message += fmt::format(" {} = {}", state_names[i], number(x_last[i]));
+    if (!request.csv_path.empty()) {
+        csv.commit();
+        message += fmt::format("; {} holds the {} rows up to t = {}", request.csv_path, csv.rows(), number(t_last));
+    }
+    return runtime::IntegrationError(e.kind(), e.t(), message, e.component());
+}
+
+}  // namespace
+
 SimulationResult simulate(const SimulationRequest& request) {
     validate(request);
     const KernelLibrary lib = KernelLibrary::load(request.header_text, request.struct_name, request.cache_dir);
@@ -268,12 +379,9 @@ SimulationResult simulate(const SimulationRequest& request) {
 
     SimulationResult result;
     result.scene_name = lib.scene_name();
-    const bool compensated_run = request.compensated.value_or(scene::compensated_by_default(request.integrator));
-    result.integrator = scene::is_fixed_step(request.integrator)
-                            ? fmt::format("{} (step {}{})", request.integrator, request.step,
-                                          compensated_run ? ", compensated" : "")
-                            : fmt::format("{} (rtol {}, atol {}{})", request.integrator, request.rtol, request.atol,
-                                          compensated_run ? ", compensated" : "");
+    const bool compensated = request.compensated.value_or(scene::compensated_by_default(request.integrator));
+    result.integrator = describe_method(request, compensated);
+    result.compensated = compensated;
     result.compile_s = lib.seconds();
     result.cache_hit = lib.cache_hit();
     result.library_path = lib.library_path();
@@ -281,24 +389,8 @@ SimulationResult simulate(const SimulationRequest& request) {
         result.parameters.emplace_back(lib.parameter_names()[i], parameter_values[i]);
 
     check_separable(request.integrator, request.integrator_pos, lib.separable(), lib.scene_name());
-
-    // The variational run extends the state by Φ, starting from the identity.
     std::vector<std::string> state_names = lib.state_names();
-    if (request.variational) {
-        if (!lib.variational())
-            throw std::runtime_error("the kernel has no variational_rhs: generate it with --variational");
-        if (scene::is_splitting(request.integrator))
-            throw InputError(request.integrator_pos,
-                             fmt::format("the {} integrator steps q and q̇ by the acceleration alone and cannot carry "
-                                         "the variational equations; use rk4, gl4, gl6, gl8, dopri5 or dop853",
-                                         request.integrator));
-        const std::size_t n = x.size();
-        x.resize(n + n * n, 0.0);
-        for (std::size_t i = 0; i < n; ++i) {
-            x[n + i * n + i] = 1.0;
-            for (std::size_t j = 0; j < n; ++j) state_names.push_back(fmt::format("Phi_{}_{}", i, j));
-        }
-    }
+    if (request.variational) extend_by_transition_matrix(request, lib, x, state_names);
 
     const std::size_t n_inv = lib.invariant_names().size(), n_ev = lib.event_names().size();
     std::vector<std::string> columns{"t"};
@@ -309,28 +401,6 @@ SimulationResult simulate(const SimulationRequest& request) {
     CsvOutput csv(request.csv_path, columns, request.max_rows);
     std::vector<double> outputs(lib.output_names().size());
 
-    // The kernel as a runtime system. One whose state holds a unit quaternion puts it back on
-    // |e| = 1 after every step, an encke kernel rectifies its reference orbit (runtime::Projecting);
-    // for the others project() changes nothing, and an unchanged state costs the steppers nothing.
-    struct KernelSystem {
-        const KernelLibrary& lib;
-        const KernelLibrary::Parameters& parameters;
-        bool variational;
-        void operator()(double t, const State<double>& xs, State<double>& dxdt) const {
-            if (variational) lib.variational_rhs(t, xs.data(), dxdt.data(), parameters);
-            else lib.rhs(t, xs.data(), dxdt.data(), parameters);
-        }
-        void project(double t, State<double>& xs) const {
-            if (lib.projects()) lib.project(t, xs.data(), parameters);
-        }
-    };
-    KernelSystem system{lib, parameters, request.variational};
-    auto acceleration = [&](double t, const State<double>& q, State<double>& a) {
-        lib.acceleration(t, q.data(), a.data(), parameters);
-    };
-    auto event_functions = [&](double t, const State<double>& xs, State<double>& g) {
-        lib.events(t, xs.data(), g.data(), parameters);
-    };
     std::vector<runtime::EventSpec> specs;
     for (std::size_t i = 0; i < n_ev; ++i)
         specs.push_back({static_cast<runtime::EventDirection>(lib.event_directions()[i]), lib.event_terminal()[i]});
@@ -359,45 +429,11 @@ SimulationResult simulate(const SimulationRequest& request) {
         result.events.push_back({name, hit.t, hit.direction, hit.terminal, hit.x});
     };
 
-    const bool compensated = compensated_run;
-    result.compensated = compensated;
     const auto start = Clock::now();
     runtime::EventOutcome<double> outcome;
     try {
-        auto fixed_step = [&](auto&& stepper, auto& sys) {
-            // The step count is the user's choice here, not a sign of no progress: the budget must
-            // not stop a long fixed-step run short of t_end. validate() bounded it by max_steps;
-            // the two spare attempts are the runtime's (a last partial step, an event re-step).
-            runtime::Limits limits;
-            const double steps = std::ceil(request.t_end / request.step) + 2.0;
-            limits.max_steps = std::max(limits.max_steps, static_cast<std::size_t>(steps));
-            return runtime::integrate_fixed_events(stepper, sys, x, 0.0, request.t_end, request.step, locator,
-                                                   event_functions, observer, on_event, limits);
-        };
-        auto adaptive = [&](auto&& stepper) {
-            stepper.set_compensated(compensated);
-            runtime::Limits limits;
-            if (request.max_steps) limits.max_steps = *request.max_steps;
-            return runtime::integrate_adaptive_events(stepper, system, x, 0.0, request.t_end, 0.0,
-                                                      runtime::Tolerances{request.rtol, request.atol}, locator,
-                                                      event_functions, observer, on_event, limits);
-        };
-        runtime::GaussLegendreOptions gauss;
-        gauss.compensated = compensated;
-        runtime::SplittingOptions splitting;
-        splitting.compensated = compensated;
-        runtime::Rk4<double> rk4;
-        rk4.set_compensated(compensated);
-        const std::string& name = request.integrator;
-        if (name == "rk4") outcome = fixed_step(rk4, system);
-        else if (name == "gl4") outcome = fixed_step(runtime::Gl4<double>{gauss}, system);
-        else if (name == "gl6") outcome = fixed_step(runtime::Gl6<double>{gauss}, system);
-        else if (name == "gl8") outcome = fixed_step(runtime::Gl8<double>{gauss}, system);
-        else if (name == "verlet") outcome = fixed_step(runtime::Verlet<double>{splitting}, acceleration);
-        else if (name == "yoshida6") outcome = fixed_step(runtime::Yoshida6<double>{splitting}, acceleration);
-        else if (name == "kahanli8") outcome = fixed_step(runtime::KahanLi8<double>{splitting}, acceleration);
-        else if (name == "dop853") outcome = adaptive(runtime::Dop853<double>{});
-        else outcome = adaptive(runtime::Dopri5<double>{});
+        outcome = integrate(request, compensated, KernelSystem{lib, parameters, request.variational}, x, locator,
+                            observer, on_event);
     } catch (const CsvOutput::RowLimit& limit) {
         // Not a failure of the integration but a refusal of its size: nothing is kept.
         throw std::runtime_error(fmt::format("simulating {} with {}: the CSV {} reached its limit of {} rows at t = {} "
@@ -406,26 +442,13 @@ SimulationResult simulate(const SimulationRequest& request) {
                                              lib.scene_name(), request.integrator, request.csv_path, request.max_rows,
                                              number(limit.t), number(request.t_end)));
     } catch (const runtime::IntegrationError& e) {
-        // Say which variable failed and where the solution was last seen; the rows up to there are
-        // a valid trajectory, kept for the post-mortem.
-        std::string message = fmt::format("simulating {} with {}: {}", lib.scene_name(), request.integrator, e.what());
-        if (e.component() < state_names.size())
-            message += fmt::format("; component {} is {}", e.component(), state_names[e.component()]);
-        message += fmt::format("; last accepted state at t = {}:", number(t_last));
-        for (std::size_t i = 0; i < x_last.size(); ++i)
-            message += fmt::format(" {} = {}", state_names[i], number(x_last[i]));
-        if (!request.csv_path.empty()) {
-            csv.commit();
-            message += fmt::format("; {} holds the {} rows up to t = {}", request.csv_path, csv.rows(), number(t_last));
-        }
-        throw runtime::IntegrationError(e.kind(), e.t(), message, e.component());
+        throw failed_run(e, request, lib.scene_name(), state_names, t_last, x_last, csv);
     }
     result.wall_s = seconds_since(start);
     csv.commit();
 
     result.t = outcome.t;
     if (outcome.stopped) result.stopped_by = lib.event_names()[outcome.event];
-    const runtime::Stats& stats = outcome.stats;
     for (std::size_t i = 0; i < x.size(); ++i) result.state.emplace_back(state_names[i], x[i]);
     if (!outputs.empty()) {
         lib.outputs(result.t, x.data(), outputs.data(), parameters);
@@ -433,9 +456,9 @@ SimulationResult simulate(const SimulationRequest& request) {
     }
     for (std::size_t i = 0; i < n_inv; ++i)
         result.invariants.push_back({lib.invariant_names()[i], inv0[i], inv[i], max_drift[i]});
-    result.steps = stats.accepted;
-    result.rejected = stats.rejected;
-    result.rhs_evals = stats.rhs_evals;
+    result.steps = outcome.stats.accepted;
+    result.rejected = outcome.stats.rejected;
+    result.rhs_evals = outcome.stats.rhs_evals;
     if (!request.csv_path.empty()) {
         result.csv_path = request.csv_path;
         result.csv_rows = csv.rows();

@@ -2,6 +2,7 @@
 # never a later one (the layout's one rule, README "Layout"). Run as
 #   cmake -DSOURCE_DIR=<repo>/generator -P check_stages.cmake
 set(stages support scene model symbolic mechanics codegen report host cli)
+get_filename_component(SOURCE_DIR "${SOURCE_DIR}" ABSOLUTE)
 
 file(GLOB_RECURSE sources RELATIVE ${SOURCE_DIR} ${SOURCE_DIR}/*.hpp ${SOURCE_DIR}/*.cpp)
 set(violations "")

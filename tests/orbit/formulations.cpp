@@ -113,13 +113,13 @@ OsculationResidual osculation(const std::string& formulation, const std::string&
     // Newton's acceleration in Cartesian variables, from the model itself.
     std::array<ex, 3> newton;
     for (std::size_t j = 0; j < 3; ++j)
-        newton[j] = -o.mu * c[j].q / GiNaC::pow(o.r, 3) + mech::derivative(o.R, c[j].q) + o.acceleration[j];
+        newton[j] = -o.mu * c[j].q / GiNaC::pow(o.r, 3) + eomc::symbolic::derivative(o.R, c[j].q) + o.acceleration[j];
     // The outputs' time derivative along the rates.
     std::array<ex, 6> moved;
     for (std::size_t j = 0; j < 6; ++j) {
         moved[j] = 0;
         for (const auto& [k, rate] : form.explicit_rates)
-            moved[j] += mech::derivative(form.outputs[j].value, form.state[k].symbol) * rate;
+            moved[j] += eomc::symbolic::derivative(form.outputs[j].value, form.state[k].symbol) * rate;
     }
 
     std::mt19937_64 rng(20261121);

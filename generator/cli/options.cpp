@@ -1,0 +1,240 @@
+#include "cli/options.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "codegen/cpp_emitter.hpp"
+#include "model/model.hpp"
+#include "scene/scene.hpp"
+
+namespace eomc::cli {
+
+namespace {
+
+// Blanks (spaces, tabs) around a --set name or value, or a list item, are dropped.
+std::string_view trimmed(std::string_view text) {
+    const auto first = text.find_first_not_of(" \t"), last = text.find_last_not_of(" \t");
+    return first == std::string_view::npos ? std::string_view{} : text.substr(first, last - first + 1);
+}
+
+}  // namespace
+
+// One decimal grammar for every number given on the command line: [+|-] digits [. digits]
+// [e|E [+|-] digits], the whole text, a finite double. Hex floats, "inf" and "nan" are not
+// decimals; subnormal numbers are numbers. std::from_chars (C++17 [charconv.from.chars]) is
+// locale-independent and reports out-of-range results, unlike strtod/stod, whose ERANGE also
+// rejects subnormals. Throws InputError at `where` with the reason.
+double parse_decimal(std::string_view text, const SourcePos& where) {
+    const std::string_view t = trimmed(text);
+    const auto not_a_number = [&] { return InputError(where, fmt::format("'{}' is not a number", text)); };
+    if (t.empty() || t.find_first_not_of("0123456789.eE+-") != std::string_view::npos) throw not_a_number();
+    std::string_view digits = t;
+    if (digits.front() == '+') {  // from_chars takes no '+'; TOML (and people) write +1.5
+        digits.remove_prefix(1);
+        if (digits.empty() || digits.front() == '+' || digits.front() == '-') throw not_a_number();
+    }
+    double v = 0;
+    const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), v, std::chars_format::general);
+    if (end != digits.data() + digits.size() || ec == std::errc::invalid_argument) throw not_a_number();
+    if (ec == std::errc::result_out_of_range)
+        throw InputError(where, fmt::format("'{}' is outside the range of a double ({} in magnitude)", text,
+                                            std::abs(std::strtod(std::string(digits).c_str(), nullptr)) > 1
+                                                ? "above 1.8e308"
+                                                : "below 4.9e-324, the smallest subnormal"));
+    if (!std::isfinite(v)) throw not_a_number();
+    // A subnormal double is a number, but not one the model's exact arithmetic takes: CLN
+    // (under GiNaC) has no subnormal floats and stops with "floating point underflow".
+    if (v != 0 && std::abs(v) < std::numeric_limits<double>::min())
+        throw InputError(where, fmt::format("'{}' is a subnormal double (below 2.2e-308 in magnitude), which eomc's "
+                                            "exact arithmetic cannot hold; use 0 or a normal number",
+                                            text));
+    return v;
+}
+
+// --set NAME=VALUE, checked for shape here; the names are checked against the kernel, the values
+// against the scene (check_overrides_against_scene).
+std::vector<std::pair<std::string, double>> parse_overrides(const std::vector<std::string>& items) {
+    std::vector<std::pair<std::string, double>> out;
+    for (const auto& item : items) {
+        const auto eq = item.find('=');
+        SourcePos where{"--set " + item, 0, 0};
+        const std::string_view name = eq == std::string::npos ? std::string_view{} : trimmed(std::string_view(item).substr(0, eq));
+        if (name.empty()) throw InputError(where, "expected NAME=VALUE");
+        out.emplace_back(std::string(name), parse_decimal(std::string_view(item).substr(eq + 1), where));
+    }
+    return out;
+}
+
+// The scene's own checks on the values --set gives its parameters: a body's mass must stay
+// positive, and so must an orbit's μ and radius, as when the scene itself gives them. The scene
+// is built again with those values as its parameters' (only when --set names a parameter).
+void check_overrides_against_scene(const std::string& scene_path, const std::string& orbit_formulation,
+                                   const std::vector<std::string>& items) {
+    const auto overrides = parse_overrides(items);
+    scene::Scene s = scene::parse_scene_file(scene_path);
+    if (!orbit_formulation.empty())
+        scene::set_orbit_formulation(s, orbit_formulation, SourcePos{"--orbit-formulation " + orbit_formulation});
+    std::string given;
+    for (std::size_t i = 0; i < overrides.size(); ++i)
+        for (auto& parameter : s.parameters)
+            if (parameter.name == overrides[i].first) {
+                parameter.value = overrides[i].second;
+                given += (given.empty() ? "--set " : " --set ") + items[i];
+            }
+    if (given.empty()) return;
+    try {
+        (void)model::build_model(s);
+    } catch (const InputError& e) {
+        std::string message = e.message();
+        const std::string defaults = "with the default parameters";
+        if (const auto at = message.find(defaults); at != std::string::npos)
+            message.replace(at, defaults.size(), "with the values --set gives");
+        throw InputError(SourcePos{given}, fmt::format("{} (checked as in {})", message, to_string(e.where())));
+    }
+}
+
+namespace {
+
+// CLI11 would read "0x10" and "inf" as numbers: the numeric options take parse_decimal's grammar.
+const CLI::Validator decimal(
+    [](std::string& text) {
+        try {
+            (void)parse_decimal(text, SourcePos{});
+            return std::string();
+        } catch (const InputError& e) {
+            return e.message();
+        }
+    },
+    "DECIMAL");
+
+}  // namespace
+
+void add_simulate_options(CLI::App* cmd, SimulateOptions& o) {
+    cmd->add_option("--t-end", o.t_end, "final time (default: [simulate] t_end)")->check(decimal)->check(CLI::PositiveNumber);
+    cmd->add_option("--integrator", o.integrator,
+                    "rk4 | dopri5 | dop853 | gl4 | gl6 | gl8 | verlet | yoshida6 | kahanli8 (default: [simulate] "
+                    "integrator; the last three need a separable system)")
+        ->check(CLI::IsMember(std::vector<std::string>(scene::integrator_names.begin(), scene::integrator_names.end())));
+    cmd->add_option("--rtol", o.rtol, "relative tolerance (dopri5, dop853)")->check(decimal)->check(CLI::PositiveNumber);
+    cmd->add_option("--atol", o.atol, "absolute tolerance (dopri5, dop853)")->check(decimal)->check(CLI::PositiveNumber);
+    cmd->add_option("--step", o.step, "step size (rk4, gl4, gl6, gl8, verlet, yoshida6, kahanli8)")
+        ->check(decimal)->check(CLI::PositiveNumber);
+    cmd->add_option("--compensated", o.compensated,
+                    "on | off: compensated (Kahan) summation of the state update (default: [simulate] compensated, "
+                    "else on for gl4-8, verlet, yoshida6, kahanli8 and off for the others)")
+        ->check(CLI::IsMember({"on", "off"}));
+    cmd->add_option("--set", o.overrides, "NAME=VALUE: a parameter, or an initial value (q, q_dot)");
+    cmd->add_option("--output", o.output, "trajectory CSV (t, state, invariants)");
+    cmd->add_option("--summary", o.summary, "text | json")->check(CLI::IsMember({"text", "json"}));
+    cmd->add_option("--cache-dir", o.cache_dir, "where compiled kernels are kept (default ~/.cache/eomc)");
+    cmd->add_option("--max-steps", o.max_steps,
+                    fmt::format("the most steps the run may take (default: {} for the fixed-step methods, refused "
+                                "before the run when t_end/step is more; 10000000 attempts for dopri5 and dop853)",
+                                host::SimulationRequest::default_max_fixed_steps))
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--max-rows", o.max_rows,
+                    fmt::format("the most rows the CSV may hold (default {}); a run that would write more leaves no CSV",
+                                host::SimulationRequest::default_max_rows))
+        ->check(CLI::PositiveNumber);
+}
+
+host::SimulationRequest simulation_request(const host::Pipeline& p, const std::string& header, const SimulateOptions& o) {
+    const scene::Simulate& d = p.model.simulate;
+    host::SimulationRequest r;
+    r.header_text = header;
+    r.struct_name = p.model.struct_name;
+    r.overrides = parse_overrides(o.overrides);
+    r.t_end = o.t_end.value_or(d.t_end);
+    r.integrator = o.integrator.empty() ? d.integrator : o.integrator;
+    r.integrator_pos = o.integrator.empty() ? d.integrator_pos : SourcePos{"--integrator"};
+    r.variational = p.variational;
+    if (!o.compensated.empty()) r.compensated = o.compensated == "on";
+    else r.compensated = d.compensated;
+    r.rtol = o.rtol.value_or(d.rtol);
+    r.atol = o.atol.value_or(d.atol);
+    r.step = o.step.value_or(d.step);
+    r.csv_path = o.output;
+    r.summary_format = o.summary;
+    r.cache_dir = o.cache_dir;
+    r.max_steps = o.max_steps;
+    r.max_rows = o.max_rows;
+    return r;
+}
+
+std::vector<std::string> comma_list(const std::string& text) {
+    std::vector<std::string> out;
+    std::stringstream in(text);
+    for (std::string item; std::getline(in, item, ',');) {
+        const auto first = item.find_first_not_of(" \t"), last = item.find_last_not_of(" \t");
+        if (first != std::string::npos) out.push_back(item.substr(first, last - first + 1));
+    }
+    return out;
+}
+
+
+
+namespace {
+
+// A comma-separated list of numbers (--tolerances 1e-6,1e-9), checked for shape here.
+std::vector<double> number_list(const std::string& text, const char* option) {
+    std::vector<double> out;
+    for (const auto& item : comma_list(text)) out.push_back(parse_decimal(item, SourcePos{option}));
+    return out;
+}
+
+}  // namespace
+
+void add_bench_options(CLI::App* cmd, BenchOptions& o) {
+    cmd->add_option("--methods", o.methods,
+                      "comma-separated subset of rk4, dopri5, dop853, gl4, gl6, gl8, verlet, yoshida6, kahanli8, "
+                      "runge_kutta_dopri5, runge_kutta_fehlberg78, bulirsch_stoer, symplectic_rkn_sb3a_mclachlan "
+                      "(default: all)");
+    cmd->add_option("--t-end", o.t_end, "end time (default: [simulate] t_end)")->check(CLI::PositiveNumber);
+    cmd->add_option("--tolerances", o.tolerances, "comma-separated rtol = atol of the adaptive methods "
+                                                     "(default: 1e-3 .. 1e-15 in half decades)");
+    cmd->add_option("--steps", o.steps, "comma-separated step counts of the fixed-step methods "
+                                           "(default: 16 .. 2^20 in half octaves, until round-off)");
+    cmd->add_option("--min-time", o.min_time, "seconds the timed repetitions of a run add up to at least (default 0.02)")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--repeats", o.repeats, "fewest timed repetitions of a run (default 3)")->check(CLI::PositiveNumber);
+    cmd->add_option("--odeint-state", o.odeint_state,
+                      "vector (default: the container eomc's runtime steps) | array (std::array of the kernel's size)")
+        ->check(CLI::IsMember({"vector", "array"}));
+    cmd->add_option("--cache-dir", o.cache_dir, "where compiled programs are kept (default ~/.cache/eomc)");
+    cmd->add_option("--formulations", o.formulations,
+                      "orbit scenes: comma-separated formulations to compare by their position at t_end against a "
+                      "float128 Cowell run (default: all built: " +
+                          std::string(fmt::format("{}", fmt::join(scene::orbit_formulation_names, ", "))) + ")");
+    cmd->add_option("--reference-tolerance", o.reference_tolerance,
+                      "orbit scenes: rtol = atol of the float128 Cowell reference (default 1e-26; checked against a run "
+                      "1000 times looser)");
+}
+
+host::BenchRequest bench_request(const host::Pipeline& p, const std::string& header, const codegen::KernelIR& ir,
+                                 const std::string& scene_path, const std::string& out_dir, const BenchOptions& o) {
+    host::BenchRequest r;
+    r.header_text = header;
+    r.struct_name = p.model.struct_name;
+    r.scene_name = p.model.name;
+    r.scene_path = scene_path;
+    if (!p.model.reference.empty()) r.reference_body = codegen::emit_reference_body(ir, p.model.reference);
+    r.autonomous = !host::depends_on_time(p);
+    r.t_end = o.t_end.value_or(p.model.simulate.t_end);
+    r.methods = comma_list(o.methods);
+    r.tolerances = number_list(o.tolerances, "--tolerances");
+    r.steps = number_list(o.steps, "--steps");
+    r.odeint_array = o.odeint_state == "array";
+    r.min_time = o.min_time;
+    r.repeats = o.repeats;
+    r.out_dir = out_dir;
+    r.cache_dir = o.cache_dir;
+    r.reference_tolerance = o.reference_tolerance;
+    return r;
+}
+
+}  // namespace eomc::cli

@@ -1,0 +1,61 @@
+// The command line's options: one decimal grammar for every number, --set overrides checked
+// as the scene checks its own values, and the options `simulate` and `bench` share.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "host/bench.hpp"
+#include "host/pipeline.hpp"
+#include "host/simulate.hpp"
+#include "support/diagnostic.hpp"
+
+namespace eomc::cli {
+
+// [+|-] digits [. digits] [e|E [+|-] digits], the whole text, a finite normal double (or 0).
+// Throws InputError at `where` with the reason.
+double parse_decimal(std::string_view text, const SourcePos& where);
+
+// --set NAME=VALUE items, checked for shape.
+std::vector<std::pair<std::string, double>> parse_overrides(const std::vector<std::string>& items);
+
+// The scene's own checks on the values --set gives its parameters.
+void check_overrides_against_scene(const std::string& scene_path, const std::string& orbit_formulation,
+                                   const std::vector<std::string>& items);
+
+struct SimulateOptions {
+    std::optional<double> t_end, rtol, atol, step;
+    std::string integrator, output, summary = "text", compensated;
+    std::vector<std::string> overrides;
+    std::string cache_dir;
+    std::optional<std::size_t> max_steps;
+    std::size_t max_rows = host::SimulationRequest::default_max_rows;
+};
+
+void add_simulate_options(CLI::App* cmd, SimulateOptions& o);
+host::SimulationRequest simulation_request(const host::Pipeline& p, const std::string& header, const SimulateOptions& o);
+
+struct BenchOptions {
+    std::optional<double> t_end;
+    std::string methods, tolerances, steps, cache_dir, odeint_state = "vector", formulations;
+    double reference_tolerance = 1e-26;
+    double min_time = 0.02;
+    int repeats = 3;
+};
+
+void add_bench_options(CLI::App* cmd, BenchOptions& o);
+// The request of a bench run on p's kernel `header` printed from `ir` (an orbit scene's formulation axis is added by
+// host::add_orbit_formulations).
+host::BenchRequest bench_request(const host::Pipeline& p, const std::string& header, const codegen::KernelIR& ir,
+                                 const std::string& scene_path, const std::string& out_dir, const BenchOptions& o);
+
+// A comma-separated list (--methods dop853,gl8); blanks around items are dropped.
+std::vector<std::string> comma_list(const std::string& text);
+
+}  // namespace eomc::cli

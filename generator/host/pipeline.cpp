@@ -1,0 +1,94 @@
+#include "host/pipeline.hpp"
+
+#include <iostream>
+#include <string_view>
+
+#include <fmt/format.h>
+
+#include "codegen/cpp_emitter.hpp"
+#include "mechanics/derive.hpp"
+#include "scene/scene.hpp"
+#include "support/diagnostic.hpp"
+
+namespace eomc::host {
+
+void StageClock::lap(const char* stage) {
+    const auto now = std::chrono::steady_clock::now();
+    stages_.emplace_back(stage, std::chrono::duration<double>(now - last_).count());
+    last_ = now;
+}
+
+void StageClock::print(std::ostream& out) const {
+    double total = 0;
+    for (const auto& [stage, seconds] : stages_) {
+        out << fmt::format("timing {} {:.6f}\n", stage, seconds);
+        if (std::string_view(stage) != "lower") total += seconds;  // lower is the sum of its parts
+    }
+    out << fmt::format("timing total {:.6f}\n", total);
+}
+
+namespace {
+
+// What an orbit formulation cannot be combined with.
+void check_formulation_options(const model::Model& model, const FrontEndOptions& options) {
+    if (!model.orbit) return;
+    const std::string& formulation = model.orbit->formulation;
+    const bool hamiltonian = options.hamiltonian || model.hamiltonian;
+    if (formulation == "equinoctial" && hamiltonian)
+        throw InputError(model.orbit->formulation_pos,
+                         "the equinoctial formulation integrates Gauss's equations, not Hamilton's; use formulation = "
+                         "\"cowell\" with the Hamiltonian formulation");
+    if (formulation == "encke" && hamiltonian)
+        throw InputError(model.orbit->formulation_pos,
+                         "the encke formulation integrates the deviation from a reference orbit, not Hamilton's "
+                         "equations; use formulation = \"cowell\" with the Hamiltonian formulation");
+    // Φ would have to follow each rectification's change of variables, which it does not.
+    if (formulation == "encke" && options.variational)
+        throw InputError(model.orbit->formulation_pos,
+                         "--variational cannot follow the encke formulation's rectifications (each one changes "
+                         "the state's variables); use formulation = \"cowell\" for the state-transition matrix");
+}
+
+}  // namespace
+
+Pipeline front_end(const std::string& scene_path, const FrontEndOptions& options, StageClock* clock) {
+    scene::Scene scene = scene::parse_scene_file(scene_path);
+    if (!options.orbit_formulation.empty())
+        scene::set_orbit_formulation(scene, options.orbit_formulation,
+                                     SourcePos{std::string(options.flag) + " " + options.orbit_formulation});
+    Pipeline p{model::build_model(scene), {}, std::nullopt, options.variational};
+    for (const auto& w : p.model.warnings) std::cerr << format_warning(w) << "\n";
+    if (clock) clock->lap("parse");
+    p.equations = mechanics::derive(p.model);
+    check_formulation_options(p.model, options);
+    if (options.hamiltonian || p.model.hamiltonian) p.canonical = mechanics::canonical_equations(p.model, p.equations);
+    if (clock) clock->lap("derive");
+    return p;
+}
+
+std::string kernel_header(const Pipeline& p, StageClock* clock, codegen::KernelIR* ir_out) {
+    codegen::LoweringTimes lowering;
+    const codegen::KernelIR ir = p.canonical ? codegen::lower(p.model, p.canonical->form, &lowering)
+                                             : codegen::lower(p.model, p.equations, &lowering);
+    if (ir_out) *ir_out = ir;
+    if (clock) {
+        clock->lap("lower");
+        clock->add("cse_mass_forcing", lowering.mass_and_forcing);
+        clock->add("jacobian", lowering.jacobian);
+        clock->add("invariants", lowering.invariants);
+    }
+    std::string header = codegen::emit_header(ir, {EOMC_VERSION, p.variational});
+    if (clock) clock->lap("emit");
+    return header;
+}
+
+bool depends_on_time(const Pipeline& p) {
+    for (const auto& f : p.equations.forcing)
+        if (f.has(p.model.t)) return true;
+    for (unsigned i = 0; i < p.equations.mass_matrix.rows(); ++i)
+        for (unsigned j = 0; j < p.equations.mass_matrix.cols(); ++j)
+            if (p.equations.mass_matrix(i, j).has(p.model.t)) return true;
+    return false;
+}
+
+}  // namespace eomc::host
