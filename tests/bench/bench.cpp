@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "../support/command.hpp"
+#include "command.hpp"
 
 namespace fs = std::filesystem;
 

@@ -12,7 +12,7 @@
 
 #include <ginac/ginac.h>
 
-#include "../support/command.hpp"
+#include "command.hpp"
 
 namespace fs = std::filesystem;
 

@@ -16,7 +16,7 @@
 #include <fmt/format.h>
 #include <ginac/ginac.h>
 
-#include "../support/command.hpp"
+#include "command.hpp"
 #include "codegen/cpp_emitter.hpp"
 #include "codegen/cpp_text.hpp"
 

@@ -12,7 +12,7 @@
 #include "scene/scene.hpp"
 #include "support/diagnostic.hpp"
 
-#include "../support/command.hpp"
+#include "command.hpp"
 
 using namespace eomc;
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "../support/pendulum.hpp"
+#include "pendulum.hpp"
 #include "codegen/cpp_emitter.hpp"
 #include "codegen/kernel_ir.hpp"
 #include "host/simulate.hpp"
