@@ -1,4 +1,4 @@
-// A free particle seen from a frame that spins up, ω = α t about z (FORMULAS §1 with every
+// A free particle seen from a frame that spins up, ω = α t about z (Mei 1988, §1.1, with every
 // effect time dependent: Euler, centrifugal and Coriolis all act). In inertial axes the
 // particle moves uniformly, X = X0 + U t; the frame has turned by θ = α t²/2, so in carrier
 // axes r'(t) = R(−θ) (X0 + U t) (ω(0) = 0, so relative and inertial velocities agree at t = 0).

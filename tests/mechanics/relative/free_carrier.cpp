@@ -1,4 +1,4 @@
-// The seed's example of a free carrier (Mei §1.1, Fig. 1-1; FORMULAS §1): a disc M, r with a
+// The seed's example of a free carrier (Mei 1988, §1.1, Fig. 1-1): a disc M, r with a
 // tube along x' through o and a ball m at q i', v_o = v0 j', ω = w j'. The derivation must
 // give exactly the checked forms
 //   (1.1.36)  m(q̈ − q w²) = V1,   (M + m) v̇0 = V2,   −m(q ẇ + 2 q̇ w) = V3,
