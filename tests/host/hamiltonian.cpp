@@ -39,16 +39,9 @@
 #include "scene/scene.hpp"
 #include "support/diagnostic.hpp"
 
+#include "simulation.hpp"
+
 namespace {
-
-const std::string cache_dir = std::string(EOMC_BINARY_DIR) + "/test-cache";
-
-std::string read(const std::string& path) {
-    std::ifstream in(path);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
 
 // A particle on a spring in a frame turning at Ω about z: Coriolis and centrifugal terms
 // make p = m(q̇ + ω × r) differ from m q̇, which is what the Legendre transform must get right.
@@ -73,17 +66,9 @@ potential = "k*(x^2 + y^2)/2"
 )toml";
 
 eomc::host::SimulationResult run(const std::string& toml, bool hamiltonian, double t_end) {
-    const auto model = eomc::model::build_model(eomc::scene::parse_scene_string(toml, "test.toml"));
-    const auto eqs = eomc::mechanics::derive(model);
-    const auto ir = hamiltonian ? eomc::codegen::lower(model, eomc::mechanics::canonical_equations(model, eqs).form)
-                                : eomc::codegen::lower(model, eqs);
-    eomc::host::SimulationRequest r;
-    r.header_text = eomc::codegen::emit_header(ir, {EOMC_VERSION});
-    r.struct_name = model.struct_name;
-    r.t_end = t_end;
+    eomc::host::SimulationRequest r =
+        test_support::simulation_request(test_support::kernel_of(toml, {.hamiltonian = hamiltonian}), t_end);
     r.rtol = r.atol = 1e-12;
-    r.cache_dir = cache_dir;
-    r.progress = false;
     return eomc::host::simulate(r);
 }
 
@@ -97,7 +82,7 @@ void compare(const std::string& toml, double t_end, double amplification = regul
     const double n = double(std::max(lagrange.state.size(), hamilton.state.size()));
     const double delta = double(lagrange.steps + hamilton.steps) * std::sqrt(n) * tol * amplification;
     BOOST_TEST_MESSAGE(lagrange.scene_name << ": " << lagrange.steps << " + " << hamilton.steps << " steps, δ = " << delta);
-    const auto model = eomc::model::build_model(eomc::scene::parse_scene_string(toml, "test.toml"));
+    const auto model = test_support::model_of(toml);
     const auto eqs = eomc::mechanics::derive(model);
     const auto canonical = eomc::mechanics::canonical_equations(model, eqs);
     GiNaC::exmap at_end{{model.t, t_end}};
@@ -126,14 +111,14 @@ BOOST_AUTO_TEST_CASE(same_trajectory_in_a_rotating_frame) { compare(rotating_spr
 
 BOOST_AUTO_TEST_CASE(same_trajectory_for_the_bundled_scenes) {
     for (const char* scene : {"bead_on_hoop", "double_pendulum", "kepler_orbit"})
-        compare(read(std::string(EOMC_SOURCE_DIR) + "/scenes/" + scene + ".toml"), 3.0);
+        compare(test_support::bundled_scene(scene), 3.0);
     // Exponential growth at Ω = 3 (the header comment's second case).
-    compare(read(std::string(EOMC_SOURCE_DIR) + "/scenes/disk_tube_ball.toml"), 3.0, 5.2 * std::cosh(9.0));
+    compare(test_support::bundled_scene("disk_tube_ball"), 3.0, 5.2 * std::cosh(9.0));
 }
 
 BOOST_AUTO_TEST_CASE(refusals_name_the_reason) {
     const std::string dropped = std::string(rotating_spring) + "[effects]\nkeep = [\"relative\", \"coriolis\"]\n";
-    const auto model = eomc::model::build_model(eomc::scene::parse_scene_string(dropped, "test.toml"));
+    const auto model = test_support::model_of(dropped);
     const auto eqs = eomc::mechanics::derive(model);
     BOOST_CHECK_EXCEPTION(eomc::mechanics::canonical_equations(model, eqs), eomc::InputError,
                           [](const eomc::InputError& e) { return std::string(e.what()).find("[effects]") != std::string::npos; });
@@ -147,7 +132,7 @@ x = { initial = 1.0, rate = 0.5 }
 T = "x_dot^4/12 + x_dot^2/2"
 V = "x^2/2"
 )toml";
-    const auto m2 = eomc::model::build_model(eomc::scene::parse_scene_string(quartic, "test.toml"));
+    const auto m2 = test_support::model_of(quartic);
     const auto e2 = eomc::mechanics::derive(m2);
     BOOST_CHECK_EXCEPTION(eomc::mechanics::canonical_equations(m2, e2), eomc::InputError,
                           [](const eomc::InputError& e) { return std::string(e.what()).find("quadratic") != std::string::npos; });

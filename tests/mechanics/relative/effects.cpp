@@ -22,6 +22,8 @@
 #include "model/model.hpp"
 #include "scene/scene.hpp"
 
+#include "scenes.hpp"
+
 using GiNaC::ex;
 using eomc::model::Effect;
 
@@ -91,9 +93,7 @@ mass = "m1"
 position = ["l*cos(q1 + t) + q2", "q1*sin(t)", "q2^2 + t*q1"]
 )toml";
 
-eomc::model::Model model_of(const char* toml) {
-    return eomc::model::build_model(eomc::scene::parse_scene_string(toml, "<test>"));
-}
+eomc::model::Model model_of(const char* toml) { return test_support::model_of(toml, "<test>"); }
 
 ex effect_value(const eomc::mechanics::Equation& eq, Effect e) {
     for (const auto& term : eq.effects)

@@ -15,6 +15,8 @@
 #include "scene/scene.hpp"
 #include "support/diagnostic.hpp"
 
+#include "scenes.hpp"
+
 using GiNaC::ex;
 
 namespace {
@@ -48,9 +50,7 @@ resultant = ["0", "V2", "0"]
 moment = ["0", "m2", "0"]
 )toml";
 
-eomc::model::Model model_of(const std::string& toml) {
-    return eomc::model::build_model(eomc::scene::parse_scene_string(toml, "seed.toml"));
-}
+eomc::model::Model model_of(const std::string& toml) { return test_support::model_of(toml, "seed.toml"); }
 
 ex symbol_named(const eomc::model::Model& model, const std::string& name) {
     for (const auto& p : model.parameters)
