@@ -2,6 +2,8 @@
 // writes (scene → model → equations → IR → header). Needs eomc_generator.
 #pragma once
 
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include "codegen/cpp_emitter.hpp"
@@ -10,8 +12,6 @@
 #include "mechanics/derive.hpp"
 #include "model/model.hpp"
 #include "scene/scene.hpp"
-
-#include "command.hpp"
 
 namespace test_support {
 
@@ -28,7 +28,10 @@ inline eomc::model::Model bundled_model(const std::string& name) {
 
 // The text of a bundled scene.
 inline std::string bundled_scene(const std::string& name) {
-    return slurp(std::string(EOMC_SOURCE_DIR) + "/scenes/" + name + ".toml");
+    std::ifstream in(std::string(EOMC_SOURCE_DIR) + "/scenes/" + name + ".toml");
+    std::stringstream text;
+    text << in.rdbuf();
+    return text.str();
 }
 
 struct Kernel {
