@@ -16,7 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "../support/command.hpp"
+#include "command.hpp"
+#include "oscillator.hpp"
 
 namespace fs = std::filesystem;
 
@@ -124,30 +125,19 @@ double observed_order(const std::vector<Row>& rows) {
     return std::log(rows[0].error / rows[1].error) / std::log(rows[1].setting / rows[0].setting);
 }
 
-const char* oscillator_scene = R"toml([scene]
-name = "bench_oscillator"
-summary = "q'' = -w^2 q, closed form"
-[parameters]
-w = 2.0
-[coordinates]
-q = { initial = 1.0 }
-[lagrangian]
-T = "q_dot^2/2"
-V = "w^2*q^2/2"
-[simulate]
-t_end = 3.0
-)toml";
+const std::string oscillator_scene = test_support::oscillator_scene({.name = "bench_oscillator",
+                                                                      .summary_line = "summary = \"q'' = -w^2 q, closed form\"",
+                                                                      .parameter = "w",
+                                                                      .value = "2.0",
+                                                                      .stiffness = "w^2",
+                                                                      .tail = "[simulate]\nt_end = 3.0\n"});
 
 const char* oscillator_reference = R"toml([reference]
 q = "cos(w*t)"
 q_dot = "-w*sin(w*t)"
 )toml";
 
-fs::path write_scene(const fs::path& dir, const std::string& text) {
-    const fs::path p = dir / "scene.toml";
-    std::ofstream(p) << text;
-    return p;
-}
+using test_support::write_scene;
 
 std::string eomc_bench(const fs::path& scene, const fs::path& out, const std::string& options) {
     return std::string(EOMC_EXECUTABLE) + " bench '" + scene.string() + "' -o '" + out.string() + "' --cache-dir '" +

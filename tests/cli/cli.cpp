@@ -12,7 +12,7 @@
 
 #include <ginac/ginac.h>
 
-#include "../support/command.hpp"
+#include "command.hpp"
 
 namespace fs = std::filesystem;
 
@@ -26,11 +26,7 @@ fs::path scratch(const std::string& name) { return test_support::scratch("cli-sc
 
 Result run(const std::string& arguments, const fs::path& dir) { return test_support::run_eomc(arguments, dir); }
 
-fs::path write_scene(const fs::path& dir, const std::string& text) {
-    const fs::path p = dir / "scene.toml";
-    std::ofstream(p) << text;
-    return p;
-}
+using test_support::write_scene;
 
 std::string replaced(std::string text, const std::string& from, const std::string& to) {
     const auto at = text.find(from);

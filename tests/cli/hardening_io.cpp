@@ -26,7 +26,7 @@
 
 #include <fmt/format.h>
 
-#include "../support/command.hpp"
+#include "command.hpp"
 #include "host/toolchain.hpp"
 #include "support/cleanup.hpp"
 #include "support/diagnostic.hpp"

@@ -18,6 +18,8 @@
 #include "symbolic/differentiation.hpp"
 #include "symbolic/numeric_probe.hpp"
 
+#include "scenes.hpp"
+
 using namespace eomc;
 using GiNaC::ex;
 
@@ -53,7 +55,7 @@ double value(const ex& e, const std::map<std::string, double>& at, const codegen
 }
 
 mechanics::Equations derive_scene(const std::string& toml, model::Model& model) {
-    model = model::build_model(scene::parse_scene_string(toml, "test.toml"));
+    model = test_support::model_of(toml);
     return mechanics::derive(model);
 }
 

@@ -16,7 +16,9 @@
 #include <fmt/format.h>
 #include <ginac/ginac.h>
 
-#include "../support/command.hpp"
+#include "command.hpp"
+#include "csv.hpp"
+#include "oscillator.hpp"
 #include "codegen/cpp_emitter.hpp"
 #include "codegen/cpp_text.hpp"
 
@@ -33,10 +35,7 @@ fs::path scratch(const std::string& name) { return test_support::scratch("codege
 
 Result run(const std::string& arguments, const fs::path& dir) { return test_support::run_eomc(arguments, dir); }
 
-fs::path write(const fs::path& path, const std::string& text) {
-    std::ofstream(path, std::ios::binary) << text;
-    return path;
-}
+using test_support::write_file;
 
 // For sh: the paths here hold line breaks but no single quote.
 std::string sh_quoted(const fs::path& p) {
@@ -46,23 +45,12 @@ std::string sh_quoted(const fs::path& p) {
     return out;
 }
 
-// The last row of a trajectory CSV, as numbers.
-std::vector<double> last_row(const fs::path& csv) {
-    std::istringstream in(slurp(csv));
-    std::string line, last;
-    while (std::getline(in, line))
-        if (!line.empty()) last = line;
-    std::vector<double> row;
-    std::istringstream cells(last);
-    for (std::string cell; std::getline(cells, cell, ',');) row.push_back(std::stod(cell));
-    return row;
-}
+using test_support::last_csv_row;
 
 // A harmonic oscillator q̈ = −k q whose scene strings are supplied by the test.
 std::string oscillator(const std::string& summary_line, const std::string& k_name = "k") {
-    return "[scene]\nname = \"osc\"\n" + summary_line + "\n[parameters]\n" + k_name +
-           " = 4.0\n[coordinates]\nq = { initial = 1.0, rate = 0.0 }\n[lagrangian]\nT = \"q_dot^2/2\"\nV = \"" + k_name +
-           "*q^2/2\"\n";
+    return test_support::oscillator_scene(
+        {.name = "osc", .summary_line = summary_line, .parameter = k_name, .value = "4.0", .stiffness = k_name});
 }
 
 }  // namespace
@@ -115,7 +103,7 @@ BOOST_AUTO_TEST_CASE(a_summary_with_line_breaks_runs_no_code_at_simulate) {
     const fs::path marker = dir / "ran";
     const std::string payload = "ok\\n#include <cstdlib>\\nstatic int x_ = (std::system(\\\"touch " +
                                 marker.string() + "\\\"), 0);\\n// {{struct_name}}\\r\\u2028 \\\\";
-    const fs::path scene = write(dir / "scene.toml", oscillator("summary = \"" + payload + "\""));
+    const fs::path scene = write_file(dir / "scene.toml", oscillator("summary = \"" + payload + "\""));
     const Result r = run("simulate " + sh_quoted(scene) + " --t-end 1 --output " + sh_quoted(dir / "o.csv") + " --cache-dir " +
                              sh_quoted(dir / "cache"),
                          dir);
@@ -139,7 +127,7 @@ BOOST_AUTO_TEST_CASE(a_scene_file_name_with_a_line_break_stays_in_the_comment) {
     const fs::path dir = scratch("file_name");
     const fs::path marker = dir / "ran";
     const fs::path scene =
-        write(dir / ("x.toml\nstatic int y_ = (__builtin_trap(), 0);\n#define Z"), oscillator("summary = \"plain\""));
+        write_file(dir / ("x.toml\nstatic int y_ = (__builtin_trap(), 0);\n#define Z"), oscillator("summary = \"plain\""));
     const Result r = run("simulate " + sh_quoted(scene) + " --t-end 1 --output " + sh_quoted(dir / "o.csv") + " --cache-dir " +
                              sh_quoted(dir / "cache"),
                          dir);
@@ -157,7 +145,7 @@ BOOST_AUTO_TEST_CASE(a_scene_file_name_with_a_line_break_stays_in_the_comment) {
 BOOST_AUTO_TEST_CASE(parameters_named_like_libc_macros_compile_and_keep_their_values) {
     const fs::path dir = scratch("macros");
     for (const std::string name : {"M_PI", "NULL", "EOF", "INFINITY", "linux", "errno"}) {
-        const fs::path scene = write(dir / (name + ".toml"), oscillator("summary = \"macro\"", name));
+        const fs::path scene = write_file(dir / (name + ".toml"), oscillator("summary = \"macro\"", name));
         const fs::path csv = dir / (name + ".csv");
         const Result r = run("simulate " + sh_quoted(scene) + " --t-end 1 --rtol 1e-12 --atol 1e-12 --output " + sh_quoted(csv) +
                                  " --cache-dir " + sh_quoted(dir / "cache"),
@@ -165,7 +153,7 @@ BOOST_AUTO_TEST_CASE(parameters_named_like_libc_macros_compile_and_keep_their_va
         BOOST_TEST_INFO(name << ": " << r.err);
         BOOST_TEST_REQUIRE(r.status == 0);
         // q = cos 2t with k = 4, q̇ = −2 sin 2t: to the tolerance of the run.
-        const std::vector<double> row = last_row(csv);
+        const std::vector<double> row = last_csv_row(csv);
         BOOST_TEST_REQUIRE(row.size() >= 3u);
         BOOST_TEST(std::abs(row[1] - std::cos(2.0)) < 1e-9);
         BOOST_TEST(std::abs(row[2] + 2 * std::sin(2.0)) < 1e-9);
@@ -174,14 +162,14 @@ BOOST_AUTO_TEST_CASE(parameters_named_like_libc_macros_compile_and_keep_their_va
                                  "=1 --output " + sh_quoted(csv) + " --cache-dir " + sh_quoted(dir / "cache"),
                              dir);
         BOOST_TEST_REQUIRE(s.status == 0);
-        BOOST_TEST(std::abs(last_row(csv)[1] - std::cos(1.0)) < 1e-9);
+        BOOST_TEST(std::abs(last_csv_row(csv)[1] - std::cos(1.0)) < 1e-9);
     }
 }
 
 // A constant outside double's range printed as S(inf) or S(0.0…) (1e-400*q^3 became 0·∞).
 BOOST_AUTO_TEST_CASE(a_constant_double_cannot_hold_is_refused_at_generate) {
     const fs::path dir = scratch("range");
-    const fs::path scene = write(dir / "tiny.toml",
+    const fs::path scene = write_file(dir / "tiny.toml",
                                  "[scene]\nname = \"tiny\"\n[coordinates]\nq = { initial = 1.0 }\n[lagrangian]\n"
                                  "T = \"q_dot^2/2\"\nV = \"1e-200*1e-200*q^4\"\n");
     const Result r = run("generate " + sh_quoted(scene) + " -o " + sh_quoted(dir / "out"), dir);
@@ -195,7 +183,7 @@ BOOST_AUTO_TEST_CASE(a_constant_double_cannot_hold_is_refused_at_generate) {
 // break can leave; the next line ran as a gnuplot command (`system`).
 BOOST_AUTO_TEST_CASE(a_bench_output_directory_with_a_line_break_is_refused) {
     const fs::path dir = scratch("gnuplot");
-    const fs::path scene = write(dir / "osc.toml", oscillator("summary = \"plain\""));
+    const fs::path scene = write_file(dir / "osc.toml", oscillator("summary = \"plain\""));
     const fs::path marker = dir / "ran";
     const std::string out = (dir / "o\nsystem \"touch ").string() + marker.string() + "\"\n#";
     const Result r = run("bench " + sh_quoted(scene) + " -o " + sh_quoted(out) + " --methods rk4 --steps 10", dir);
@@ -230,7 +218,7 @@ BOOST_AUTO_TEST_CASE(a_scene_with_130_coordinates_generates_compiles_and_moves_i
         if (i) V += fmt::format(" + (q{}-q{})^2", i, i - 1);
     }
     const fs::path dir = scratch("large");
-    const fs::path scene = write(dir / "chain.toml", "[scene]\nname = \"chain\"\n[coordinates]\n" + coordinates +
+    const fs::path scene = write_file(dir / "chain.toml", "[scene]\nname = \"chain\"\n[coordinates]\n" + coordinates +
                                                          "[lagrangian]\nT = \"(" + T + ")/2\"\nV = \"(" + V + ")/2\"\n");
     const fs::path csv = dir / "chain.csv";
     const double t_end = 20.0;
@@ -239,7 +227,7 @@ BOOST_AUTO_TEST_CASE(a_scene_with_130_coordinates_generates_compiles_and_moves_i
                          dir);
     BOOST_TEST_INFO(r.err);
     BOOST_TEST_REQUIRE(r.status == 0);
-    const std::vector<double> row = last_row(csv);
+    const std::vector<double> row = last_csv_row(csv);
     BOOST_TEST_REQUIRE(row.size() >= std::size_t(2 * n + 1));
     BOOST_TEST(row[0] == t_end);
     // The local error per step is held to 1e-11 of |q| ≤ 1; over ~10² steps it adds up to < 1e-8.
@@ -253,7 +241,7 @@ BOOST_AUTO_TEST_CASE(a_scene_with_130_coordinates_generates_compiles_and_moves_i
 // randomisation off for itself, and says so when it stays on (here: asked for by the test).
 BOOST_AUTO_TEST_CASE(eomc_says_when_its_output_may_differ_between_runs) {
     const fs::path dir = scratch("aslr");
-    const fs::path scene = write(dir / "osc.toml", oscillator("summary = \"plain\""));
+    const fs::path scene = write_file(dir / "osc.toml", oscillator("summary = \"plain\""));
     const Result quiet = run("derive " + sh_quoted(scene), dir);
     BOOST_TEST(quiet.status == 0);
     BOOST_TEST(quiet.err.empty(), quiet.err);

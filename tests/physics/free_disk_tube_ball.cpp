@@ -1,4 +1,4 @@
-// The seed's example with the disc free (Mei §1.1; FORMULAS §1, (1.1.36) and (1.1.38)): no
+// The seed's example with the disc free (Mei 1988, §1.1, (1.1.36) and (1.1.38)): no
 // loads act, so along every motion
 //   * the angular momentum about the disc's axis K_2 = (M r²/2 + m q²) w is constant (moment_2
 //     with m⁰ = 0), and so is the sliding momentum (M + m) v0 (force_2 with V = 0);

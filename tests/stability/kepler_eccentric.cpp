@@ -34,7 +34,7 @@
 
 #include "kepler_cartesian.hpp"
 #include "kepler_orbit.hpp"
-#include "../physics/physics_support.hpp"
+#include "physics_support.hpp"
 
 namespace rt = eomc::runtime;
 using Polar = eomc::models::KeplerOrbit;

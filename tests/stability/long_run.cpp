@@ -26,7 +26,7 @@
 #include <vector>
 
 #include "kepler_orbit.hpp"
-#include "../physics/physics_support.hpp"
+#include "physics_support.hpp"
 
 namespace rt = eomc::runtime;
 using Model = eomc::models::KeplerOrbit;

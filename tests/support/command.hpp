@@ -26,6 +26,15 @@ inline std::string slurp(const fs::path& p) {
     return ss.str();
 }
 
+// Writes text to path (binary: the bytes as given) and returns the path.
+inline fs::path write_file(const fs::path& path, const std::string& text) {
+    std::ofstream(path, std::ios::binary) << text;
+    return path;
+}
+
+// A scene file dir/scene.toml holding text.
+inline fs::path write_scene(const fs::path& dir, const std::string& text) { return write_file(dir / "scene.toml", text); }
+
 // <build>/<area>/<name>, emptied first.
 inline fs::path scratch(const std::string& area, const std::string& name) {
     const fs::path dir = fs::path(EOMC_BINARY_DIR) / area / name;

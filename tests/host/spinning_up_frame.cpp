@@ -1,4 +1,4 @@
-// A free particle seen from a frame that spins up, ω = α t about z (FORMULAS §1 with every
+// A free particle seen from a frame that spins up, ω = α t about z (Mei 1988, §1.1, with every
 // effect time dependent: Euler, centrifugal and Coriolis all act). In inertial axes the
 // particle moves uniformly, X = X0 + U t; the frame has turned by θ = α t²/2, so in carrier
 // axes r'(t) = R(−θ) (X0 + U t) (ω(0) = 0, so relative and inertial velocities agree at t = 0).
@@ -15,6 +15,8 @@
 #include "mechanics/derive.hpp"
 #include "model/model.hpp"
 #include "scene/scene.hpp"
+
+#include "simulation.hpp"
 
 namespace {
 
@@ -38,21 +40,16 @@ position = ["x", "y", "0"]
 }  // namespace
 
 BOOST_AUTO_TEST_CASE(uniform_motion_seen_from_a_spinning_up_frame) {
-    const auto model = eomc::model::build_model(eomc::scene::parse_scene_string(scene, "spin.toml"));
+    const auto model = test_support::model_of(scene, "spin.toml");
     const auto eqs = eomc::mechanics::derive(model);
     // Every effect but translation is present in the equations.
     for (const auto& term : eqs.equations[0].effects)
         if (term.effect != eomc::model::Effect::translation && term.effect != eomc::model::Effect::relative)
             BOOST_TEST(!term.value.expand().is_zero(), eomc::model::name(term.effect));
     BOOST_TEST(eqs.invariants.empty());  // ω depends on t: no Jacobi integral
-    eomc::host::SimulationRequest r;
-    r.header_text = eomc::codegen::emit_header(eomc::codegen::lower(model, eqs), {EOMC_VERSION});
-    r.struct_name = model.struct_name;
     const double t = 4.0, alpha = 1.0;
-    r.t_end = t;
+    eomc::host::SimulationRequest r = test_support::simulation_request(test_support::kernel_of(scene), t);
     r.rtol = r.atol = 1e-12;
-    r.cache_dir = std::string(EOMC_BINARY_DIR) + "/test-cache";
-    r.progress = false;
     const auto result = eomc::host::simulate(r);
     const double X = 1.0 + 0.3 * t, Y = -0.5 + 0.8 * t, theta = alpha * t * t / 2;
     const double x = std::cos(theta) * X + std::sin(theta) * Y, y = -std::sin(theta) * X + std::cos(theta) * Y;

@@ -1,10 +1,11 @@
-// Variational equations (seed §2.9–§2.10) of kernels generated with --variational, against
-// Poincaré's theorem: if I(x) is a first integral, then along a solution x(t) with its
-// variations δx(t) = Φ(t) δx(0), the linear form ∇I(x(t)) · δx(t) is constant, i.e. the row
-// w(t) = ∇I(x(t))ᵀ Φ(t) equals ∇I(x(0))ᵀ for all t. Each w_j is a function of the extended state
-// y = (x, Φ), conserved by the extended equations, so the drift of a numerical solution is held
-// to the bound physics_support.hpp derives from the accepted steps' tolerances. ∇I comes from
-// the complex step, Im I(x + i h e_k)/h, exact to round-off (no subtraction).
+// Variational equations (Hairer, Nørsett & Wanner, Solving ODEs I, §I.14) of kernels generated
+// with --variational, against Poincaré's theorem: if I(x) is a first integral, then along a
+// solution x(t) with its variations δx(t) = Φ(t) δx(0), the linear form ∇I(x(t)) · δx(t) is
+// constant, i.e. the row w(t) = ∇I(x(t))ᵀ Φ(t) equals ∇I(x(0))ᵀ for all t. Each w_j is a function
+// of the extended state y = (x, Φ), conserved by the extended equations, so the drift of a
+// numerical solution is held to the bound physics_support.hpp derives from the accepted steps'
+// tolerances. ∇I comes from the complex step, Im I(x + i h e_k)/h, exact to round-off (no
+// subtraction).
 #define BOOST_TEST_MODULE variational
 #include <boost/test/unit_test.hpp>
 

@@ -28,26 +28,18 @@
 #include "scene/scene.hpp"
 #include "support/diagnostic.hpp"
 
+#include "simulation.hpp"
+
 namespace {
 
 using eomc::host::SimulationRequest;
 using eomc::host::SimulationResult;
 
 SimulationRequest kepler_request(bool hamiltonian) {
-    std::ifstream in(EOMC_SOURCE_DIR "/scenes/kepler_orbit.toml");
-    std::stringstream text;
-    text << in.rdbuf();
-    const auto model = eomc::model::build_model(eomc::scene::parse_scene_string(text.str(), "kepler_orbit.toml"));
-    const auto eqs = eomc::mechanics::derive(model);
-    const auto ir = hamiltonian ? eomc::codegen::lower(model, eomc::mechanics::canonical_equations(model, eqs).form)
-                                : eomc::codegen::lower(model, eqs);
-    SimulationRequest r;
-    r.header_text = eomc::codegen::emit_header(ir, {EOMC_VERSION, true});
-    r.struct_name = model.struct_name;
-    r.t_end = 2 * M_PI;  // one period (a = 1, μ = 1)
+    const auto kernel = test_support::kernel_of(test_support::bundled_scene("kepler_orbit"),
+                                                {.hamiltonian = hamiltonian, .variational = true});
+    SimulationRequest r = test_support::simulation_request(kernel, 2 * M_PI);  // one period (a = 1, μ = 1)
     r.rtol = r.atol = 1e-12;
-    r.cache_dir = std::string(EOMC_BINARY_DIR) + "/test-cache";
-    r.progress = false;
     r.variational = true;
     return r;
 }

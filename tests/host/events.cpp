@@ -10,14 +10,11 @@
 #include <string>
 #include <vector>
 
-#include "../support/pendulum.hpp"
-#include "codegen/cpp_emitter.hpp"
-#include "codegen/kernel_ir.hpp"
+#include "csv.hpp"
+#include "oscillator.hpp"
+#include "pendulum.hpp"
+#include "simulation.hpp"
 #include "host/simulate.hpp"
-#include "mechanics/canonical/hamiltonian.hpp"
-#include "mechanics/derive.hpp"
-#include "model/model.hpp"
-#include "scene/scene.hpp"
 #include "support/diagnostic.hpp"
 
 namespace fs = std::filesystem;
@@ -29,7 +26,6 @@ namespace {
 
 constexpr double eps = std::numeric_limits<double>::epsilon();
 constexpr double pi = 3.141592653589793238462643383279502884;
-const std::string cache_dir = EOMC_BINARY_DIR "/test-cache";
 
 // A projectile: y'' = -g, x'' = 0. Apex (y_dot = 0) at v0/g, ground (y = 0 downwards) at 2 v0/g.
 constexpr double g_acc = 9.81, vx0 = 3.0, vy0 = 7.0;
@@ -64,30 +60,18 @@ crossing = "theta"
 leftwards = { when = "theta", direction = "down" }
 )toml";
 
-struct Kernel {
-    std::string header, struct_name;
-};
+using test_support::Kernel;
 
 Kernel generate(const std::string& toml, bool hamiltonian = false) {
-    const auto scene = eomc::scene::parse_scene_string(toml, "test.toml");
-    const auto model = eomc::model::build_model(scene);
-    const auto equations = eomc::mechanics::derive(model);
-    const auto ir = hamiltonian ? eomc::codegen::lower(model, eomc::mechanics::canonical_equations(model, equations).form)
-                                : eomc::codegen::lower(model, equations);
-    return {eomc::codegen::emit_header(ir, {EOMC_VERSION}), eomc::scene::struct_name(scene.name)};
+    return test_support::kernel_of(toml, {.hamiltonian = hamiltonian});
 }
 
 SimulationRequest request(const Kernel& k, const std::string& integrator, double t_end) {
-    SimulationRequest r;
-    r.header_text = k.header;
-    r.struct_name = k.struct_name;
-    r.t_end = t_end;
+    SimulationRequest r = test_support::simulation_request(k, t_end);
     r.integrator = integrator;
     r.rtol = 1e-12;
     r.atol = 1e-12;
     r.step = 1e-2;
-    r.cache_dir = cache_dir;
-    r.progress = false;
     return r;
 }
 
@@ -99,12 +83,7 @@ double projectile_bound(std::size_t steps, double slope, double t) {
     return (double(steps) + 4) * 4 * eps * X / slope + 4 * eps * t;
 }
 
-std::vector<std::string> read_lines(const fs::path& p) {
-    std::ifstream in(p);
-    std::vector<std::string> lines;
-    for (std::string line; std::getline(in, line);) lines.push_back(line);
-    return lines;
-}
+using test_support::read_lines;
 
 }  // namespace
 
@@ -285,14 +264,7 @@ generalized = { q = "-q_dot/10" }
 // energy exactly, but its bounded O(h^8) energy error is below 2e-15 here (the compensated run
 // shows it), so the same round-off argument and factor apply.
 BOOST_AUTO_TEST_CASE(compensated_summation_reduces_round_off_on_a_long_run) {
-    const Kernel k = generate(R"toml([scene]
-name = "oscillator"
-[coordinates]
-q = { initial = 1.0, rate = 0.0 }
-[lagrangian]
-T = "q_dot^2/2"
-V = "q^2/2"
-)toml");
+    const Kernel k = generate(test_support::oscillator_scene({}));
     for (const char* method : {"gl8", "kahanli8"}) {
         double drift[2];
         for (int on = 0; on < 2; ++on) {

@@ -22,6 +22,9 @@
 #include "scene/scene.hpp"
 #include "support/diagnostic.hpp"
 
+#include "csv.hpp"
+#include "simulation.hpp"
+
 namespace fs = std::filesystem;
 using eomc::host::SimulationRequest;
 using eomc::host::SimulationResult;
@@ -29,8 +32,6 @@ using eomc::host::simulate;
 
 namespace {
 
-// Kept inside the build tree so that tests never touch the user's ~/.cache.
-const std::string cache_dir = EOMC_BINARY_DIR "/test-cache";
 const fs::path output_dir = EOMC_BINARY_DIR "/test-output";
 
 // A ball in a smooth tube along x' of a disc turning at Ω about y': q̈ = Ω² q, so
@@ -76,18 +77,10 @@ generalized = { q = "4*q^3" }
 )";
 constexpr double blowup_time = 0.92703733865;
 
-struct Kernel {
-    std::string header, struct_name;
-};
+using test_support::Kernel;
 
 // The whole generator pipeline: scene → model → equations → IR → header.
-Kernel generate(const std::string& toml) {
-    const auto scene = eomc::scene::parse_scene_string(toml, "test.toml");
-    const auto model = eomc::model::build_model(scene);
-    const auto equations = eomc::mechanics::derive(model);
-    const auto ir = eomc::codegen::lower(model, equations);
-    return {eomc::codegen::emit_header(ir, {EOMC_VERSION}), eomc::scene::struct_name(scene.name)};
-}
+Kernel generate(const std::string& toml) { return test_support::kernel_of(toml); }
 
 const Kernel& dtb() {
     static const Kernel k = generate(disk_tube_ball);
@@ -95,16 +88,11 @@ const Kernel& dtb() {
 }
 
 SimulationRequest request(const Kernel& k, const std::string& integrator = "dopri5") {
-    SimulationRequest r;
-    r.header_text = k.header;
-    r.struct_name = k.struct_name;
-    r.t_end = 1.0;
+    SimulationRequest r = test_support::simulation_request(k, 1.0);
     r.integrator = integrator;
     r.rtol = 1e-10;
     r.atol = 1e-12;
     r.step = 1e-2;
-    r.cache_dir = cache_dir;
-    r.progress = false;
     return r;
 }
 
@@ -129,19 +117,7 @@ double dopri5_bound(const SimulationResult& r, double omega, double x_max, doubl
            std::exp(omega * r.t);
 }
 
-std::vector<std::string> read_lines(const fs::path& p) {
-    std::ifstream in(p);
-    std::vector<std::string> lines;
-    for (std::string line; std::getline(in, line);) lines.push_back(line);
-    return lines;
-}
-
-std::vector<double> split_numbers(const std::string& line) {
-    std::vector<double> out;
-    std::stringstream s(line);
-    for (std::string cell; std::getline(s, cell, ',');) out.push_back(std::stod(cell));
-    return out;
-}
+using test_support::read_lines;
 
 // Files in `dir` whose name starts with `prefix` (to find stray temporaries).
 std::vector<std::string> files_starting_with(const fs::path& dir, const std::string& prefix) {
@@ -287,7 +263,7 @@ BOOST_AUTO_TEST_CASE(csv_has_header_and_one_row_per_accepted_step) {
         BOOST_TEST(lines[0] == "t,q,q_dot,energy");
         BOOST_TEST(lines.size() - 1 == r.steps + 1);  // t = 0 and every accepted step
         BOOST_TEST(r.csv_rows == r.steps + 1);
-        const auto first = split_numbers(lines[1]), last = split_numbers(lines.back());
+        const auto first = test_support::csv_numbers(lines[1]), last = test_support::csv_numbers(lines.back());
         BOOST_REQUIRE(first.size() == 4u);
         BOOST_TEST(first[0] == 0.0);
         BOOST_TEST(first[1] == 0.1);
@@ -442,10 +418,7 @@ BOOST_AUTO_TEST_CASE(text_summary) {
 // the rounding of one normalisation (a square root and a division: 4 ulp), whatever the
 // tolerance (tests/runtime/adaptive.cpp shows the drift a run without projection has).
 BOOST_AUTO_TEST_CASE(free_carrier_quaternion_stays_unit) {
-    std::ifstream in(std::string(EOMC_SOURCE_DIR) + "/scenes/free_disk_tube_ball.toml");
-    std::stringstream text;
-    text << in.rdbuf();
-    const Kernel k = generate(text.str());
+    const Kernel k = generate(test_support::bundled_scene("free_disk_tube_ball"));
     for (const char* integrator : {"dopri5", "rk4", "gl4"}) {
         SimulationRequest req = request(k, integrator);
         req.t_end = 20.0;

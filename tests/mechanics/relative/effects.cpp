@@ -1,4 +1,4 @@
-// The relative-motion split of Lagrange's equations (FORMULAS §1, Mei 1988 §1.1), checked as
+// The relative-motion split of Lagrange's equations (Mei 1988, §1.1), checked as
 // symbolic identities on a carrier whose ω(t) and v_o(t) have all three components non-zero
 // and time dependent, with two particles at non-trivial r'(q1, q2):
 //   ε_s(T_e) + ε_s(T_m) = translation + euler + centrifugal + coriolis,   ε_s(T_r) = relative,
@@ -21,6 +21,8 @@
 #include "mechanics/relative/carried_motion.hpp"
 #include "model/model.hpp"
 #include "scene/scene.hpp"
+
+#include "scenes.hpp"
 
 using GiNaC::ex;
 using eomc::model::Effect;
@@ -63,7 +65,7 @@ position = ["q1*q2", "sin(q2) + cos(q1)", "l*sin(q1 + q2)"]
 )toml";
 
 // The same carrier with a rheonomic particle (r' depends on t explicitly): the effect identity
-// of FORMULAS §1 does not rely on r' being scleronomic, so it must hold here too.
+// of Mei 1988, §1.1 does not rely on r' being scleronomic, so it must hold here too.
 const char* const rheonomic_carrier = R"toml(
 [scene]
 name = "rheonomic_carrier"
@@ -91,9 +93,7 @@ mass = "m1"
 position = ["l*cos(q1 + t) + q2", "q1*sin(t)", "q2^2 + t*q1"]
 )toml";
 
-eomc::model::Model model_of(const char* toml) {
-    return eomc::model::build_model(eomc::scene::parse_scene_string(toml, "<test>"));
-}
+eomc::model::Model model_of(const char* toml) { return test_support::model_of(toml, "<test>"); }
 
 ex effect_value(const eomc::mechanics::Equation& eq, Effect e) {
     for (const auto& term : eq.effects)
@@ -168,7 +168,7 @@ BOOST_AUTO_TEST_CASE(kinetic_energy_parts_match_an_independent_computation_and_t
     const auto& omega = model.carrier->angular_velocity;
     const auto& v_o = model.carrier->pole_velocity;
 
-    // T_e = ½ Σ m |v_o + ω × r'|², T_m = Σ m (v_o + ω × r')·ṙ', T_r = ½ Σ m |ṙ'|² (FORMULAS §1).
+    // T_e = ½ Σ m |v_o + ω × r'|², T_m = Σ m (v_o + ω × r')·ṙ', T_r = ½ Σ m |ṙ'|² (Mei 1988, §1.1).
     ex T_e = 0, T_m = 0, T_r = 0;
     for (const auto& p : model.particles) {
         Vec r_dot{0, 0, 0};

@@ -20,6 +20,8 @@
 #include "scene/scene.hpp"
 #include "support/diagnostic.hpp"
 
+#include "scenes.hpp"
+
 using GiNaC::ex;
 using eomc::InputError;
 using eomc::model::Effect;
@@ -27,14 +29,9 @@ using eomc::model::Model;
 
 namespace {
 
-Model bundled(const std::string& name) {
-    return eomc::model::build_model(
-        eomc::scene::parse_scene_file(std::string(EOMC_SOURCE_DIR) + "/scenes/" + name + ".toml"));
-}
+Model bundled(const std::string& name) { return test_support::bundled_model(name); }
 
-Model from_string(const std::string& toml) {
-    return eomc::model::build_model(eomc::scene::parse_scene_string(toml, "<test>"));
-}
+Model from_string(const std::string& toml) { return test_support::model_of(toml, "<test>"); }
 
 const GiNaC::symbol& parameter(const Model& model, const std::string& name) {
     for (const auto& p : model.parameters)

@@ -12,14 +12,15 @@
 #include "scene/scene.hpp"
 #include "support/diagnostic.hpp"
 
-#include "../support/command.hpp"
+#include "command.hpp"
+#include "scenes.hpp"
 
 using namespace eomc;
 
 namespace {
 
 std::vector<mechanics::Equilibrium> equilibria_of(const std::string& toml) {
-    const model::Model model = model::build_model(scene::parse_scene_string(toml, "test.toml"));
+    const model::Model model = test_support::model_of(toml);
     return mechanics::relative_equilibria(model, mechanics::derive(model));
 }
 
@@ -161,7 +162,7 @@ struct Solved {
 };
 
 Solved solve(const std::string& toml) {
-    Solved s{model::build_model(scene::parse_scene_string(toml, "test.toml")), {}};
+    Solved s{test_support::model_of(toml), {}};
     s.found = mechanics::relative_equilibria(s.model, mechanics::derive(s.model));
     return s;
 }

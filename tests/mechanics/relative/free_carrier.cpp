@@ -1,4 +1,4 @@
-// The seed's example of a free carrier (Mei §1.1, Fig. 1-1; FORMULAS §1): a disc M, r with a
+// The seed's example of a free carrier (Mei 1988, §1.1, Fig. 1-1): a disc M, r with a
 // tube along x' through o and a ball m at q i', v_o = v0 j', ω = w j'. The derivation must
 // give exactly the checked forms
 //   (1.1.36)  m(q̈ − q w²) = V1,   (M + m) v̇0 = V2,   −m(q ẇ + 2 q̇ w) = V3,
@@ -14,6 +14,8 @@
 #include "model/model.hpp"
 #include "scene/scene.hpp"
 #include "support/diagnostic.hpp"
+
+#include "scenes.hpp"
 
 using GiNaC::ex;
 
@@ -48,9 +50,7 @@ resultant = ["0", "V2", "0"]
 moment = ["0", "m2", "0"]
 )toml";
 
-eomc::model::Model model_of(const std::string& toml) {
-    return eomc::model::build_model(eomc::scene::parse_scene_string(toml, "seed.toml"));
-}
+eomc::model::Model model_of(const std::string& toml) { return test_support::model_of(toml, "seed.toml"); }
 
 ex symbol_named(const eomc::model::Model& model, const std::string& name) {
     for (const auto& p : model.parameters)
