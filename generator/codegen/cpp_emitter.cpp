@@ -535,7 +535,7 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
             fmt::arg("d2", D + 2), fmt::arg("e0", E), fmt::arg("e1", E + 1), fmt::arg("e2", E + 2),
             fmt::arg("e3", E + 3), fmt::arg("e4", E + 4), fmt::arg("e5", E + 5), fmt::arg("e6", E + 6),
             fmt::arg("count", r.count));
-        includes += "#include <eomc/runtime/orbital_elements.hpp>\n";
+        includes += "#include <eomc/runtime/orbit/orbital_elements.hpp>\n";
         private_part += fmt::format(
             "{}"
             "    // The reference orbit at t: ρ, ρ̇ from the reference elements in the state, then μ.\n"

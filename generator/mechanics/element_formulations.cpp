@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-#include "eomc/runtime/orbital_elements.hpp"
+#include "eomc/runtime/orbit/orbital_elements.hpp"
 #include "mechanics/conic.hpp"
 #include "mechanics/differentiation.hpp"
 #include "model/kepler_function.hpp"

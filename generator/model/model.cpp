@@ -7,7 +7,7 @@
 
 #include <fmt/format.h>
 
-#include "eomc/runtime/orbital_elements.hpp"
+#include "eomc/runtime/orbit/orbital_elements.hpp"
 #include "model/expression_parser.hpp"
 #include "support/diagnostic.hpp"
 

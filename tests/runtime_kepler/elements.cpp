@@ -1,4 +1,4 @@
-// Orbital elements <-> Cartesian state (runtime/include/eomc/runtime/orbital_elements.hpp):
+// Orbital elements <-> Cartesian state (runtime/include/eomc/runtime/orbit/orbital_elements.hpp):
 // round trips within a few ulps times the condition number, the singular cases and their
 // conventional zeros, the modified equinoctial elements (regular at e = 0 and i = 0), the
 // Delaunay variables, and bad input.
@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "eomc/runtime/orbital_elements.hpp"
+#include "eomc/runtime/orbit/orbital_elements.hpp"
 #include "kepler_support.hpp"
 
 namespace rt = eomc::runtime;

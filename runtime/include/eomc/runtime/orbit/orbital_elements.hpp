@@ -35,7 +35,7 @@
 #include <initializer_list>
 #include <limits>
 
-#include "eomc/runtime/kepler.hpp"
+#include "eomc/runtime/orbit/kepler.hpp"
 
 namespace eomc::runtime {
 
