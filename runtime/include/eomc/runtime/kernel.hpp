@@ -15,6 +15,7 @@
 #include <concepts>
 #include <cstddef>
 #include <type_traits>
+#include <utility>
 
 namespace eomc::runtime {
 
@@ -23,6 +24,12 @@ namespace kernel_detail {
 // An array of exactly n elements of T (the kernel's name and value tables).
 template <class A, class T, std::size_t n>
 concept array_of = std::same_as<std::remove_cvref_t<A>, std::array<T, n>>;
+
+// P{v[0], …, v[n−1]} from doubles compiles: no member narrows a double (an int or a float would).
+template <class P, std::size_t... I>
+constexpr bool brace_initialisable_from_doubles(std::index_sequence<I...>) {
+  return requires(const std::array<double, sizeof...(I)>& v) { P{v[I]...}; };
+}
 
 }  // namespace kernel_detail
 
@@ -81,12 +88,15 @@ concept GeneratedKernel = KernelWithOutputs<K, S> && KernelWithJacobian<K, S> &&
 
 // Parameters travel by position (a C interface, a command line): then the struct must be an
 // aggregate of exactly n_parameters doubles in parameter_names order, so that aggregate
-// initialisation fills it by position and its bytes are an array of doubles.
+// initialisation fills it by position and its bytes are an array of doubles. (Members that take
+// a double without narrowing, n_parameters · 8 bytes in all: doubles.)
 template <class K>
 concept PositionalParameters =
     Kernel<K> && std::is_aggregate_v<typename K::Parameters> &&
     std::is_trivially_copyable_v<typename K::Parameters> && std::is_standard_layout_v<typename K::Parameters> &&
-    (K::n_parameters == 0 || sizeof(typename K::Parameters) == std::size_t(K::n_parameters) * sizeof(double));
+    (K::n_parameters == 0 || sizeof(typename K::Parameters) == std::size_t(K::n_parameters) * sizeof(double)) &&
+    kernel_detail::brace_initialisable_from_doubles<typename K::Parameters>(
+        std::make_index_sequence<std::size_t(K::n_parameters)>{});
 
 // Optional parts.
 
