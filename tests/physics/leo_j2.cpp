@@ -3,7 +3,7 @@
 //   * the initial state is the runtime's conversion of the scene's elements;
 //   * H0 − R and h_z = x ẏ − y ẋ are conserved (R is time-independent and axisymmetric), within
 //     the bound derived from every accepted step's local error (physics_support.hpp);
-//   * the node and the perigee drift at the first-order mean rates of FORMULAS §2,
+//   * the node and the perigee drift at the first-order mean rates of J2 (Vallado ch. 9),
 //     Ω̇ = −(3/2) n J2 (Re/p)² cos i and ω̇ = (3/4) n J2 (Re/p)² (5 cos² i − 1);
 //   * with J3 as well (leo_j2_j3, generated at build time), the eccentricity vector circles the
 //     frozen eccentricity e_f = −(J3/(2 J2)) (Re/p) sin i at ω = 90°.
@@ -141,7 +141,7 @@ BOOST_AUTO_TEST_CASE(node_and_perigee_drift_at_the_mean_j2_rates) {
     BOOST_TEST(std::abs(argp_fit / argp_rate - 1) <= tolerance);
 }
 
-// J3's long-period effect. For small e the mean-element equations (Lagrange's, FORMULAS §2, with
+// J3's long-period effect. For small e the mean-element equations (Lagrange's, Vallado ch. 9, with
 // the averaged R_2 and R_3) in k = e cos ω, h = e sin ω are
 //   dk/dt = −A − ω̇₂ h,  dh/dt = ω̇₂ k,  A = (3/2) n J3 (Re/p)³ sin i (1 − (5/4) sin² i),
 //   ω̇₂ = 3 n J2 (Re/p)² (1 − (5/4) sin² i),
