@@ -135,7 +135,7 @@ concept VariationalKernel = KernelWithJacobian<K, S> && requires(S t, const S* y
 };
 
 // Kernels of Newtonian scenes: the residuals of Santilli's conditions of variational
-// self-adjointness (R.M. Santilli, Foundations of Theoretical Mechanics I, Springer 1978, §3.5).
+// self-adjointness (R.M. Santilli, Foundations of Theoretical Mechanics I, Springer 1978).
 template <class K, class S = double>
 concept SantilliKernel = Kernel<K, S> && requires(S t, const S* x, S* out, const typename K::Parameters& p) {
   { K::n_santilli_residuals } -> std::convertible_to<int>;

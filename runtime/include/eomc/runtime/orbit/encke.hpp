@@ -1,12 +1,12 @@
 #pragma once
 
 // Rectification of Encke's method (R.H. Battin, An Introduction to the Mathematics and Methods
-// of Astrodynamics, rev. ed., AIAA 1999, §9.3). The integrated state holds the deviation δ = r − ρ of the orbit
-// from a reference Kepler ellipse ρ(t), whose epoch and classical elements ride in the state as
-// constants. δ grows with the perturbation, and with it the truncation error of the δ equations;
-// once |δ| > ratio |ρ| the reference becomes the osculating ellipse of the total state r = ρ + δ
-// at t (epoch t) and δ is re-expressed in it, so that r and ṙ go on unchanged up to rounding and
-// δ starts again from (nearly) zero.
+// of Astrodynamics, rev. ed., AIAA 1999, §9.3). The integrated state holds the deviation
+// δ = r − ρ of the orbit from a reference Kepler ellipse ρ(t), whose epoch and classical
+// elements ride in the state as constants. δ grows with the perturbation, and with it the
+// truncation error of the δ equations; once |δ| > ratio |ρ| the reference becomes the
+// osculating ellipse of the total state r = ρ + δ at t (epoch t) and δ is re-expressed in it,
+// so that r and ṙ go on unchanged up to rounding and δ starts again from (nearly) zero.
 //
 // A total state that is no ellipse (specific energy ≥ 0) keeps the old reference: the δ
 // equations hold for any δ; only an ellipse can be written through Kepler's equation.
