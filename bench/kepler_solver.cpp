@@ -1,5 +1,5 @@
 // Kepler's equation E - e sin E = M in double: accuracy over a dense (e, M) grid and time per solve,
-// for eomc's solver (runtime/include/eomc/runtime/kepler.hpp) and two peers, side by side:
+// for eomc's solver (runtime/include/eomc/runtime/orbit/kepler.hpp) and two peers, side by side:
 //   newton   plain Newton from E = M + e sin M (E = pi for e > 0.8), to |step| <= 4 eps |E|,
 //            on f = E - e sin E - M evaluated as written;
 //   markley  Markley (1995): the cubic starter and one fifth-order correction, f as written.
@@ -39,7 +39,7 @@
 #include <string>
 #include <vector>
 
-#include "eomc/runtime/kepler.hpp"
+#include "eomc/runtime/orbit/kepler.hpp"
 
 namespace {
 

@@ -53,6 +53,7 @@
 #include <boost/numeric/odeint/stepper/symplectic_rkn_sb3a_mclachlan.hpp>
 
 #include <eomc/runtime/float128.hpp>
+#include <eomc/runtime/kernel.hpp>
 #include <eomc/runtime/runtime.hpp>
 
 namespace {
@@ -66,21 +67,15 @@ using State = rt::State<double>;
 using Q = rt::float128;
 constexpr std::size_t n_state = K::n_state, n_q = K::n_coordinates;
 
-// A kernel of a separable system also gives q'' = a(t, q) alone: the splitting methods need it.
-template <class M>
-concept SeparableKernel = requires(double t, const double* q, double* a, const typename M::Parameters& p) {
-  M::template acceleration<double>(t, q, a, p);
-};
-constexpr bool separable = SeparableKernel<K>;
-
+// The kernel's contract (runtime/kernel.hpp): the base for double and for float128 (the
+// reference runs), and which optional parts it has.
+static_assert(rt::Kernel<K> && rt::Kernel<K, Q>, "bench driver: the kernel lacks a part every eomc kernel has");
+// A separable system also gives q'' = a(t, q) alone: the splitting methods need it.
+constexpr bool separable = rt::SeparableKernel<K>;
 // Kernels that edit their state after a step have project(t, x, p) (a unit quaternion put back
 // on |e| = 1, Encke's rectification); the runtime's drivers call it through the system
 // (runtime::Projecting) after every accepted step.
-template <class M>
-concept ProjectingKernel = requires(double t, double* x, const typename M::Parameters& p) {
-  M::template project<double>(t, x, p);
-};
-constexpr bool projects = ProjectingKernel<K>;
+constexpr bool projects = rt::ProjectingKernel<K>;
 
 // --- an orbit's Cartesian position ----------------------------------------------------------------
 
@@ -97,11 +92,8 @@ constexpr int index_of(const std::array<const char*, N>& names, const char* name
 }
 
 template <class M>
-concept HasOutputs = requires { M::output_names; };
-
-template <class M>
 constexpr std::array<int, 3> output_position_index() {
-  if constexpr (HasOutputs<M>)
+  if constexpr (rt::KernelWithOutputs<M, Q>)
     return {index_of(M::output_names, "x"), index_of(M::output_names, "y"), index_of(M::output_names, "z")};
   else
     return {-1, -1, -1};
@@ -267,7 +259,7 @@ struct CountedRhsT {
     M::rhs(t, x.data(), dxdt.data(), parameters);
   }
   void project(double t, State& x) const
-    requires ProjectingKernel<M>
+    requires rt::ProjectingKernel<M>
   {
     M::project(t, x.data(), parameters);
   }
@@ -340,7 +332,7 @@ template <class Stepper, class M = K>
 Outcome ours_splitting(double t_end, double steps, bool observe) {
   Outcome o;
   o.x = initial_state();
-  if constexpr (SeparableKernel<M>) {
+  if constexpr (rt::SeparableKernel<M>) {
     Stepper stepper;
     std::size_t* count = &o.evals;
     auto acc = [count](double t, const State& q, State& a) {
@@ -435,7 +427,7 @@ Outcome odeint_adaptive(Make make, int error_order, double t_end, double tol, bo
 template <class M = K>
 Outcome odeint_sb3a(double t_end, double steps, bool observe) {
   Outcome o;
-  if constexpr (SeparableKernel<M>) {
+  if constexpr (rt::SeparableKernel<M>) {
     using Coor = std::vector<double>;
     std::pair<Coor, Coor> x{Coor(K::initial_state.begin(), K::initial_state.begin() + n_q),
                             Coor(K::initial_state.begin() + n_q, K::initial_state.end())};
@@ -521,21 +513,26 @@ struct Reference {
   std::string description;
 };
 
-template <class Obs>
-std::array<Q, n_state> float128_run(double t_end, double tol, Obs&& observer) {
-  rt::State<Q> x(K::initial_state.begin(), K::initial_state.end());
-  rt::Dop853<Q> stepper(rt::Dop853<Q>::default_settings(), false);
-  auto sys = [](Q t, const rt::State<Q>& xs, rt::State<Q>& dxdt) { K::rhs(t, xs.data(), dxdt.data(), parameters); };
+// The kernel as a system of the runtime (its drivers take the system by reference: copy it into a variable).
+constexpr auto float128_rhs = [](Q t, const rt::State<Q>& x, rt::State<Q>& dxdt) {
+  K::rhs(t, x.data(), dxdt.data(), parameters);
+};
+
+rt::Limits float128_limits() {
   rt::Limits limits;
   limits.max_steps = 100'000'000;
-  rt::integrate_adaptive(stepper, sys, x, Q(0), Q(t_end), Q(0), rt::Tolerances{tol, tol}, observer, limits);
-  std::array<Q, n_state> out{};
-  std::copy(x.begin(), x.end(), out.begin());
-  return out;
+  return limits;
 }
 
 std::array<Q, n_state> float128_run(double t_end, double tol) {
-  return float128_run(t_end, tol, [](Q, const rt::State<Q>&) {});
+  rt::State<Q> x(K::initial_state.begin(), K::initial_state.end());
+  rt::Dop853<Q> stepper(rt::Dop853<Q>::default_settings(), false);
+  auto sys = float128_rhs;
+  rt::integrate_adaptive(stepper, sys, x, Q(0), Q(t_end), Q(0), rt::Tolerances{tol, tol},
+                         [](Q, const rt::State<Q>&) {}, float128_limits());
+  std::array<Q, n_state> out{};
+  std::copy(x.begin(), x.end(), out.begin());
+  return out;
 }
 
 Reference make_reference(const Options& o) {
@@ -569,50 +566,39 @@ double error_of(const State& x, const Reference& ref) {
 
 // --- the orbit reference ------------------------------------------------------------------------------
 
-template <class M>
-concept HasEvents = requires { M::n_events; };
-
-template <class M>
-constexpr std::size_t event_count() {
-  if constexpr (HasEvents<M>)
-    return M::n_events;
-  else
-    return 0;
-}
-
-// Stops the reference run at a sign change of a terminal event (an orbit's re_entry, in its
-// direction) between accepted steps: an orbit that does not last to t_end has no position there
-// to compare, and runs through the Earth judge nothing.
+// float128_run, but stopped by a terminal event (an orbit's re_entry, in its direction), which the
+// runtime locates on DOP853's dense output (runtime/events.hpp): an orbit that does not last to
+// t_end has no position there to compare, and runs through the Earth judge nothing.
 template <class M = K>
-class TerminalWatch {
- public:
-  void operator()(Q t, const rt::State<Q>& x) {
-    if constexpr (HasEvents<M>) {
-      std::array<Q, M::n_events> g{};
-      M::events(t, x.data(), g.data(), parameters);
-      for (std::size_t i = 0; started_ && i < g.size(); ++i) {
-        const int direction = M::event_directions[i];
-        const bool down = last_[i] > Q(0) && g[i] <= Q(0), up = last_[i] < Q(0) && g[i] >= Q(0);
-        if (M::event_terminal[i] && ((down && direction <= 0) || (up && direction >= 0))) {
-          char buf[256];
-          std::snprintf(buf, sizeof buf, "the terminal event '%s' occurs between t = %.9g and %.9g, before t_end",
-                        M::event_names[i], static_cast<double>(t_), static_cast<double>(t));
-          throw std::runtime_error(buf);
-        }
-      }
-      last_ = g;
-      t_ = t;
-      started_ = true;
-    } else {
-      (void)t, (void)x;
+std::array<Q, n_state> float128_run_unless_terminal(double t_end, double tol) {
+  if constexpr (rt::EventKernel<M, Q>) {
+    rt::State<Q> x(M::initial_state.begin(), M::initial_state.end());
+    rt::Dop853<Q> stepper(rt::Dop853<Q>::default_settings(), true);  // the locator needs dense output
+    std::vector<rt::EventSpec> specs;
+    for (std::size_t i = 0; i < M::event_names.size(); ++i)
+      specs.push_back({static_cast<rt::EventDirection>(M::event_directions[i]), M::event_terminal[i]});
+    rt::EventLocator<Q> locator(std::move(specs));
+    auto g = [](Q t, const rt::State<Q>& xs, rt::State<Q>& out) { M::events(t, xs.data(), out.data(), parameters); };
+    auto sys = float128_rhs;
+    Q t_step = Q(0);  // the start of the step in progress: the last accepted step's end
+    const rt::EventOutcome<Q> end =
+        rt::integrate_adaptive_events(stepper, sys, x, Q(0), Q(t_end), Q(0), rt::Tolerances{tol, tol}, locator,
+                                      g, [&](Q t, const rt::State<Q>&) { t_step = t; },
+                                      [](const rt::EventHit<Q>&) {}, float128_limits());
+    if (end.stopped) {
+      char buf[256];
+      std::snprintf(buf, sizeof buf, "the terminal event '%s' occurs between t = %.9g and %.9g (at t = %.9g), before t_end",
+                    M::event_names[end.event], static_cast<double>(t_step), static_cast<double>(stepper.current_time()),
+                    static_cast<double>(end.t));
+      throw std::runtime_error(buf);
     }
+    std::array<Q, n_state> out{};
+    std::copy(x.begin(), x.end(), out.begin());
+    return out;
+  } else {
+    return float128_run(t_end, tol);
   }
-
- private:
-  std::array<Q, event_count<M>()> last_{};
-  Q t_ = Q(0);
-  bool started_ = false;
-};
+}
 
 Q distance(const std::array<Q, 3>& a, const std::array<Q, 3>& b) {
   using std::sqrt;
@@ -630,8 +616,7 @@ int print_orbit_reference(const Options& o) {
     (void)o;
     usage("--reference-only needs a kernel whose state holds the position x, y, z (Cowell's)");
   } else {
-    TerminalWatch<> watch;
-    const auto tight = float128_run(o.t_end, o.reference_tolerance, watch);
+    const auto tight = float128_run_unless_terminal(o.t_end, o.reference_tolerance);
     const auto loose = float128_run(o.t_end, o.reference_tolerance * 1e3);
     std::array<Q, 3> r{}, r_loose{};
     for (int k = 0; k < 3; ++k) r[k] = tight[state_xyz[k]], r_loose[k] = loose[state_xyz[k]];

@@ -359,238 +359,214 @@ std::string comment(const std::string& text, std::size_t width = 92) {
     return out;
 }
 
-std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
-    const LocalNames names(ir);
-    const std::size_t N = ir.state.size(), nu = ir.n_velocities;
+namespace {
 
-    std::vector<std::string> state_names, parameter_names;
-    for (const auto& s : ir.state) state_names.push_back(s.name);
-    for (const auto& s : ir.parameters) parameter_names.push_back(s.name);
+// Each step below writes one part of templates/kernel.hpp.in; emit_header fills the template.
 
+// A function body for a block whose output array may be left unused.
+std::string block_body(const KernelIR& ir, const LocalNames& names, const Block& block, const std::string& array,
+                       Inputs inputs = {}) {
+    return (block.outputs.empty() ? "(void)" + array + ";\n" : std::string()) +
+           function_body(ir, names, block, indexed(array, block.outputs.size()), inputs);
+}
+
+// One row of the banner's operation table.
+std::string table_row(const char* name, const Block& b) {
+    return fmt::format("//   {:<26} {:>8} -> {:>7} ({} temporaries)\n", name, b.ops_before, b.ops_after, b.temporaries.size());
+}
+
+// The members of the Parameters aggregate, with the scene's defaults.
+std::string parameter_members(const KernelIR& ir, const LocalNames& names) {
     std::string members;
     for (std::size_t i = 0; i < ir.parameters.size(); ++i)
         members += fmt::format("        double {} = {};\n", names[ir.parameters[i].symbol],
                                double_literal(ir.parameter_defaults[i], "the default of parameter " + ir.parameters[i].name));
     if (!members.empty()) members.pop_back();
+    return members;
+}
 
+// rhs() and jacobian(): in closed form, or through M u̇ = f solved at run time, with the private
+// helpers that path needs.
+struct Rates {
     std::string rhs, jacobian, private_part, includes, table;
-    if (uses_kepler_solver(ir)) includes += fmt::format("#include <{}>\n", model::kepler_E_header);
-    auto row = [&](const char* name, const Block& b) {
-        table += fmt::format("//   {:<26} {:>8} -> {:>7} ({} temporaries)\n", name, b.ops_before, b.ops_after,
-                             b.temporaries.size());
-    };
-    // A function body for a block whose output array may be left unused.
-    auto body = [&](const Block& block, const std::string& array, Inputs inputs = {}) {
-        return (block.outputs.empty() ? "(void)" + array + ";\n" : std::string()) +
-               function_body(ir, names, block, indexed(array, block.outputs.size()), inputs);
-    };
-    row("mass_matrix", ir.mass_matrix);
-    row("forcing", ir.forcing);
+};
+
+Rates emit_rates(const KernelIR& ir, const LocalNames& names) {
+    const std::size_t N = ir.state.size(), nu = ir.n_velocities;
+    Rates r;
     if (ir.explicit_solution) {
-        rhs = function_body(ir, names, ir.rhs_explicit, indexed("dxdt", N));
-        jacobian = function_body(ir, names, ir.jacobian_explicit, indexed("out", N * N));
-        row("rhs (u̇ in closed form)", ir.rhs_explicit);
-        row("jacobian", ir.jacobian_explicit);
-    } else {
-        includes += "#include <Eigen/Core>\n#include <Eigen/Cholesky>\n";  // LDLT only: Dense would double the compile time
-        // Fixed sizes keep small kernels off the heap; past 4096 entries in G a scalar of 16
-        // bytes (float128) would near Eigen's 128 KiB limit on fixed-size objects, which is a
-        // static assertion, so large systems use dynamic sizes.
-        const bool fixed = nu * N <= 4096;
-        const std::string square = fixed ? "Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;\n"
-                                         : "Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> M(n_velocities, n_velocities);\n";
-        const std::string column = fixed ? "Eigen::Matrix<S, n_velocities, 1> f;\n"
-                                         : "Eigen::Matrix<S, Eigen::Dynamic, 1> f(n_velocities);\n";
-        const std::string vector_type = fixed ? "Eigen::Matrix<S, n_velocities, 1>" : "Eigen::Matrix<S, Eigen::Dynamic, 1>";
-        const std::string wide_type = fixed ? "Eigen::Matrix<S, n_velocities, n_state, Eigen::RowMajor>"
-                                            : "Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>";
-        const std::string wide_size = fixed ? "" : "(n_velocities, n_state)";
-        rhs = square + column +
-              "mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);\n"
-              "explicit_rates_(t, x, dxdt, p);\n"
-              "Eigen::Map<" + vector_type + ">(dxdt + velocity_offset" + (fixed ? "" : ", n_velocities") + ") = M.ldlt().solve(f);";
-        jacobian = square + column +
-                   "mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);\n"
-                   "const " + vector_type + " acc = M.ldlt().solve(f);\n" +
-                   wide_type + " G" + wide_size + ";\n"
-                   "mass_matrix_and_jacobian_terms_(t, x, acc.data(), M.data(), G.data(), p);\n"
-                   "explicit_rates_jacobian_(t, x, out, p);\n"
-                   "// d(M⁻¹f)/dx = M⁻¹ (∂f/∂x − (∂M/∂x) u̇)\n"
-                   "const " + wide_type + " lower = M.ldlt().solve(G);\n"
-                   "for (int i = 0; i < n_velocities; ++i)\n"
-                   "    for (int j = 0; j < n_state; ++j) out[(velocity_offset + i) * n_state + j] = lower(i, j);";
-        row("mass_matrix + forcing", ir.mass_and_forcing);
-        row("explicit rates", ir.explicit_rates);
-        row("mass_matrix + jacobian terms", ir.mass_and_jacobian_terms);
-        row("explicit rates jacobian", ir.explicit_rates_jacobian);
-        std::vector<std::string> mf = indexed("out_M", nu * nu);
-        for (const auto& s : indexed("out_f", nu)) mf.push_back(s);
-        std::vector<std::string> mg = indexed("out_M", nu * nu);
-        for (const auto& s : indexed("out_G", nu * N)) mg.push_back(s);
-        std::vector<std::string> rates, rate_rows;
-        for (std::size_t i : ir.explicit_index) {
-            rates.push_back(fmt::format("dxdt[{}]", i));
-            for (std::size_t j = 0; j < N; ++j) rate_rows.push_back(fmt::format("out[{}]", i * N + j));
-        }
-        private_part = fmt::format(
-            "\n private:\n"
-            "    // M and f together: they share most of their subexpressions.\n"
-            "    template <class S>\n"
-            "    static void mass_matrix_and_forcing_(S t, const S* x, S* out_M, S* out_f, const Parameters& p) {{\n{}\n    }}\n\n"
-            "    // The rates given in closed form (everything outside the velocity block).\n"
-            "    template <class S>\n"
-            "    static void explicit_rates_(S t, const S* x, S* dxdt, const Parameters& p) {{\n{}\n    }}\n\n"
-            "    // M and G = ∂f/∂x − (∂M/∂x) u̇, with u̇ = acc, both row-major.\n"
-            "    template <class S>\n"
-            "    static void mass_matrix_and_jacobian_terms_(S t, const S* x, const S* acc, S* out_M, S* out_G, const Parameters& p) {{\n{}\n    }}\n\n"
-            "    // The rows of ∂ẋ/∂x of the closed-form rates.\n"
-            "    template <class S>\n"
-            "    static void explicit_rates_jacobian_(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n",
-            indent(function_body(ir, names, ir.mass_and_forcing, mf), 8),
-            indent(function_body(ir, names, ir.explicit_rates, rates), 8),
-            indent(function_body(ir, names, ir.mass_and_jacobian_terms, mg, {true}), 8),
-            indent(function_body(ir, names, ir.explicit_rates_jacobian, rate_rows), 8));
+        r.rhs = function_body(ir, names, ir.rhs_explicit, indexed("dxdt", N));
+        r.jacobian = function_body(ir, names, ir.jacobian_explicit, indexed("out", N * N));
+        r.table = table_row("rhs (u̇ in closed form)", ir.rhs_explicit) + table_row("jacobian", ir.jacobian_explicit);
+        return r;
     }
-    row("invariants", ir.invariants);
-    if (!ir.output_names.empty()) row("outputs", ir.outputs);
-    if (!ir.event_names.empty()) row("events", ir.events);
-    table.pop_back();
+    r.includes = "#include <Eigen/Core>\n#include <Eigen/Cholesky>\n";  // LDLT only: Dense would double the compile time
+    // Fixed sizes keep small kernels off the heap; past 4096 entries in G a scalar of 16
+    // bytes (float128) would near Eigen's 128 KiB limit on fixed-size objects, which is a
+    // static assertion, so large systems use dynamic sizes.
+    const bool fixed = nu * N <= 4096;
+    const std::string square = fixed ? "Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;\n"
+                                     : "Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> M(n_velocities, n_velocities);\n";
+    const std::string column = fixed ? "Eigen::Matrix<S, n_velocities, 1> f;\n"
+                                     : "Eigen::Matrix<S, Eigen::Dynamic, 1> f(n_velocities);\n";
+    const std::string vector_type = fixed ? "Eigen::Matrix<S, n_velocities, 1>" : "Eigen::Matrix<S, Eigen::Dynamic, 1>";
+    const std::string wide_type = fixed ? "Eigen::Matrix<S, n_velocities, n_state, Eigen::RowMajor>"
+                                        : "Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>";
+    const std::string wide_size = fixed ? "" : "(n_velocities, n_state)";
+    r.rhs = square + column +
+            "mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);\n"
+            "explicit_rates_(t, x, dxdt, p);\n"
+            "Eigen::Map<" + vector_type + ">(dxdt + velocity_offset" + (fixed ? "" : ", n_velocities") + ") = M.ldlt().solve(f);";
+    r.jacobian = square + column +
+                 "mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);\n"
+                 "const " + vector_type + " acc = M.ldlt().solve(f);\n" +
+                 wide_type + " G" + wide_size + ";\n"
+                 "mass_matrix_and_jacobian_terms_(t, x, acc.data(), M.data(), G.data(), p);\n"
+                 "explicit_rates_jacobian_(t, x, out, p);\n"
+                 "// d(M⁻¹f)/dx = M⁻¹ (∂f/∂x − (∂M/∂x) u̇)\n"
+                 "const " + wide_type + " lower = M.ldlt().solve(G);\n"
+                 "for (int i = 0; i < n_velocities; ++i)\n"
+                 "    for (int j = 0; j < n_state; ++j) out[(velocity_offset + i) * n_state + j] = lower(i, j);";
+    r.table = table_row("mass_matrix + forcing", ir.mass_and_forcing) + table_row("explicit rates", ir.explicit_rates) +
+              table_row("mass_matrix + jacobian terms", ir.mass_and_jacobian_terms) +
+              table_row("explicit rates jacobian", ir.explicit_rates_jacobian);
+    std::vector<std::string> mf = indexed("out_M", nu * nu);
+    for (const auto& s : indexed("out_f", nu)) mf.push_back(s);
+    std::vector<std::string> mg = indexed("out_M", nu * nu);
+    for (const auto& s : indexed("out_G", nu * N)) mg.push_back(s);
+    std::vector<std::string> rates, rate_rows;
+    for (std::size_t i : ir.explicit_index) {
+        rates.push_back(fmt::format("dxdt[{}]", i));
+        for (std::size_t j = 0; j < N; ++j) rate_rows.push_back(fmt::format("out[{}]", i * N + j));
+    }
+    r.private_part = fmt::format(
+        "\n private:\n"
+        "    // M and f together: they share most of their subexpressions.\n"
+        "    template <class S>\n"
+        "    static void mass_matrix_and_forcing_(S t, const S* x, S* out_M, S* out_f, const Parameters& p) {{\n{}\n    }}\n\n"
+        "    // The rates given in closed form (everything outside the velocity block).\n"
+        "    template <class S>\n"
+        "    static void explicit_rates_(S t, const S* x, S* dxdt, const Parameters& p) {{\n{}\n    }}\n\n"
+        "    // M and G = ∂f/∂x − (∂M/∂x) u̇, with u̇ = acc, both row-major.\n"
+        "    template <class S>\n"
+        "    static void mass_matrix_and_jacobian_terms_(S t, const S* x, const S* acc, S* out_M, S* out_G, const Parameters& p) {{\n{}\n    }}\n\n"
+        "    // The rows of ∂ẋ/∂x of the closed-form rates.\n"
+        "    template <class S>\n"
+        "    static void explicit_rates_jacobian_(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n",
+        indent(function_body(ir, names, ir.mass_and_forcing, mf), 8),
+        indent(function_body(ir, names, ir.explicit_rates, rates), 8),
+        indent(function_body(ir, names, ir.mass_and_jacobian_terms, mg, {true}), 8),
+        indent(function_body(ir, names, ir.explicit_rates_jacobian, rate_rows), 8));
+    return r;
+}
 
-    // The outputs may read u̇: computed once by rhs and handed over as `acc`.
-    std::string outputs;
-    if (ir.output_names.empty()) {
-        outputs = "(void)t;\n(void)x;\n(void)out;\n(void)p;";
-    } else {
-        outputs = "std::array<S, n_state> rate;\nrhs(t, x, rate.data(), p);\nconst S* acc = rate.data() + velocity_offset;\n" +
-                  function_body(ir, names, ir.outputs, indexed("out", ir.output_names.size()), {true});
-    }
+// The body of outputs(). They may read u̇: computed once by rhs and handed over as `acc`.
+std::string outputs_body(const KernelIR& ir, const LocalNames& names) {
+    if (ir.output_names.empty()) return "(void)t;\n(void)x;\n(void)out;\n(void)p;";
+    return "std::array<S, n_state> rate;\nrhs(t, x, rate.data(), p);\nconst S* acc = rate.data() + velocity_offset;\n" +
+           function_body(ir, names, ir.outputs, indexed("out", ir.output_names.size()), {true});
+}
 
-    std::string acceleration;
-    if (ir.separable) {
-        acceleration =
-            "\n    // q̈ = a(t, q): the velocities do not enter the forces, so they are left at zero.\n"
-            "    template <class S>\n"
-            "    static void acceleration(S t, const S* q, S* a, const Parameters& p) {\n"
-            "        std::array<S, n_state> x{}, rate;\n"
-            "        for (int i = 0; i < n_coordinates; ++i) x[i] = q[i];\n"
-            "        rhs(t, x.data(), rate.data(), p);\n"
-            "        for (int i = 0; i < n_coordinates; ++i) a[i] = rate[velocity_offset + i];\n"
-            "    }\n";
-    }
+// acceleration(t, q) of a separable system, for the splitting methods.
+std::string acceleration_function(const KernelIR& ir) {
+    if (!ir.separable) return "";
+    return "\n    // q̈ = a(t, q): the velocities do not enter the forces, so they are left at zero.\n"
+           "    template <class S>\n"
+           "    static void acceleration(S t, const S* q, S* a, const Parameters& p) {\n"
+           "        std::array<S, n_state> x{}, rate;\n"
+           "        for (int i = 0; i < n_coordinates; ++i) x[i] = q[i];\n"
+           "        rhs(t, x.data(), rate.data(), p);\n"
+           "        for (int i = 0; i < n_coordinates; ++i) a[i] = rate[velocity_offset + i];\n"
+           "    }\n";
+}
 
-    // A unit quaternion's rates keep |e| = 1 only to the integrator's error; the runtime's
-    // drivers call project(t, x) after every accepted step when a kernel has one.
-    std::string projection;
-    if (!ir.unit_quaternions.empty()) {
-        std::string body = "        (void)t;\n        (void)p;\n        using std::sqrt;\n";
-        for (std::size_t k : ir.unit_quaternions) {
-            body += fmt::format("        {{\n            const S norm = sqrt(x[{0}] * x[{0}] + x[{1}] * x[{1}] + x[{2}] * x[{2}] + "
-                                "x[{3}] * x[{3}]);\n",
-                                k, k + 1, k + 2, k + 3);
-            body += fmt::format("            for (int i = {}; i < {}; ++i) x[i] /= norm;\n        }}\n", k, k + 4);
-        }
-        projection =
-            "\n    // Puts the attitude quaternion back on |e| = 1 (the runtime calls it after every accepted\n"
-            "    // step). R(e)/|e|² is orthogonal for any |e|, so this only keeps e well scaled.\n"
-            "    template <class S>\n    static void project(S t, S* x, const Parameters& p) {\n" +
-            body + "    }\n";
+// A unit quaternion's rates keep |e| = 1 only to the integrator's error; the runtime's drivers
+// call project(t, x) after every accepted step when a kernel has one. The body is
+// runtime::renormalise_quaternion (runtime/quaternion.hpp) written out: the bundled
+// free_disk_tube_ball kernel prints it so, and tests/runtime_routines checks that the two agree.
+std::string quaternion_projection(const KernelIR& ir) {
+    if (ir.unit_quaternions.empty()) return "";
+    std::string body = "        (void)t;\n        (void)p;\n        using std::sqrt;\n";
+    for (std::size_t k : ir.unit_quaternions) {
+        body += fmt::format("        {{\n            const S norm = sqrt(x[{0}] * x[{0}] + x[{1}] * x[{1}] + x[{2}] * x[{2}] + "
+                            "x[{3}] * x[{3}]);\n",
+                            k, k + 1, k + 2, k + 3);
+        body += fmt::format("            for (int i = {}; i < {}; ++i) x[i] /= norm;\n        }}\n", k, k + 4);
     }
-    if (ir.rectification) {
-        if (!projection.empty()) throw std::runtime_error("a kernel with both a unit quaternion and a rectification");
-        const RectificationIR& r = *ir.rectification;
-        const std::size_t D = r.deviation, E = r.elements;
-        projection = fmt::format(
-            "\n    // Encke's rectification (Battin §9.3); the runtime calls project(t, x) after every accepted\n"
-            "    // step. Once |δ| > rectification_ratio |ρ|, the reference becomes the osculating ellipse of\n"
-            "    // the total state r = ρ + δ at t (its epoch t) and δ is re-expressed in it, so that r and ṙ\n"
-            "    // go on unchanged up to rounding. A total state that is no ellipse keeps the old reference\n"
-            "    // (the equations hold for any δ; only an ellipse can be written through E(M, e)).\n"
-            "    static constexpr double rectification_ratio = {ratio};\n\n"
-            "    template <class S>\n"
-            "    static void project(S t, S* x, const Parameters& p) {{\n"
-            "        using std::sqrt;\n"
-            "        std::array<S, 7> ref;  // ρ, ρ̇, μ\n"
-            "        reference_orbit_(t, x, ref.data(), p);\n"
-            "        const S d2 = x[{d0}] * x[{d0}] + x[{d1}] * x[{d1}] + x[{d2}] * x[{d2}];\n"
-            "        const S rho2 = ref[0] * ref[0] + ref[1] * ref[1] + ref[2] * ref[2];\n"
-            "        if (!(d2 > S(rectification_ratio * rectification_ratio) * rho2)) return;\n"
-            "        eomc::runtime::CartesianState<S> total;\n"
-            "        for (int k = 0; k < 6; ++k) total[k] = ref[k] + x[{dk}];\n"
-            "        const S r = sqrt(total[0] * total[0] + total[1] * total[1] + total[2] * total[2]);\n"
-            "        const S v2 = total[3] * total[3] + total[4] * total[4] + total[5] * total[5];\n"
-            "        if (!(v2 / S(2) - ref[6] / r < S(0))) return;\n"
-            "        const eomc::runtime::ClassicalElements<S> el = eomc::runtime::classical_from_cartesian(total, ref[6]);\n"
-            "        x[{e0}] = t;\n"
-            "        x[{e1}] = el.a;\n"
-            "        x[{e2}] = el.e;\n"
-            "        x[{e3}] = el.i;\n"
-            "        x[{e4}] = el.raan;\n"
-            "        x[{e5}] = el.argp;\n"
-            "        x[{e6}] = el.mean_anomaly;\n"
-            "        reference_orbit_(t, x, ref.data(), p);\n"
-            "        for (int k = 0; k < 6; ++k) x[{dk}] = total[k] - ref[k];\n"
-            "        x[{count}] += S(1);\n"
-            "    }}\n",
-            fmt::arg("ratio", fmt::format("{}", r.ratio)), fmt::arg("dk", D ? fmt::format("{} + k", D) : "k"), fmt::arg("d0", D), fmt::arg("d1", D + 1),
-            fmt::arg("d2", D + 2), fmt::arg("e0", E), fmt::arg("e1", E + 1), fmt::arg("e2", E + 2),
-            fmt::arg("e3", E + 3), fmt::arg("e4", E + 4), fmt::arg("e5", E + 5), fmt::arg("e6", E + 6),
-            fmt::arg("count", r.count));
-        includes += "#include <eomc/runtime/orbital_elements.hpp>\n";
-        private_part += fmt::format(
-            "{}"
-            "    // The reference orbit at t: ρ, ρ̇ from the reference elements in the state, then μ.\n"
-            "    template <class S>\n"
-            "    static void reference_orbit_(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n",
-            private_part.empty() ? "\n private:\n" : "\n", indent(body(r.reference, "out"), 8));
-    }
+    return "\n    // Puts the attitude quaternion back on |e| = 1 (the runtime calls it after every accepted\n"
+           "    // step). R(e)/|e|² is orthogonal for any |e|, so this only keeps e well scaled.\n"
+           "    template <class S>\n    static void project(S t, S* x, const Parameters& p) {\n" +
+           body + "    }\n";
+}
 
-    // The variational equations ride on the kernel's own rhs and symbolic Jacobian, so they
-    // need no derivation of their own; only on request, so that other kernels keep their bytes.
-    std::string variational;
-    if (options.variational) {
-        if (N * N > 4096) includes += "#include <vector>\n";
-        variational =
-            "\n    // Variational equations (seed §2.9): y = (x, Φ), Φ row-major n_state × n_state, with\n"
-            "    // Φ̇ = (∂ẋ/∂x) Φ through jacobian(). From Φ(t0) = I, δx(t) = Φ(t) δx(t0) to first order.\n"
-            "    static constexpr int n_variational = n_state + n_state * n_state;\n\n"
-            "    template <class S>\n"
-            "    static void variational_rhs(S t, const S* y, S* dydt, const Parameters& p) {\n"
-            "        rhs(t, y, dydt, p);\n" +
-            std::string(N * N <= 4096 ? "        std::array<S, n_state * n_state> J;\n"
-                                      : "        std::vector<S> J(std::size_t(n_state) * n_state);  // too large for the stack\n") +
-            "        jacobian(t, y, J.data(), p);\n"
-            "        const S* Phi = y + n_state;\n"
-            "        for (int i = 0; i < n_state; ++i)\n"
-            "            for (int j = 0; j < n_state; ++j) {\n"
-            "                S sum = S(0);\n"
-            "                for (int k = 0; k < n_state; ++k) sum += J[i * n_state + k] * Phi[k * n_state + j];\n"
-            "                dydt[n_state + i * n_state + j] = sum;\n"
-            "            }\n"
-            "    }\n";
-    }
+// Encke's rectification: project() calls the runtime's (runtime/orbit/encke.hpp) with the
+// reference orbit the state describes, which the kernel writes as a private function.
+struct Rectification {
+    std::string project, private_part;
+};
 
-    // Only kernels of scenes with [events] carry them, so that no other kernel changes.
-    std::string events;
-    if (!ir.event_names.empty()) {
-        std::string directions, terminal;
-        for (std::size_t k = 0; k < ir.event_names.size(); ++k) {
-            directions += fmt::format("{}{}", k ? ", " : "", ir.event_directions[k]);
-            terminal += fmt::format("{}{}", k ? ", " : "", ir.event_terminal[k] ? "true" : "false");
-        }
-        events = fmt::format(
-            "\n    // Events (scene [events]): g_i(t, x), whose zero crossings the runtime locates.\n"
-            "    static constexpr int n_events = {};\n"
-            "    static constexpr std::array<const char*, n_events> event_names{{ {} }};\n"
-            "    // +1: upward crossings (g from negative to positive) only, -1: downward only, 0: both.\n"
-            "    static constexpr std::array<int, n_events> event_directions{{ {} }};\n"
-            "    // A terminal event stops the integration at its time.\n"
-            "    static constexpr std::array<bool, n_events> event_terminal{{ {} }};\n\n"
-            "    template <class S>\n"
-            "    static void events(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n",
-            ir.event_names.size(), quoted_list(ir.event_names, "an event name"), directions, terminal,
-            indent(body(ir.events, "out"), 8));
-    }
+Rectification rectification(const KernelIR& ir, const LocalNames& names) {
+    const RectificationIR& r = *ir.rectification;
+    Rectification out;
+    out.project = fmt::format(
+        "\n    // Encke's rectification (Battin §9.3; runtime/orbit/encke.hpp), which the runtime calls after\n"
+        "    // every accepted step: once |δ| > rectification_ratio |ρ| the reference becomes the osculating\n"
+        "    // ellipse of the total state at t, and δ is re-expressed in it.\n"
+        "    static constexpr double rectification_ratio = {ratio};\n\n"
+        "    template <class S>\n"
+        "    static void project(S t, S* x, const Parameters& p) {{\n"
+        "        const auto reference = [&p](S tau, const S* y, S* out) {{ reference_orbit_(tau, y, out, p); }};\n"
+        "        eomc::runtime::encke_rectify(t, x, eomc::runtime::EnckeLayout{{{deviation}, {elements}, {count}}},\n"
+        "                                     rectification_ratio, reference);\n"
+        "    }}\n",
+        fmt::arg("ratio", fmt::format("{}", r.ratio)), fmt::arg("deviation", r.deviation),
+        fmt::arg("elements", r.elements), fmt::arg("count", r.count));
+    out.private_part = fmt::format(
+        "    // The reference orbit at t: ρ, ρ̇ from the reference elements in the state, then μ.\n"
+        "    template <class S>\n"
+        "    static void reference_orbit_(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n",
+        indent(block_body(ir, names, r.reference, "out"), 8));
+    return out;
+}
 
+// The variational equations ride on the kernel's own rhs and symbolic Jacobian
+// (runtime/variational.hpp); only on request, so that other kernels keep their bytes.
+std::string variational_function(const KernelIR& ir) {
+    return fmt::format(
+        "\n    // Variational equations (runtime/variational.hpp): y = (x, Φ), Φ row-major n_state × n_state,\n"
+        "    // with Φ̇ = (∂ẋ/∂x) Φ through jacobian(). From Φ(t0) = I, δx(t) = Φ(t) δx(t0) to first order.\n"
+        "    static constexpr int n_variational = n_state + n_state * n_state;\n\n"
+        "    template <class S>\n"
+        "    static void variational_rhs(S t, const S* y, S* dydt, const Parameters& p) {{\n"
+        "        eomc::runtime::variational_rhs<{}>(t, y, dydt, p);\n"
+        "    }}\n",
+        checked_identifier(ir.struct_name, "the kernel's name"));
+}
+
+// Only kernels of scenes with [events] carry them, so that no other kernel changes.
+std::string events_part(const KernelIR& ir, const LocalNames& names) {
+    if (ir.event_names.empty()) return "";
+    std::string directions, terminal;
+    for (std::size_t k = 0; k < ir.event_names.size(); ++k) {
+        directions += fmt::format("{}{}", k ? ", " : "", ir.event_directions[k]);
+        terminal += fmt::format("{}{}", k ? ", " : "", ir.event_terminal[k] ? "true" : "false");
+    }
+    return fmt::format(
+        "\n    // Events (scene [events]): g_i(t, x), whose zero crossings the runtime locates.\n"
+        "    static constexpr int n_events = {};\n"
+        "    static constexpr std::array<const char*, n_events> event_names{{ {} }};\n"
+        "    // +1: upward crossings (g from negative to positive) only, -1: downward only, 0: both.\n"
+        "    static constexpr std::array<int, n_events> event_directions{{ {} }};\n"
+        "    // A terminal event stops the integration at its time.\n"
+        "    static constexpr std::array<bool, n_events> event_terminal{{ {} }};\n\n"
+        "    template <class S>\n"
+        "    static void events(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n",
+        ir.event_names.size(), quoted_list(ir.event_names, "an event name"), directions, terminal,
+        indent(block_body(ir, names, ir.events, "out"), 8));
+}
+
+// One accessor per invariant, by its name.
+std::string invariant_accessors(const KernelIR& ir) {
     std::string accessors;
     for (std::size_t k = 0; k < ir.invariant_names.size(); ++k) {
         accessors += fmt::format(
@@ -599,19 +575,60 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
             "        return all[{}];\n    }}\n",
             checked_identifier(ir.invariant_names[k], "an invariant name"), k);
     }
+    return accessors;
+}
 
-    // Newtonian scenes only, so that no other kernel changes: the self-adjointness residuals.
-    if (!ir.santilli_residual_names.empty()) {
-        accessors += fmt::format(
-            "\n    // Santilli's conditions S1–S5 of variational self-adjointness of the fundamental form\n"
-            "    // A(t,q,q̇) q̈ + B(t,q,q̇) = 0 (D = ∂_t + q̇_k ∂/∂q_k), one residual each; all vanish\n"
-            "    // identically iff the equations as given are Euler–Lagrange equations (`eomc inverse`).\n"
-            "    static constexpr int n_santilli_residuals = {};\n"
-            "    static constexpr std::array<const char*, n_santilli_residuals> santilli_residual_names{{ {} }};\n\n"
-            "    template <class S>\n"
-            "    static void santilli_residuals(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n",
-            ir.santilli_residual_names.size(), literal_list(ir.santilli_residual_names),
-            indent(body(ir.santilli_residuals, "out"), 8));
+// Newtonian scenes only, so that no other kernel changes: the self-adjointness residuals.
+std::string santilli_residuals(const KernelIR& ir, const LocalNames& names) {
+    if (ir.santilli_residual_names.empty()) return "";
+    return fmt::format(
+        "\n    // Santilli's conditions S1–S5 of variational self-adjointness of the fundamental form\n"
+        "    // A(t,q,q̇) q̈ + B(t,q,q̇) = 0 (D = ∂_t + q̇_k ∂/∂q_k), one residual each; all vanish\n"
+        "    // identically iff the equations as given are Euler–Lagrange equations (`eomc inverse`).\n"
+        "    static constexpr int n_santilli_residuals = {};\n"
+        "    static constexpr std::array<const char*, n_santilli_residuals> santilli_residual_names{{ {} }};\n\n"
+        "    template <class S>\n"
+        "    static void santilli_residuals(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n",
+        ir.santilli_residual_names.size(), literal_list(ir.santilli_residual_names),
+        indent(block_body(ir, names, ir.santilli_residuals, "out"), 8));
+}
+
+}  // namespace
+
+std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
+    const LocalNames names(ir);
+    const std::size_t N = ir.state.size(), nu = ir.n_velocities;
+
+    std::vector<std::string> state_names, parameter_names;
+    for (const auto& s : ir.state) state_names.push_back(s.name);
+    for (const auto& s : ir.parameters) parameter_names.push_back(s.name);
+
+    const Rates rates = emit_rates(ir, names);
+    std::string includes = uses_kepler_solver(ir) ? fmt::format("#include <{}>\n", model::kepler_E_header) : "";
+    includes += rates.includes;
+    const std::string table = [&] {
+        std::string t = table_row("mass_matrix", ir.mass_matrix) + table_row("forcing", ir.forcing) + rates.table +
+                        table_row("invariants", ir.invariants);
+        if (!ir.output_names.empty()) t += table_row("outputs", ir.outputs);
+        if (!ir.event_names.empty()) t += table_row("events", ir.events);
+        t.pop_back();
+        return t;
+    }();
+
+    // What the runtime's drivers call after every accepted step: a quaternion renormalised, or
+    // Encke's rectification.
+    std::string projection = quaternion_projection(ir), private_part = rates.private_part;
+    if (ir.rectification) {
+        if (!projection.empty()) throw std::runtime_error("a kernel with both a unit quaternion and a rectification");
+        const Rectification r = rectification(ir, names);
+        projection = r.project;
+        private_part += (private_part.empty() ? "\n private:\n" : "\n") + r.private_part;
+        includes += "#include <eomc/runtime/orbit/encke.hpp>\n";
+    }
+    std::string variational;
+    if (options.variational) {
+        variational = variational_function(ir);
+        includes += "#include <eomc/runtime/variational.hpp>\n";
     }
 
     const std::string solve_note = nu == 0 ? "Every rate is explicit."
@@ -640,18 +657,18 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
         {"invariant_names", quoted_list(ir.invariant_names, "an invariant name")},
         {"output_names", quoted_list(ir.output_names, "an output name")},
         {"initial_state", number_list(ir.initial_state, "an initial value")},
-        {"parameter_members", members},
-        {"mass_matrix_body", indent(body(ir.mass_matrix, "out"), 8)},
-        {"forcing_body", indent(body(ir.forcing, "out"), 8)},
-        {"rhs_body", indent(rhs, 8)},
-        {"jacobian_body", indent(jacobian, 8)},
-        {"invariants_body", indent(body(ir.invariants, "out"), 8)},
+        {"parameter_members", parameter_members(ir, names)},
+        {"mass_matrix_body", indent(block_body(ir, names, ir.mass_matrix, "out"), 8)},
+        {"forcing_body", indent(block_body(ir, names, ir.forcing, "out"), 8)},
+        {"rhs_body", indent(rates.rhs, 8)},
+        {"jacobian_body", indent(rates.jacobian, 8)},
+        {"invariants_body", indent(block_body(ir, names, ir.invariants, "out"), 8)},
         {"outputs_note", ir.output_names.empty() ? "none for this model" : "functions of t, x and u̇"},
-        {"outputs_body", indent(outputs, 8)},
-        {"acceleration", acceleration},
-        {"events", events},
+        {"outputs_body", indent(outputs_body(ir, names), 8)},
+        {"acceleration", acceleration_function(ir)},
+        {"events", events_part(ir, names)},
         {"variational", projection + variational},
-        {"invariant_accessors", accessors},
+        {"invariant_accessors", invariant_accessors(ir) + santilli_residuals(ir, names)},
         {"private_part", private_part},
     };
     return fill_template(kernel_template(), fields);

@@ -39,7 +39,8 @@ private:
 
 struct EmitOptions {
     std::string generator_version;
-    // Also emit variational_rhs: the state extended by the state-transition matrix (seed §2.9).
+    // Also emit variational_rhs: the state extended by the state-transition matrix
+    // (runtime/variational.hpp; Hairer, Nørsett, Wanner I, Sect. I.14).
     bool variational = false;
 };
 

@@ -33,20 +33,20 @@ constexpr const char* adapter_template = R"(// eomc simulate: C interface over o
 #include <array>
 #include <bit>
 #include <cstddef>
-#include <type_traits>
 #include <utility>
 
+#include <eomc/runtime/kernel.hpp>
+
 namespace {
+namespace rt = eomc::runtime;
 using K = eomc::models::@STRUCT@;
 using P = K::Parameters;
 constexpr std::size_t n_par = K::n_parameters;
 
-// Parameters must be exactly n_parameters doubles in parameter_names order: aggregate
-// initialisation then fills them by position, and their bytes are an array of doubles.
-static_assert(std::is_aggregate_v<P> && std::is_trivially_copyable_v<P> && std::is_standard_layout_v<P>,
-              "eomc simulate: Parameters must be a plain aggregate of doubles");
-static_assert(n_par == 0 || sizeof(P) == n_par * sizeof(double),
-              "eomc simulate: Parameters must hold exactly n_parameters doubles");
+static_assert(rt::GeneratedKernel<K>, "eomc simulate: the header does not define a kernel of eomc's shape");
+// Aggregate initialisation then fills the parameters by position, and their bytes are an array of doubles.
+static_assert(rt::PositionalParameters<K>,
+              "eomc simulate: Parameters must be a plain aggregate of exactly n_parameters doubles");
 
 template <std::size_t... I>
 P* create(const double* v, std::index_sequence<I...>) {
@@ -54,72 +54,47 @@ P* create(const double* v, std::index_sequence<I...>) {
     return new P{v[I]...};
 }
 
-// Kernels of separable systems have acceleration(); kernels of scenes with [events] have events().
-// Templates, so that the branch for a kernel without them is discarded.
-template <class M>
-concept HasAcceleration = requires(double t, const double* q, double* a, const typename M::Parameters& p) {
-    M::template acceleration<double>(t, q, a, p);
-};
-template <class M>
-concept HasEvents = requires(double t, const double* x, double* out, const typename M::Parameters& p) {
-    M::n_events;
-    M::event_names;
-    M::event_directions;
-    M::event_terminal;
-    M::template events<double>(t, x, out, p);
-};
-
-// Kernels generated with --variational have variational_rhs() over (x, Φ).
-template <class M>
-concept HasVariational = requires(double t, const double* y, double* dydt, const typename M::Parameters& p) {
-    M::n_variational;
-    M::template variational_rhs<double>(t, y, dydt, p);
-};
+// The optional parts (runtime/kernel.hpp): templates, so that the branch for a kernel without
+// them is discarded.
 template <class M>
 void variational_rhs(double t, const double* y, double* dydt, const void* p) {
-    if constexpr (HasVariational<M>) M::template variational_rhs<double>(t, y, dydt, *static_cast<const typename M::Parameters*>(p));
+    if constexpr (rt::VariationalKernel<M>) M::template variational_rhs<double>(t, y, dydt, *static_cast<const typename M::Parameters*>(p));
     else (void)t, (void)y, (void)dydt, (void)p;
 }
-
-// Kernels whose state holds a unit quaternion, and encke kernels (rectification), have project().
-template <class M>
-concept HasProjection = requires(double t, double* x, const typename M::Parameters& p) {
-    M::template project<double>(t, x, p);
-};
 template <class M>
 void project(double t, double* x, const void* p) {
-    if constexpr (HasProjection<M>) M::template project<double>(t, x, *static_cast<const typename M::Parameters*>(p));
+    if constexpr (rt::ProjectingKernel<M>) M::template project<double>(t, x, *static_cast<const typename M::Parameters*>(p));
     else (void)t, (void)x, (void)p;
 }
 
 template <class M>
 void acceleration(double t, const double* q, double* a, const void* p) {
-    if constexpr (HasAcceleration<M>) M::template acceleration<double>(t, q, a, *static_cast<const typename M::Parameters*>(p));
+    if constexpr (rt::SeparableKernel<M>) M::template acceleration<double>(t, q, a, *static_cast<const typename M::Parameters*>(p));
     else (void)t, (void)q, (void)a, (void)p;
 }
 template <class M>
 constexpr int n_events() {
-    if constexpr (HasEvents<M>) return M::n_events;
+    if constexpr (rt::EventKernel<M>) return M::n_events;
     else return 0;
 }
 template <class M>
 const char* event_name(int i) {
-    if constexpr (HasEvents<M>) return M::event_names[std::size_t(i)];
+    if constexpr (rt::EventKernel<M>) return M::event_names[std::size_t(i)];
     else return (void)i, nullptr;
 }
 template <class M>
 int event_direction(int i) {
-    if constexpr (HasEvents<M>) return M::event_directions[std::size_t(i)];
+    if constexpr (rt::EventKernel<M>) return M::event_directions[std::size_t(i)];
     else return (void)i, 0;
 }
 template <class M>
 int event_terminal(int i) {
-    if constexpr (HasEvents<M>) return M::event_terminal[std::size_t(i)] ? 1 : 0;
+    if constexpr (rt::EventKernel<M>) return M::event_terminal[std::size_t(i)] ? 1 : 0;
     else return (void)i, 0;
 }
 template <class M>
 void events(double t, const double* x, double* out, const void* p) {
-    if constexpr (HasEvents<M>) M::template events<double>(t, x, out, *static_cast<const typename M::Parameters*>(p));
+    if constexpr (rt::EventKernel<M>) M::template events<double>(t, x, out, *static_cast<const typename M::Parameters*>(p));
     else (void)t, (void)x, (void)out, (void)p;
 }
 }  // namespace
@@ -163,9 +138,9 @@ EOMC_EXPORT void eomc_outputs(double t, const double* x, double* out, const void
     K::outputs<double>(t, x, out, *static_cast<const P*>(p));
 }
 
-EOMC_EXPORT int eomc_separable() { return HasAcceleration<K> ? 1 : 0; }
-EOMC_EXPORT int eomc_projects() { return HasProjection<K> ? 1 : 0; }
-EOMC_EXPORT int eomc_variational() { return HasVariational<K> ? 1 : 0; }
+EOMC_EXPORT int eomc_separable() { return rt::SeparableKernel<K> ? 1 : 0; }
+EOMC_EXPORT int eomc_projects() { return rt::ProjectingKernel<K> ? 1 : 0; }
+EOMC_EXPORT int eomc_variational() { return rt::VariationalKernel<K> ? 1 : 0; }
 EOMC_EXPORT void eomc_variational_rhs(double t, const double* y, double* dydt, const void* p) {
     variational_rhs<K>(t, y, dydt, p);
 }

@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-#include "eomc/runtime/kepler.hpp"
+#include "eomc/runtime/orbit/kepler.hpp"
 
 namespace eomc::model {
 

@@ -7,7 +7,7 @@
 //     ∂E/∂M = 1/(1 − e cos E),   ∂E/∂e = sin E/(1 − e cos E),
 // so R(a, e, i, Ω, ω, M) differentiates symbolically like any other expression. Numerically
 // (probes, evalf) and in the emitted kernels it is the runtime's solver,
-// eomc::runtime::eccentric_from_mean (runtime/include/eomc/runtime/kepler.hpp).
+// eomc::runtime::eccentric_from_mean (runtime/include/eomc/runtime/orbit/kepler.hpp).
 #pragma once
 
 #include <ginac/ginac.h>
@@ -19,7 +19,7 @@ DECLARE_FUNCTION_2P(kepler_E)
 inline constexpr const char* kepler_E_name = "kepler_E";
 // The C++ the emitter writes for kepler_E(M, e), and the header it needs.
 inline constexpr const char* kepler_E_cpp = "eomc::runtime::eccentric_from_mean";
-inline constexpr const char* kepler_E_header = "eomc/runtime/kepler.hpp";
+inline constexpr const char* kepler_E_header = "eomc/runtime/orbit/kepler.hpp";
 
 // ∂E/∂M and ∂E/∂e at E = kepler_E(M, e), as expressions in E.
 GiNaC::ex kepler_E_partial_M(const GiNaC::ex& E, const GiNaC::ex& e);

@@ -7,7 +7,7 @@
 
 #include <fmt/format.h>
 
-#include "eomc/runtime/orbital_elements.hpp"
+#include "eomc/runtime/orbit/orbital_elements.hpp"
 #include "model/expression_parser.hpp"
 #include "support/diagnostic.hpp"
 
@@ -346,7 +346,7 @@ void build_orbit(const scene::Scene& scene, SymbolTable& symbols, Model& model) 
         const SourcePos& pos = scene.effects.keep_pos[k];
         auto P = [&](const char* name) { return parameter(e, pos, name); };
         // Zonal harmonics: U = (μ/r)[1 − Σ J_n (R_e/r)^n P_n(z/r)], so R_n = −(μ/r) J_n (R_e/r)^n P_n
-        // (FORMULAS §2 for n = 2; Vallado, eq. 8-19).
+        // (Vallado, eq. 8-19).
         if (e == "J2") {
             orbit.disturbing.push_back({e, -orbit.mu / r * P("J2") * GiNaC::pow(Re / r, 2) * (3 * s * s - 1) / 2});
         } else if (e == "J3") {

@@ -15,7 +15,7 @@
 #include <numbers>
 #include <vector>
 
-#include <eomc/runtime/orbital_elements.hpp>
+#include <eomc/runtime/orbit/orbital_elements.hpp>
 
 #include "leo_j2.hpp"
 #include "leo_j2_j3.hpp"

@@ -1,4 +1,4 @@
-// Orbital elements <-> Cartesian state (runtime/include/eomc/runtime/orbital_elements.hpp):
+// Orbital elements <-> Cartesian state (runtime/include/eomc/runtime/orbit/orbital_elements.hpp):
 // round trips within a few ulps times the condition number, the singular cases and their
 // conventional zeros, the modified equinoctial elements (regular at e = 0 and i = 0), the
 // Delaunay variables, and bad input.
@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "eomc/runtime/orbital_elements.hpp"
+#include "eomc/runtime/orbit/orbital_elements.hpp"
 #include "kepler_support.hpp"
 
 namespace rt = eomc::runtime;
@@ -268,7 +268,8 @@ BOOST_AUTO_TEST_CASE(equinoctial_elements_are_regular_at_e_0_and_i_0) {
       }
 }
 
-// Delaunay variables (FORMULAS.md section 2): L = sqrt(mu a), G = L sqrt(1 - e^2), H = G cos i;
+// Delaunay variables (Brouwer and Clemence, Methods of Celestial Mechanics, 1961):
+// L = sqrt(mu a), G = L sqrt(1 - e^2), H = G cos i;
 // the Kepler Hamiltonian -mu^2/(2 L^2) equals the orbit energy v^2/2 - mu/r of the state. Round
 // trip: a and the angles come back to a few ulps; e = sqrt((L - G)(L + G))/L loses what the
 // rounding of G (eps L) costs when L - G ~ L e^2/2 is small: relative error ~ eps/e^2; i likewise

@@ -1,4 +1,4 @@
-// Kepler's equation (runtime/include/eomc/runtime/kepler.hpp): the elliptic solver against a
+// Kepler's equation (runtime/include/eomc/runtime/orbit/kepler.hpp): the elliptic solver against a
 // long-double residual over a dense (e, M) grid including e = 1 - 1e-12 and M down to 1e-300,
 // printed textbook values, argument reduction, the hyperbolic solver, the anomaly conversions,
 // and the errors for bad input.
@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "eomc/runtime/kepler.hpp"
+#include "eomc/runtime/orbit/kepler.hpp"
 #include "kepler_support.hpp"
 
 namespace rt = eomc::runtime;

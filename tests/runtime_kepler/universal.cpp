@@ -13,8 +13,8 @@
 #include <utility>
 #include <vector>
 
-#include "eomc/runtime/kepler.hpp"
-#include "eomc/runtime/orbital_elements.hpp"
+#include "eomc/runtime/orbit/kepler.hpp"
+#include "eomc/runtime/orbit/orbital_elements.hpp"
 #include "kepler_support.hpp"
 
 namespace rt = eomc::runtime;

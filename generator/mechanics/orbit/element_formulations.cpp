@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-#include "eomc/runtime/orbital_elements.hpp"
+#include "eomc/runtime/orbit/orbital_elements.hpp"
 #include "mechanics/orbit/conic.hpp"
 #include "model/kepler_function.hpp"
 #include "support/diagnostic.hpp"
@@ -46,7 +46,7 @@ Vec rtn(const Vec& a, const Conic& k) {
     return out;
 }
 
-// Gauss's equations (FORMULAS §2; Vallado eq. 9-24) for the force F = (F_r, F_t, F_n) per
+// Gauss's equations (Vallado eq. 9-24) for the force F = (F_r, F_t, F_n) per
 // unit mass: the rates of (a, e, i, Ω, ω, M) less the Kepler motion n of M.
 std::array<ex, 6> gauss_rates(const Conic& k, const Vec& F) {
     const ex &a = k.a, &e = k.e, &p = k.p, &r = k.r, &h = k.h;
@@ -62,7 +62,7 @@ std::array<ex, 6> gauss_rates(const Conic& k, const Vec& F) {
     };
 }
 
-// Lagrange's planetary equations (FORMULAS §2) from the partials of R in (a, e, i, Ω, ω, M).
+// Lagrange's planetary equations (Vallado ch. 9) from the partials of R in (a, e, i, Ω, ω, M).
 std::array<ex, 6> lagrange_rates(const ex& n, const ex& a, const ex& e, const ex& i, const std::array<ex, 6>& R) {
     const ex eta = GiNaC::sqrt(1 - e * e), na2 = n * a * a, ci = GiNaC::cos(i), si = GiNaC::sin(i);
     const ex &Ra = R[0], &Re = R[1], &Ri = R[2], &RO = R[3], &Rw = R[4], &RM = R[5];
@@ -256,7 +256,8 @@ FirstOrderForm element_form(const model::Model& model, const Equations& cowell) 
             form.derivation.push_back({fmt::format("dR/d{}", delaunay_names[j]), dR[j]});
         }
         const ex &L = q[3], &G = q[4];
-        // dl/dt = ∂K/∂L, dL/dt = −∂K/∂l, …, K = −μ²/(2L²) − R (FORMULAS §2).
+        // dl/dt = ∂K/∂L, dL/dt = −∂K/∂l, …, K = −μ²/(2L²) − R (Brouwer and Clemence, Methods of
+        // Celestial Mechanics, 1961).
         rates = {mu * mu / GiNaC::pow(L, 3) - dR[3], -dR[4], -dR[5], dR[0], dR[1], dR[2]};
         std::array<ex, 6> s;
         for (std::size_t j = 0; j < 6; ++j) s[j] = GiNaC::symbol(fmt::format("R_{}", delaunay_names[j]));

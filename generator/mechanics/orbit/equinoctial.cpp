@@ -5,7 +5,7 @@
 
 #include <fmt/format.h>
 
-#include "eomc/runtime/orbital_elements.hpp"
+#include "eomc/runtime/orbit/orbital_elements.hpp"
 #include "support/diagnostic.hpp"
 #include "symbolic/differentiation.hpp"
 

@@ -13,7 +13,6 @@
 // equinoctial frame f = (1 - k^2 + h^2, 2hk, -2k)/s^2,
 // g = (2hk, 1 + k^2 - h^2, 2h)/s^2, s^2 = 1 + h^2 + k^2; [Brouwer-Clemence] Methods of Celestial
 // Mechanics (1961): Delaunay L = sqrt(mu a), G = L sqrt(1 - e^2), H = G cos i.
-// The FORMULAS.md conventions (seed ch. 2) are the ones used here.
 //
 // Angles: raan, argp in [0, 2 pi); i in [0, pi]; mean_anomaly in [0, 2 pi) on ellipses and
 // unbounded on hyperbolas (negative before periapsis); L (true longitude) in [0, 2 pi).
@@ -35,7 +34,7 @@
 #include <initializer_list>
 #include <limits>
 
-#include "eomc/runtime/kepler.hpp"
+#include "eomc/runtime/orbit/kepler.hpp"
 
 namespace eomc::runtime {
 
@@ -352,7 +351,7 @@ ClassicalElements<S> classical_from_equinoctial(const EquinoctialElements<S>& q)
 
 // ---------------------------------------------------------------------------------------------
 // Delaunay variables (ellipses): l = M, g = argp, h = raan, L = sqrt(mu a), G = L sqrt(1 - e^2),
-// H = G cos i (FORMULAS.md section 2; Brouwer-Clemence).
+// H = G cos i (Brouwer and Clemence, Methods of Celestial Mechanics, 1961).
 
 template <class S>
 DelaunayElements<S> delaunay_from_classical(const ClassicalElements<S>& el, S mu) {
