@@ -12,11 +12,12 @@
 #include <vector>
 
 #include "eomc/runtime/checker.hpp"
-#include "eomc/runtime/dopri5.hpp"
+#include "eomc/runtime/stepper/dopri5.hpp"
 #include "eomc/runtime/events.hpp"
-#include "eomc/runtime/rk4.hpp"
+#include "eomc/runtime/stepper/rk4.hpp"
 #include "eomc/runtime/state.hpp"
-#include "eomc/runtime/step_control.hpp"
+#include "eomc/runtime/control/error_checker.hpp"
+#include "eomc/runtime/control/initial_step.hpp"
 
 namespace eomc::runtime {
 

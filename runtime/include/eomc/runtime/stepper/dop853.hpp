@@ -21,11 +21,12 @@
 #include <utility>
 
 #include "eomc/runtime/checker.hpp"
-#include "eomc/runtime/coefficients.hpp"
+#include "eomc/runtime/stepper/coefficients.hpp"
 #include "eomc/runtime/errors.hpp"
 #include "eomc/runtime/extent.hpp"
 #include "eomc/runtime/state.hpp"
-#include "eomc/runtime/step_control.hpp"
+#include "eomc/runtime/control/error_checker.hpp"
+#include "eomc/runtime/control/step_adjuster.hpp"
 
 namespace eomc::runtime {
 
