@@ -16,6 +16,7 @@
 #include "eomc/runtime/events.hpp"
 #include "eomc/runtime/stepper/rk4.hpp"
 #include "eomc/runtime/state.hpp"
+#include "eomc/runtime/stepper/concepts.hpp"
 #include "eomc/runtime/control/error_checker.hpp"
 #include "eomc/runtime/control/initial_step.hpp"
 
@@ -158,13 +159,13 @@ Stats adaptive_loop(Stepper<S>& stepper, Sys& sys, State<S>& x, S t0, S t1, S h0
 
 }  // namespace detail
 
-// Adaptive integration with an embedded pair (Dopri5, Dop853: anything with prepare, try_step,
-// derivative, calc_state, error_order) from t0 to t1 (either direction). h0 > 0 is the magnitude of the
+// Adaptive integration with an adaptive stepper (Dopri5, Dop853: AdaptiveStepper in
+// stepper/concepts.hpp) from t0 to t1 (either direction). h0 > 0 is the magnitude of the
 // first step; h0 <= 0 chooses it with initial_step(). observer(t, x) at t0 and after every
 // accepted step, landing exactly on t1. Throws IntegrationError on step underflow, an exhausted
 // step budget or a non-finite state/derivative.
 template <template <class> class Stepper, class S, class Sys, class Obs>
-  requires System<Sys, S> && Observer<Obs, S>
+  requires AdaptiveStepper<Stepper<S>> && System<Sys, S> && Observer<Obs, S>
 Stats integrate_adaptive(Stepper<S>& stepper, Sys& sys, State<S>& x, std::type_identity_t<S> t0,
                          std::type_identity_t<S> t1, std::type_identity_t<S> h0, const Tolerances& tol,
                          Obs&& observer, const Limits& limits = {}) {
@@ -183,7 +184,7 @@ Stats integrate_adaptive(Stepper<S>& stepper, Sys& sys, State<S>& x, std::type_i
 // evaluated with the dense output of the step containing them (steps are not shortened for them),
 // times that coincide with a step end get that step's state.
 template <template <class> class Stepper, class S, class Sys, class Obs>
-  requires System<Sys, S> && Observer<Obs, S>
+  requires AdaptiveStepper<Stepper<S>> && DenseOutputStepper<Stepper<S>> && System<Sys, S> && Observer<Obs, S>
 Stats integrate_times(Stepper<S>& stepper, Sys& sys, State<S>& x, const std::vector<S>& times,
                       std::type_identity_t<S> h0, const Tolerances& tol, Obs&& observer,
                       const Limits& limits = {}) {
@@ -249,7 +250,8 @@ bool handle_events(EventLocator<S>& events, G& g, S t_old, S t_new, const State<
 // every event, in time order, before the observer call of the step that holds it. A terminal event
 // ends the integration at its time: x is then the state there, and that step gets no observer call.
 template <template <class> class Stepper, class S, class Sys, class G, class Obs, class OnEvent>
-  requires System<Sys, S> && Observer<Obs, S> && std::invocable<OnEvent&, const EventHit<S>&>
+  requires AdaptiveStepper<Stepper<S>> && DenseOutputStepper<Stepper<S>> && System<Sys, S> && Observer<Obs, S> &&
+           std::invocable<OnEvent&, const EventHit<S>&>
 EventOutcome<S> integrate_adaptive_events(Stepper<S>& stepper, Sys& sys, State<S>& x, std::type_identity_t<S> t0,
                                           std::type_identity_t<S> t1, std::type_identity_t<S> h0,
                                           const Tolerances& tol, EventLocator<S>& events, G& g, Obs&& observer,

@@ -8,8 +8,7 @@
 //   L.F. Shampine, "Some practical Runge-Kutta formulas", Math. Comp. 46 (1986) 135-150, through
 //     the dense-output coefficients d_i of Hairer's code DOPRI5.
 // Optionally with compensated (Kahan) summation of x_{n+1} = x_n + h sum b_i k_i (off by default;
-// set_compensated): the compensation is carried from accepted step to accepted step and dropped
-// whenever the FSAL derivative is (an edited state, another time, reset()).
+// ControlledStepper::set_compensated).
 
 #include <cmath>
 #include <cstddef>
@@ -17,10 +16,11 @@
 #include <stdexcept>
 
 #include "eomc/runtime/checker.hpp"
+#include "eomc/runtime/control/controlled.hpp"
+#include "eomc/runtime/control/step_adjuster.hpp"
 #include "eomc/runtime/errors.hpp"
 #include "eomc/runtime/state.hpp"
-#include "eomc/runtime/control/error_checker.hpp"
-#include "eomc/runtime/control/step_adjuster.hpp"
+#include "eomc/runtime/stepper/concepts.hpp"
 
 namespace eomc::runtime {
 
@@ -48,72 +48,58 @@ struct DormandPrinceTableau {
                      d6 = S(-1453857185LL) / S(822651844LL), d7 = S(69997945LL) / S(29380423LL);
 };
 
+// The Dormand-Prince 5(4) pair as an error stepper (stepper/concepts.hpp): the stages, the
+// error estimate, the dense output; ControlledStepper (control/controlled.hpp) adds the control.
 template <class S>
-class Dopri5 {
+class Dopri5ErrorStepper {
  public:
   using value_type = S;
-  using Settings = typename StepAdjuster<S>::Settings;
   static constexpr int order = 5, error_order = 4;
+  static constexpr const char* name = "Dopri5";
 
-  explicit Dopri5(Settings settings = {}) : adjuster_(error_order, settings) {}
-
-  // Makes k1 = f(t, x) available and returns it. Reuses the FSAL derivative when (t, x) is
-  // exactly the end point of the last step, so a state the user edited between steps (an impulse,
-  // a projection) is never paired with a stale derivative.
   template <class Sys>
-    requires System<Sys, S>
-  const State<S>& prepare(Sys& sys, const State<S>& x, S t) {
-    if (!(k1_valid_ && t == t_k1_ && x == x_k1_)) {
-      // The compensation belongs to x: kept when only t moved (a fixed-step caller computing
-      // t afresh), dropped for an edited state or after reset().
-      if (!(k1_valid_ && x == x_k1_)) comp_.assign(x.size(), S(0));
-      resize(x.size());
-      sys(t, x, k1_);
-      ++rhs_evals_;
-      x_k1_ = x;
-      t_k1_ = t;
-      k1_valid_ = true;
-    }
-    return k1_;
+  void evaluate_first(Sys& sys, S t, const State<S>& x) {
+    resize(x.size());
+    sys(t, x, k1_);
+    ++rhs_evals_;
   }
+  const State<S>& first_derivative() const { return k1_; }
 
-  // One controlled attempt from (t, x) with step h (either sign). Accepted: advances t and x, sets h
-  // to the proposed next step, returns true. Rejected: leaves t and x, reduces h, returns false.
-  // An attempt whose error norm is NaN or infinite (overflow, a system undefined past some point)
-  // is rejected with the largest reduction; last_non_finite_component() then names the first
-  // derivative component that went non-finite.
-  template <class Sys>
-    requires System<Sys, S>
-  bool try_step(Sys& sys, State<S>& x, S& t, S& h, const Tolerances& tol) {
-    using std::isfinite;
-    if (h == S(0)) throw std::invalid_argument("Dopri5::try_step: zero step size");
-    prepare(sys, x, t);
-    stages(sys, x, t, h);
+  // Stages 2..7 and the error norm ||h sum e_i k_i|| ([HNW] (4.10)-(4.11), ErrorChecker).
+  template <class Sys, class Checker>
+  S attempt(Sys& sys, const State<S>& x, S t, S h, const Checker& checker, const S* comp, S* comp_new) {
+    stages(sys, x, t, h, comp, comp_new);
     using T = DormandPrinceTableau<S>;
     for (std::size_t i = 0; i < x.size(); ++i)
       err_[i] = h * (T::e1 * k1_[i] + T::e3 * k3_[i] + T::e4 * k4_[i] + T::e5 * k5_[i] + T::e6 * k6_[i] +
                      T::e7 * k7_[i]);
-    last_error_ = ErrorChecker<S>(tol).norm(err_, x, y_);
-    if (isfinite(last_error_) && last_error_ <= S(1)) {
-      non_finite_component_ = IntegrationError::no_component;
-      accept(x, t, h);
-      t = t_new_;
-      h *= adjuster_.accepted(last_error_);
-      return true;
-    }
-    non_finite_component_ = isfinite(last_error_) ? IntegrationError::no_component : locate_non_finite();
-    h *= adjuster_.rejected(last_error_);
-    return false;
+    return checker.norm(err_, x, y_);
   }
 
-  // A plain step of the fifth-order method, no error control (for fixed-step use and order tests).
-  // Updates the dense output like an accepted step.
   template <class Sys>
-    requires System<Sys, S>
-  void do_step(Sys& sys, State<S>& x, S t, S h) {
-    prepare(sys, x, t);
-    stages(sys, x, t, h);
-    accept(x, t, h);
+  void advance(Sys& sys, const State<S>& x, S t, S h, const S* comp, S* comp_new) {
+    stages(sys, x, t, h, comp, comp_new);
+  }
+
+  // Commits the step (t, x) -> (t+h, y_): dense-output coefficients, x, FSAL derivative.
+  template <class Sys>
+  void accept(Sys&, State<S>& x, S t, S h) {
+    using T = DormandPrinceTableau<S>;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      const S dx = y_[i] - x[i];
+      r1_[i] = x[i];
+      r2_[i] = dx;
+      r3_[i] = h * k1_[i] - dx;
+      r4_[i] = dx - h * k7_[i] - r3_[i];
+      r5_[i] = h * (T::d1 * k1_[i] + T::d3 * k3_[i] + T::d4 * k4_[i] + T::d5 * k5_[i] + T::d6 * k6_[i] +
+                    T::d7 * k7_[i]);
+      x[i] = y_[i];  // copy, not swap: the caller's buffer (and pointers into it) stay put
+    }
+    t_old_ = t;
+    h_old_ = h;
+    t_new_ = t + h;
+    dense_valid_ = true;
+    k1_.swap(k7_);
   }
 
   // Dense output on the last accepted step [t_old, t_new] ([HNW] Sect. II.6, DOPRI5's CONTD5):
@@ -130,36 +116,22 @@ class Dopri5 {
 
   S previous_time() const { return t_old_; }
   S current_time() const { return t_new_; }
-  // f(current_time(), x) after an accepted step (the FSAL stage), or f(t, x) after prepare().
-  const State<S>& derivative() const { return k1_; }
-  // Error norm of the last attempt (<= 1 means accepted).
-  S last_error() const { return last_error_; }
-  // After a rejection caused by non-finite values: the first non-finite component of the earliest
-  // stage derivative (or of the new state), else IntegrationError::no_component.
-  std::size_t last_non_finite_component() const { return non_finite_component_; }
   bool has_dense_output() const { return dense_valid_; }
+  void invalidate_dense_output() { dense_valid_ = false; }
   std::size_t rhs_evals() const { return rhs_evals_; }
-  StepAdjuster<S>& adjuster() { return adjuster_; }
-  // Compensated summation of the update (off by default).
-  void set_compensated(bool on) {
-    compensated_ = on;
-    k1_valid_ = false;
-  }
-  bool compensated() const { return compensated_; }
 
-  // Forgets the FSAL derivative, the dense output and the controller's memory. Call it when the
-  // system itself changes (parameters, switched dynamics); state edits are detected automatically.
-  void reset() {
-    k1_valid_ = false;
-    dense_valid_ = false;
-    adjuster_.reset();
-    non_finite_component_ = IntegrationError::no_component;
+  std::size_t locate_non_finite() const {
+    for (const State<S>* k : {&k2_, &k3_, &k4_, &k5_, &k6_, &y_, &k7_}) {
+      const std::size_t i = first_non_finite(*k);
+      if (i != IntegrationError::no_component) return i;
+    }
+    return first_non_finite(err_);
   }
 
  private:
   // Stages 2..7 from (t, x) with step h; leaves the fifth-order solution in y_ and f(t+h, y_) in k7_.
   template <class Sys>
-  void stages(Sys& sys, const State<S>& x, S t, S h) {
+  void stages(Sys& sys, const State<S>& x, S t, S h, const S* comp, S* comp_new) {
     using T = DormandPrinceTableau<S>;
     const std::size_t n = x.size();
     const State<S>& y = y_;
@@ -178,11 +150,11 @@ class Dopri5 {
                           T::a65 * k5_[i]);
     const S t_end = t + h;
     sys(t_end, y, k6_);
-    if (compensated_) {
+    if (comp) {
       for (std::size_t i = 0; i < n; ++i) {
-        const S inc = h * (T::b1 * k1_[i] + T::b3 * k3_[i] + T::b4 * k4_[i] + T::b5 * k5_[i] + T::b6 * k6_[i]) - comp_[i];
+        const S inc = h * (T::b1 * k1_[i] + T::b3 * k3_[i] + T::b4 * k4_[i] + T::b5 * k5_[i] + T::b6 * k6_[i]) - comp[i];
         y_[i] = x[i] + inc;
-        comp_new_[i] = (y_[i] - x[i]) - inc;
+        comp_new[i] = (y_[i] - x[i]) - inc;
       }
     } else {
       for (std::size_t i = 0; i < n; ++i)
@@ -192,57 +164,31 @@ class Dopri5 {
     rhs_evals_ += 6;
   }
 
-  // Commits the step (t, x) -> (t+h, y_): dense-output coefficients, x, FSAL derivative.
-  void accept(State<S>& x, S t, S h) {
-    using T = DormandPrinceTableau<S>;
-    for (std::size_t i = 0; i < x.size(); ++i) {
-      const S dx = y_[i] - x[i];
-      r1_[i] = x[i];
-      r2_[i] = dx;
-      r3_[i] = h * k1_[i] - dx;
-      r4_[i] = dx - h * k7_[i] - r3_[i];
-      r5_[i] = h * (T::d1 * k1_[i] + T::d3 * k3_[i] + T::d4 * k4_[i] + T::d5 * k5_[i] + T::d6 * k6_[i] +
-                    T::d7 * k7_[i]);
-      x[i] = y_[i];  // copy, not swap: the caller's buffer (and pointers into it) stay put
-    }
-    if (compensated_) comp_.swap(comp_new_);
-    t_old_ = t;
-    h_old_ = h;
-    t_new_ = t + h;
-    dense_valid_ = true;
-    k1_.swap(k7_);
-    x_k1_ = x;
-    t_k1_ = t_new_;
-  }
-
-  std::size_t locate_non_finite() const {
-    for (const State<S>* k : {&k2_, &k3_, &k4_, &k5_, &k6_, &y_, &k7_}) {
-      const std::size_t i = first_non_finite(*k);
-      if (i != IntegrationError::no_component) return i;
-    }
-    return first_non_finite(err_);
-  }
-
   void resize(std::size_t n) {
     if (k1_.size() == n) return;
-    for (State<S>* v : {&k1_, &k2_, &k3_, &k4_, &k5_, &k6_, &k7_, &y_, &err_, &r1_, &r2_, &r3_, &r4_, &r5_, &comp_,
-                        &comp_new_})
+    for (State<S>* v : {&k1_, &k2_, &k3_, &k4_, &k5_, &k6_, &k7_, &y_, &err_, &r1_, &r2_, &r3_, &r4_, &r5_})
       v->assign(n, S(0));
-    k1_valid_ = false;
     dense_valid_ = false;
   }
 
-  StepAdjuster<S> adjuster_;
   State<S> k1_, k2_, k3_, k4_, k5_, k6_, k7_, y_, err_;
   State<S> r1_, r2_, r3_, r4_, r5_;  // dense-output coefficients of the last accepted step
-  State<S> x_k1_;                     // the state at which k1_ = f(t_k1_, x_k1_) was evaluated
-  State<S> comp_, comp_new_;          // compensation of x, and of the attempted step's y_
-  bool compensated_ = false;
-  S t_k1_ = S(0), t_old_ = S(0), t_new_ = S(0), h_old_ = S(0);
-  S last_error_ = S(0);
-  bool k1_valid_ = false, dense_valid_ = false;
-  std::size_t non_finite_component_ = IntegrationError::no_component;
+  S t_old_ = S(0), t_new_ = S(0), h_old_ = S(0);
+  bool dense_valid_ = false;
   std::size_t rhs_evals_ = 0;
 };
+
+// Dormand-Prince 5(4) under the controller of Hairer's DOPRI5 (PI control, StepAdjuster's defaults).
+template <class S>
+class Dopri5 : public ControlledStepper<Dopri5ErrorStepper<S>> {
+ public:
+  using Settings = typename StepAdjuster<S>::Settings;
+
+  explicit Dopri5(Settings settings = {}) : ControlledStepper<Dopri5ErrorStepper<S>>({}, settings) {}
+};
+
+static_assert(ErrorStepper<Dopri5ErrorStepper<double>> && AdaptiveStepper<Dopri5<double>> &&
+              DenseOutputStepper<Dopri5<double>>);
+static_assert(AdaptiveStepper<Dopri5<long double>> && DenseOutputStepper<Dopri5<long double>>);
 
 }  // namespace eomc::runtime
