@@ -11,6 +11,7 @@
 #include "eomc/runtime/integrate.hpp"
 #include "eomc/runtime/kepler.hpp"
 #include "eomc/runtime/orbital_elements.hpp"
+#include "eomc/runtime/registry.hpp"
 #include "eomc/runtime/state.hpp"
 #include "eomc/runtime/stepper/dop853.hpp"
 #include "eomc/runtime/stepper/dopri5.hpp"
