@@ -18,24 +18,24 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
-#include "cli/bench.hpp"
-#include "cli/cleanup.hpp"
-#include "cli/output_file.hpp"
-#include "cli/simulate.hpp"
 #include "codegen/cpp_emitter.hpp"
 #include "codegen/cpp_text.hpp"
-#include "codegen/derivation_printer.hpp"
-#include "codegen/expression_text.hpp"
-#include "codegen/inverse_printer.hpp"
 #include "codegen/kernel_ir.hpp"
-#include "mechanics/equilibria.hpp"
-#include "mechanics/hamiltonian.hpp"
-#include "mechanics/inverse_problem.hpp"
-#include "mechanics/lagrange.hpp"
+#include "host/bench.hpp"
+#include "host/simulate.hpp"
+#include "mechanics/canonical/hamiltonian.hpp"
+#include "mechanics/derive.hpp"
+#include "mechanics/inverse/inverse_problem.hpp"
+#include "mechanics/relative/equilibria.hpp"
 #include "model/model.hpp"
+#include "report/derivation_printer.hpp"
+#include "report/inverse_printer.hpp"
 #include "scene/scene.hpp"
+#include "support/cleanup.hpp"
 #include "support/diagnostic.hpp"
 #include "support/json.hpp"
+#include "support/output_file.hpp"
+#include "symbolic/expression_text.hpp"
 
 namespace fs = std::filesystem;
 using namespace eomc;
@@ -153,10 +153,10 @@ std::string kernel_header(const Pipeline& p, StageClock* clock = nullptr, codege
     return header;
 }
 
-codegen::DerivationFormat derivation_format(const std::string& name) {
-    if (name == "latex") return codegen::DerivationFormat::latex;
-    if (name == "json") return codegen::DerivationFormat::json;
-    return codegen::DerivationFormat::text;
+report::DerivationFormat derivation_format(const std::string& name) {
+    if (name == "latex") return report::DerivationFormat::latex;
+    if (name == "json") return report::DerivationFormat::json;
+    return report::DerivationFormat::text;
 }
 
 // Blanks (spaces, tabs) around a --set name or value, or a list item, are dropped.
@@ -245,7 +245,7 @@ struct SimulateOptions {
     std::vector<std::string> overrides;
     std::string cache_dir;
     std::optional<std::size_t> max_steps;
-    std::size_t max_rows = cli::SimulationRequest::default_max_rows;
+    std::size_t max_rows = host::SimulationRequest::default_max_rows;
 };
 
 // CLI11 would read "0x10" and "inf" as numbers: the numeric options take parse_decimal's grammar.
@@ -281,17 +281,17 @@ void add_simulate_options(CLI::App* cmd, SimulateOptions& o) {
     cmd->add_option("--max-steps", o.max_steps,
                     fmt::format("the most steps the run may take (default: {} for the fixed-step methods, refused "
                                 "before the run when t_end/step is more; 10000000 attempts for dopri5 and dop853)",
-                                cli::SimulationRequest::default_max_fixed_steps))
+                                host::SimulationRequest::default_max_fixed_steps))
         ->check(CLI::PositiveNumber);
     cmd->add_option("--max-rows", o.max_rows,
                     fmt::format("the most rows the CSV may hold (default {}); a run that would write more leaves no CSV",
-                                cli::SimulationRequest::default_max_rows))
+                                host::SimulationRequest::default_max_rows))
         ->check(CLI::PositiveNumber);
 }
 
-cli::SimulationRequest simulation_request(const Pipeline& p, const std::string& header, const SimulateOptions& o) {
+host::SimulationRequest simulation_request(const Pipeline& p, const std::string& header, const SimulateOptions& o) {
     const scene::Simulate& d = p.model.simulate;
-    cli::SimulationRequest r;
+    host::SimulationRequest r;
     r.header_text = header;
     r.struct_name = p.model.struct_name;
     r.overrides = parse_overrides(o.overrides);
@@ -390,11 +390,11 @@ void print_equilibria(const model::Model& model, const std::vector<mechanics::Eq
                 for (std::size_t k = 0, listed = 0; k < found[i].exact.size(); ++k)
                     if (!found[i].free[k])
                         out << (listed++ ? ", " : "") << json_string(model.coordinates[k].name) << ": "
-                            << json_string(codegen::text(found[i].exact[k]));
+                            << json_string(symbolic::text(found[i].exact[k]));
                 out << "}";
             }
             out << ", \"lambda_squared\": "
-                << (found[i].lambda_squared ? json_string(codegen::text(*found[i].lambda_squared)) : "null") << "}";
+                << (found[i].lambda_squared ? json_string(symbolic::text(*found[i].lambda_squared)) : "null") << "}";
         }
         out << (found.empty() ? "]}\n" : "\n]}\n");
         return;
@@ -411,8 +411,8 @@ void print_equilibria(const model::Model& model, const std::vector<mechanics::Eq
         for (std::size_t k = 0, listed = 0; k < e.exact.size(); ++k)
             if (!e.free[k])
                 out << fmt::format("{}{} = {}", listed++ ? ", " : "\n    closed form: ", model.coordinates[k].name,
-                                   codegen::text(e.exact[k]));
-        if (e.lambda_squared) out << "\n    λ² = (∂f/∂q)/M = " << codegen::text(*e.lambda_squared);
+                                   symbolic::text(e.exact[k]));
+        if (e.lambda_squared) out << "\n    λ² = (∂f/∂q)/M = " << symbolic::text(*e.lambda_squared);
         out << "\n    " << e.verdict;
         // Growth rates above the eigensolver's noise (the tolerance the verdict used).
         double largest = 0;
@@ -435,7 +435,7 @@ int main(int argc, char** argv) {
     // independent of GiNaC's hash order (see ensure_reproducible_layout).
     ensure_reproducible_layout(argv);
     // After the re-execution above: temporaries and the compiler go with a SIGINT/SIGTERM/SIGHUP.
-    cli::install_signal_cleanup();
+    install_signal_cleanup();
     CLI::App app{"eomc — equations-of-motion compiler for analytical mechanics"};
     app.set_version_flag("--version", std::string(EOMC_VERSION));
     app.require_subcommand(1);
@@ -547,7 +547,7 @@ int main(int argc, char** argv) {
     try {
         // An output that exists and is not a regular file is refused before any work is done.
         for (const std::string* path : {&output, &sim.output, &emit_scene})
-            if (!path->empty()) cli::check_output_target(*path);
+            if (!path->empty()) check_output_target(*path);
         StageClock clock;
         Pipeline p = front_end(scene_path, hamiltonian, orbit_formulation, timings ? &clock : nullptr);
         p.variational = variational;
@@ -559,25 +559,25 @@ int main(int argc, char** argv) {
         const mechanics::CanonicalEquations* canonical = p.canonical ? &*p.canonical : nullptr;
         if (derive->parsed()) {
             std::ostringstream text;
-            codegen::print_derivation(p.model, p.equations, derivation_format(format), text, canonical);
+            report::print_derivation(p.model, p.equations, derivation_format(format), text, canonical);
             if (output.empty()) std::cout << text.str();
-            else cli::write_file_atomically(output, text.str());
+            else write_file_atomically(output, text.str());
         } else if (generate->parsed()) {
             const fs::path path = fs::path(out_dir) / (p.model.name + ".hpp");
-            cli::write_file_atomically(path, kernel_header(p, timings ? &clock : nullptr));
+            write_file_atomically(path, kernel_header(p, timings ? &clock : nullptr));
             if (timings) clock.print(std::cerr);
             std::cerr << "wrote " << path.string() << "\n";
         } else if (simulate->parsed()) {
             codegen::KernelIR ir;
             const std::string header = kernel_header(p, nullptr, &ir);
-            const cli::SimulationRequest request = simulation_request(p, header, sim);
+            const host::SimulationRequest request = simulation_request(p, header, sim);
             check_overrides_against_scene(scene_path, orbit_formulation, sim.overrides);
-            cli::check_separable(request.integrator, request.integrator_pos, ir.separable, ir.scene_name);
-            const auto result = cli::simulate(request);
-            cli::print_summary(result, sim.summary, std::cout);
+            host::check_separable(request.integrator, request.integrator_pos, ir.separable, ir.scene_name);
+            const auto result = host::simulate(request);
+            host::print_summary(result, sim.summary, std::cout);
         } else if (bench->parsed()) {
             codegen::KernelIR ir;
-            cli::BenchRequest r;
+            host::BenchRequest r;
             r.header_text = kernel_header(p, nullptr, &ir);
             r.struct_name = p.model.struct_name;
             r.scene_name = p.model.name;
@@ -635,7 +635,7 @@ int main(int argc, char** argv) {
                     throw InputError(SourcePos{"--formulations"},
                                      "no formulation takes this scene: " + fmt::format("{}", fmt::join(r.skipped, "; ")));
             }
-            cli::print_bench_table(cli::bench(r), std::cout);
+            host::print_bench_table(host::bench(r), std::cout);
         } else if (equilibria->parsed()) {
             print_equilibria(p.model, mechanics::relative_equilibria(p.model, p.equations), format, std::cout);
         } else if (inverse->parsed()) {
@@ -646,26 +646,26 @@ int main(int argc, char** argv) {
                 if (!analysis.construction || !analysis.construction->built || !analysis.construction->verified)
                     throw std::runtime_error(fmt::format("no verified Lagrangian to write to {}: {}", emit_scene,
                                                          analysis.reason));
-                scene_text = codegen::lagrangian_scene(p.model, analysis);
+                scene_text = report::lagrangian_scene(p.model, analysis);
             }
             std::ostringstream text;
-            codegen::print_inverse(p.model, analysis, derivation_format(format), text);
+            report::print_inverse(p.model, analysis, derivation_format(format), text);
             if (output.empty()) std::cout << text.str();
-            else cli::write_file_atomically(output, text.str());
-            if (!emit_scene.empty()) cli::write_file_atomically(emit_scene, scene_text);
+            else write_file_atomically(output, text.str());
+            if (!emit_scene.empty()) write_file_atomically(emit_scene, scene_text);
         } else if (run->parsed()) {
             codegen::KernelIR ir;
             const std::string header = kernel_header(p, nullptr, &ir);
             const fs::path header_path = fs::path(out_dir) / (p.model.name + ".hpp");
             if (sim.output.empty()) sim.output = (fs::path(out_dir) / (p.model.name + ".csv")).string();
-            const cli::SimulationRequest request = simulation_request(p, header, sim);
+            const host::SimulationRequest request = simulation_request(p, header, sim);
             check_overrides_against_scene(scene_path, orbit_formulation, sim.overrides);
-            cli::check_separable(request.integrator, request.integrator_pos, ir.separable, ir.scene_name);
-            codegen::print_derivation(p.model, p.equations, codegen::DerivationFormat::text, std::cout, canonical);
-            cli::write_file_atomically(header_path, header);
+            host::check_separable(request.integrator, request.integrator_pos, ir.separable, ir.scene_name);
+            report::print_derivation(p.model, p.equations, report::DerivationFormat::text, std::cout, canonical);
+            write_file_atomically(header_path, header);
             std::cout << "\nKernel: " << header_path.string() << "\n\nSimulation\n";
-            const auto result = cli::simulate(request);
-            cli::print_summary(result, sim.summary, std::cout);
+            const auto result = host::simulate(request);
+            host::print_summary(result, sim.summary, std::cout);
             std::cout << "Trajectory: " << sim.output << "\n";
         }
     } catch (const InputError& e) {

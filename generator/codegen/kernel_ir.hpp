@@ -15,8 +15,8 @@
 
 #include <ginac/ginac.h>
 
+#include "mechanics/equations.hpp"
 #include "mechanics/first_order.hpp"
-#include "mechanics/lagrange.hpp"
 #include "model/model.hpp"
 
 namespace eomc::codegen {

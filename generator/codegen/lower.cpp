@@ -6,9 +6,11 @@
 #include <set>
 
 #include "codegen/kernel_ir.hpp"
-#include "mechanics/differentiation.hpp"
+#include "symbolic/differentiation.hpp"
 
 namespace eomc::codegen {
+
+using namespace eomc::symbolic;
 
 using GiNaC::ex;
 
@@ -75,7 +77,7 @@ KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form,
         ir.parameter_defaults.push_back(p.value);
     }
     const std::string prefix = temporary_prefix(model, form);
-    auto d = [&](const ex& e, std::size_t j) { return mechanics::derivative(e, as_symbol(ir.state[j].symbol)); };
+    auto d = [&](const ex& e, std::size_t j) { return symbolic::derivative(e, as_symbol(ir.state[j].symbol)); };
 
     std::vector<ex> M;
     for (std::size_t i = 0; i < nu; ++i)

@@ -4,10 +4,10 @@
 
 #include <fmt/format.h>
 
-#include "mechanics/encke.hpp"
-#include "mechanics/element_formulations.hpp"
-#include "mechanics/equinoctial.hpp"
-#include "mechanics/inverse_problem.hpp"
+#include "mechanics/inverse/inverse_problem.hpp"
+#include "mechanics/orbit/element_formulations.hpp"
+#include "mechanics/orbit/encke.hpp"
+#include "mechanics/orbit/equinoctial.hpp"
 #include "support/diagnostic.hpp"
 
 namespace eomc::mechanics {

@@ -15,7 +15,7 @@
 
 #include <ginac/ginac.h>
 
-#include "mechanics/lagrange.hpp"
+#include "mechanics/equations.hpp"
 #include "model/model.hpp"
 
 namespace eomc::mechanics {

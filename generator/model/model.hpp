@@ -127,6 +127,13 @@ inline constexpr std::array<const char*, 14> encke_state_names{
     "dx", "dy", "dz", "dx_dot", "dy_dot", "dz_dot", "ref_t", "ref_a", "ref_e", "ref_i", "ref_raan", "ref_argp", "ref_M",
     "rectifications"};
 
+// What a scene describes, which decides the chapter that derives its equations (mechanics/derive).
+enum class ModelKind {
+    energies,         // T and V: a [lagrangian] T, or carried particles and bodies (Mei, ch. 1)
+    given_equations,  // [newtonian]: the equations themselves (the inverse problem, Mei, ch. 4)
+    orbit,            // [orbit]: a perturbed Kepler motion (Mei, ch. 2)
+};
+
 struct Model {
     std::string name;         // scene name, e.g. disk_tube_ball
     std::string struct_name;  // DiskTubeBall
@@ -158,6 +165,9 @@ struct Model {
     scene::Inverse inverse;
     std::vector<Warning> warnings;       // accepted but doubtful input, printed by the CLI
 
+    ModelKind kind() const {
+        return newtonian ? ModelKind::given_equations : orbit ? ModelKind::orbit : ModelKind::energies;
+    }
     bool keeps(Effect e) const { return keep[static_cast<int>(e)]; }
     bool free_carrier() const { return carrier && carrier->free; }
     // The velocities u in the order of M's rows: the coordinates', then the quasi-velocities.

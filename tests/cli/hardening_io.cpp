@@ -27,11 +27,11 @@
 #include <fmt/format.h>
 
 #include "../support/command.hpp"
-#include "cli/cleanup.hpp"
-#include "cli/output_file.hpp"
-#include "cli/sha256.hpp"
-#include "cli/toolchain.hpp"
+#include "host/toolchain.hpp"
+#include "support/cleanup.hpp"
 #include "support/diagnostic.hpp"
+#include "support/output_file.hpp"
+#include "support/sha256.hpp"
 
 extern char** environ;
 
@@ -163,7 +163,7 @@ BOOST_AUTO_TEST_CASE(a_link_planted_at_a_temporary_name_is_never_followed) {
         planted.push_back(fmt::format("{}.tmp.{}.{}", target.string(), ::getpid(), serial));
         fs::create_symlink(victim, planted.back());
     }
-    eomc::cli::write_file_atomically(target, "new output\n");
+    eomc::write_file_atomically(target, "new output\n");
     BOOST_TEST(slurp(target) == "new output\n");
     BOOST_TEST(slurp(victim) == "precious\n");
     for (const auto& p : planted) BOOST_TEST(fs::is_symlink(p), p << " was removed or replaced");  // not ours
@@ -174,7 +174,7 @@ BOOST_AUTO_TEST_CASE(an_output_gets_the_mode_of_a_new_file_and_replaces_a_regula
     const fs::path target = dir / "out.txt";
     write_text(target, "old\n");
     const mode_t old_umask = ::umask(027);
-    eomc::cli::write_file_atomically(target, "new\n");
+    eomc::write_file_atomically(target, "new\n");
     ::umask(old_umask);
     struct stat st {};
     BOOST_REQUIRE(::stat(target.c_str(), &st) == 0);
@@ -186,7 +186,7 @@ BOOST_AUTO_TEST_CASE(an_output_gets_the_mode_of_a_new_file_and_replaces_a_regula
 BOOST_AUTO_TEST_CASE(a_target_that_turns_into_a_fifo_during_the_run_is_refused_and_the_temporary_removed) {
     const fs::path dir = scratch("late-fifo");
     const fs::path target = dir / "out.csv";
-    eomc::cli::AtomicOutput out(target);
+    eomc::AtomicOutput out(target);
     out.write("t,q\n0,1\n");
     BOOST_REQUIRE(fs::exists(out.temporary()));
     BOOST_REQUIRE(::mkfifo(target.c_str(), 0644) == 0);
@@ -199,7 +199,7 @@ BOOST_AUTO_TEST_CASE(a_target_that_turns_into_a_fifo_during_the_run_is_refused_a
 // ---- 4: the kernel cache -------------------------------------------------------------------
 
 BOOST_AUTO_TEST_CASE(sha256_meets_the_fips_180_4_examples) {
-    using eomc::cli::sha256_hex;
+    using eomc::sha256_hex;
     // FIPS 180-4 examples (NIST CSRC "Examples with Intermediate Values", SHA-256).
     BOOST_TEST(sha256_hex("abc") == "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
     BOOST_TEST(sha256_hex("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq") ==
@@ -209,7 +209,7 @@ BOOST_AUTO_TEST_CASE(sha256_meets_the_fips_180_4_examples) {
                "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
     // Fed in pieces that straddle the 64-byte blocks, the same digest.
     const std::string text(1000, 'x');
-    eomc::cli::Sha256 pieces;
+    eomc::Sha256 pieces;
     for (std::size_t at = 0, n = 1; at < text.size(); at += n, n = n * 3 % 97 + 1)
         pieces.update(text.data() + at, std::min(n, text.size() - at));
     std::string hex;
@@ -254,7 +254,7 @@ BOOST_AUTO_TEST_CASE(a_cache_directory_of_another_user_is_refused) {
 
 BOOST_AUTO_TEST_CASE(a_new_cache_directory_is_private_and_without_home_it_is_per_user) {
     const fs::path dir = scratch("cache-new");
-    const fs::path made = eomc::cli::ensure_private_directory(dir / "a" / "cache");
+    const fs::path made = eomc::host::ensure_private_directory(dir / "a" / "cache");
     struct stat st {};
     BOOST_REQUIRE(::stat(made.c_str(), &st) == 0);
     BOOST_TEST((st.st_mode & 07777) == 0700u);
@@ -263,7 +263,7 @@ BOOST_AUTO_TEST_CASE(a_new_cache_directory_is_private_and_without_home_it_is_per
     const std::string xdg = std::getenv("XDG_CACHE_HOME") ? std::getenv("XDG_CACHE_HOME") : "";
     ::unsetenv("HOME");
     ::unsetenv("XDG_CACHE_HOME");
-    const std::string fallback = eomc::cli::default_cache_dir();
+    const std::string fallback = eomc::host::default_cache_dir();
     if (!home.empty()) ::setenv("HOME", home.c_str(), 1);
     if (!xdg.empty()) ::setenv("XDG_CACHE_HOME", xdg.c_str(), 1);
     BOOST_TEST(fallback == (fs::temp_directory_path() / ("eomc-cache-" + std::to_string(::geteuid()))).string());
@@ -284,7 +284,7 @@ BOOST_AUTO_TEST_CASE(a_truncated_cached_kernel_is_rebuilt_not_loaded) {
                second.err);
     BOOST_TEST(second.err.find("no eomc record") != std::string::npos, second.err);
     BOOST_TEST(final_q(second) == final_q(first));
-    BOOST_TEST(eomc::cli::verify_cache_entry(so, so.stem().string()) == "");
+    BOOST_TEST(eomc::host::verify_cache_entry(so, so.stem().string()) == "");
     // A byte changed in the middle: the hash tells.
     {
         std::fstream f(so, std::ios::in | std::ios::out | std::ios::binary);
@@ -318,8 +318,8 @@ BOOST_AUTO_TEST_CASE(a_kernel_of_another_scene_under_the_key_is_rebuilt_not_load
     const std::string bytes = slurp(foreign);
     const std::string object = bytes.substr(0, bytes.rfind("\neomc-cache-record"));
     write_text(so, object + fmt::format("\neomc-cache-record 1 key={} size={:020} sha256={}\n", so.stem().string(),
-                                        object.size(), eomc::cli::sha256_hex(object)));
-    BOOST_REQUIRE(eomc::cli::verify_cache_entry(so, so.stem().string()) == "");
+                                        object.size(), eomc::sha256_hex(object)));
+    BOOST_REQUIRE(eomc::host::verify_cache_entry(so, so.stem().string()) == "");
     r = run(args, dir);
     BOOST_TEST(r.status == 0, r.err);
     BOOST_TEST(r.err.find("it is the kernel 'BeadOnHoop") != std::string::npos, r.err);
@@ -551,8 +551,8 @@ BOOST_AUTO_TEST_CASE(a_signal_while_an_output_is_written_removes_its_temporary) 
     BOOST_REQUIRE(child >= 0);
     if (child == 0) {
         // As `derive -o` between creating its temporary and renaming it.
-        eomc::cli::install_signal_cleanup();
-        eomc::cli::AtomicOutput out(target);
+        eomc::install_signal_cleanup();
+        eomc::AtomicOutput out(target);
         out.write("half of it\n");
         (void)!::write(ready[1], "x", 1);
         ::pause();

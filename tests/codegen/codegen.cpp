@@ -11,12 +11,12 @@
 
 #include "codegen/cpp_emitter.hpp"
 #include "codegen/kernel_ir.hpp"
-#include "mechanics/differentiation.hpp"
-#include "mechanics/lagrange.hpp"
-#include "mechanics/numeric_probe.hpp"
+#include "mechanics/derive.hpp"
 #include "model/functions.hpp"
 #include "model/model.hpp"
 #include "scene/scene.hpp"
+#include "symbolic/differentiation.hpp"
+#include "symbolic/numeric_probe.hpp"
 
 using namespace eomc;
 using GiNaC::ex;
@@ -180,17 +180,17 @@ BOOST_AUTO_TEST_CASE(every_scene_function_is_differentiated_probed_and_emitted) 
     // few ulp of the values involved (|f'| ≤ ~2 at this point).
     GiNaC::symbol x("x");
     GiNaC::parser reader(GiNaC::symtab{{"x", x}});
-    mechanics::ProbePoint at;
+    symbolic::ProbePoint at;
     at.values[x] = 0.4;
     at.rates[x] = 1.0;
     for (std::string_view name : model::elementary_functions) {
         const ex f = reader(std::string(name) + "(x/3 + 1/5)");  // argument 1/3 at x = 0.4: inside every domain
         BOOST_REQUIRE(GiNaC::is_a<GiNaC::function>(f));
         const double expected = GiNaC::ex_to<GiNaC::numeric>(f.diff(x).subs(x == GiNaC::numeric(2, 5)).evalf()).to_double();
-        const ex mine = mechanics::derivative(f, x);
+        const ex mine = symbolic::derivative(f, x);
         const double got = GiNaC::ex_to<GiNaC::numeric>(mine.subs(x == GiNaC::numeric(2, 5)).evalf()).to_double();
         BOOST_TEST(std::abs(got - expected) <= 1e-14 * (1 + std::abs(expected)), name);
-        BOOST_TEST(std::abs(mechanics::evaluate_rate(f, at) - expected) <= 1e-14 * (1 + std::abs(expected)), name);
+        BOOST_TEST(std::abs(symbolic::evaluate_rate(f, at) - expected) <= 1e-14 * (1 + std::abs(expected)), name);
         codegen::CppExpressionPrinter printer({{x, "x"}});
         BOOST_TEST(printer.print(f).find(std::string(name) + "(") == 0u, name);
     }

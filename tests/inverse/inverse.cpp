@@ -18,8 +18,9 @@
 
 #include "codegen/cpp_emitter.hpp"
 #include "codegen/kernel_ir.hpp"
-#include "mechanics/inverse_problem.hpp"
-#include "mechanics/lagrange.hpp"
+#include "mechanics/derive.hpp"
+#include "mechanics/inverse/inverse_problem.hpp"
+#include "mechanics/kinematics/operators.hpp"
 #include "model/model.hpp"
 #include "scene/scene.hpp"
 #include "support/diagnostic.hpp"

@@ -16,7 +16,9 @@
 
 #include <ginac/ginac.h>
 
-#include "mechanics/lagrange.hpp"
+#include "mechanics/derive.hpp"
+#include "mechanics/kinematics/operators.hpp"
+#include "mechanics/relative/carried_motion.hpp"
 #include "model/model.hpp"
 #include "scene/scene.hpp"
 

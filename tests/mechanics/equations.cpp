@@ -14,7 +14,8 @@
 
 #include <ginac/ginac.h>
 
-#include "mechanics/lagrange.hpp"
+#include "mechanics/derive.hpp"
+#include "mechanics/kinematics/operators.hpp"
 #include "model/model.hpp"
 #include "scene/scene.hpp"
 #include "support/diagnostic.hpp"

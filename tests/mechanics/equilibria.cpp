@@ -6,8 +6,8 @@
 #include <cmath>
 #include <string>
 
-#include "mechanics/equilibria.hpp"
-#include "mechanics/lagrange.hpp"
+#include "mechanics/derive.hpp"
+#include "mechanics/relative/equilibria.hpp"
 #include "model/model.hpp"
 #include "scene/scene.hpp"
 #include "support/diagnostic.hpp"

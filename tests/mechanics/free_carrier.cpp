@@ -10,7 +10,7 @@
 
 #include <ginac/ginac.h>
 
-#include "mechanics/lagrange.hpp"
+#include "mechanics/derive.hpp"
 #include "model/model.hpp"
 #include "scene/scene.hpp"
 #include "support/diagnostic.hpp"

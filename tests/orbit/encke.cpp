@@ -18,22 +18,22 @@
 #include <string>
 #include <vector>
 
-#include "cli/kernel_loader.hpp"
-#include "cli/simulate.hpp"
+#include "../support/command.hpp"
 #include "codegen/cpp_emitter.hpp"
 #include "codegen/kernel_ir.hpp"
 #include "eomc/runtime/kepler.hpp"
 #include "eomc/runtime/orbital_elements.hpp"
-#include "mechanics/encke.hpp"
-#include "mechanics/lagrange.hpp"
+#include "host/kernel_loader.hpp"
+#include "host/simulate.hpp"
+#include "mechanics/derive.hpp"
+#include "mechanics/orbit/encke.hpp"
 #include "model/model.hpp"
 #include "scene/scene.hpp"
-#include "../support/command.hpp"
 #include "support/diagnostic.hpp"
 
 namespace fs = std::filesystem;
-using eomc::cli::SimulationRequest;
-using eomc::cli::SimulationResult;
+using eomc::host::SimulationRequest;
+using eomc::host::SimulationResult;
 
 namespace {
 
@@ -215,7 +215,7 @@ BOOST_AUTO_TEST_CASE(pure_kepler_keeps_delta_zero_and_matches_the_two_body_propa
         "\"encke\""));
     const double n = std::sqrt(mu_earth / (a * a * a)), period = 2 * std::numbers::pi / n;
     const fs::path dir = test_support::scratch("encke-scratch", "kepler");
-    const SimulationResult r = eomc::cli::simulate(request(k, 10 * period, 1e-12, 1e-9, dir / "run.csv"));
+    const SimulationResult r = eomc::host::simulate(request(k, 10 * period, 1e-12, 1e-9, dir / "run.csv"));
     BOOST_TEST(r.value("rectifications") == 0.0);
     const Csv csv = read_csv(dir / "run.csv");
     BOOST_REQUIRE(csv.rows.size() > 10u);
@@ -248,8 +248,8 @@ BOOST_AUTO_TEST_CASE(leo_j2_in_encke_agrees_with_cowell_over_a_day) {
     const auto encke_scene = bundled("leo_j2.toml", "encke");
     const double rtol = cowell_scene.simulate.rtol, atol = cowell_scene.simulate.atol, t_end = 86400;
     const fs::path dir = test_support::scratch("encke-scratch", "leo_j2");
-    const SimulationResult c = eomc::cli::simulate(request(generate(cowell_scene), t_end, rtol, atol, dir / "cowell.csv"));
-    const SimulationResult e = eomc::cli::simulate(request(generate(encke_scene), t_end, rtol, atol, dir / "encke.csv"));
+    const SimulationResult c = eomc::host::simulate(request(generate(cowell_scene), t_end, rtol, atol, dir / "cowell.csv"));
+    const SimulationResult e = eomc::host::simulate(request(generate(encke_scene), t_end, rtol, atol, dir / "encke.csv"));
     // The largest deviation components the encke run saw (its steps' |y|), the largest radius
     // of either (a(1 + e) = 7070 km plus J2's few km).
     const Csv csv = read_csv(dir / "encke.csv");
@@ -291,7 +291,7 @@ BOOST_AUTO_TEST_CASE(rectification_keeps_delta_small_and_the_motion_continuous) 
     BOOST_REQUIRE(scene.orbit->rectify == ratio);
     const Kernel k = generate(scene);
     const fs::path dir = test_support::scratch("encke-scratch", "rectify");
-    const SimulationResult r = eomc::cli::simulate(request(k, 86400, 1e-12, 1e-9, dir / "run.csv"));
+    const SimulationResult r = eomc::host::simulate(request(k, 86400, 1e-12, 1e-9, dir / "run.csv"));
     const Csv csv = read_csv(dir / "run.csv");
     const std::size_t count = csv.column("rectifications"), ref_t = csv.column("ref_t");
     std::vector<std::size_t> triggers;
@@ -322,7 +322,7 @@ BOOST_AUTO_TEST_CASE(rectification_keeps_delta_small_and_the_motion_continuous) 
     BOOST_TEST(r.value("rectifications") == double(triggers.size()));
     BOOST_TEST(max_after < ratio / 10);
 
-    const auto lib = eomc::cli::KernelLibrary::load(k.header, k.struct_name, cache_dir);
+    const auto lib = eomc::host::KernelLibrary::load(k.header, k.struct_name, cache_dir);
     BOOST_TEST(lib.projects());
     const auto parameters = lib.make_parameters(lib.parameter_defaults());
     const std::size_t n = lib.state_names().size();
@@ -364,8 +364,8 @@ BOOST_AUTO_TEST_CASE(drag_reenters_at_the_same_time_as_cowell) {
     const double rtol = cowell_scene.simulate.rtol, atol = cowell_scene.simulate.atol;
     const double t_end = cowell_scene.simulate.t_end;
     const fs::path dir = test_support::scratch("encke-scratch", "drag");
-    const SimulationResult c = eomc::cli::simulate(request(generate(cowell_scene), t_end, rtol, atol, dir / "cowell.csv"));
-    const SimulationResult e = eomc::cli::simulate(request(generate(encke_scene), t_end, rtol, atol, dir / "encke.csv"));
+    const SimulationResult c = eomc::host::simulate(request(generate(cowell_scene), t_end, rtol, atol, dir / "cowell.csv"));
+    const SimulationResult e = eomc::host::simulate(request(generate(encke_scene), t_end, rtol, atol, dir / "encke.csv"));
     BOOST_REQUIRE(c.stopped_by == "re_entry");
     BOOST_REQUIRE(e.stopped_by == "re_entry");
     const Csv csv = read_csv(dir / "encke.csv");

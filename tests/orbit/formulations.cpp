@@ -20,13 +20,13 @@
 #include <string>
 #include <vector>
 
-#include "mechanics/differentiation.hpp"
-#include "mechanics/element_formulations.hpp"
+#include "mechanics/derive.hpp"
 #include "mechanics/first_order.hpp"
-#include "mechanics/lagrange.hpp"
+#include "mechanics/orbit/element_formulations.hpp"
 #include "model/model.hpp"
 #include "scene/scene.hpp"
 #include "support/diagnostic.hpp"
+#include "symbolic/differentiation.hpp"
 
 using GiNaC::ex;
 namespace mech = eomc::mechanics;

@@ -20,20 +20,20 @@
 #include <string>
 #include <vector>
 
-#include "cli/simulate.hpp"
 #include "codegen/cpp_emitter.hpp"
-#include "codegen/derivation_printer.hpp"
 #include "codegen/kernel_ir.hpp"
-#include "mechanics/hamiltonian.hpp"
-#include "mechanics/lagrange.hpp"
+#include "host/simulate.hpp"
+#include "mechanics/canonical/hamiltonian.hpp"
+#include "mechanics/derive.hpp"
 #include "model/model.hpp"
+#include "report/derivation_printer.hpp"
 #include "scene/scene.hpp"
 #include "support/diagnostic.hpp"
 
 namespace fs = std::filesystem;
 using eomc::InputError;
-using eomc::cli::SimulationRequest;
-using eomc::cli::SimulationResult;
+using eomc::host::SimulationRequest;
+using eomc::host::SimulationResult;
 
 namespace {
 
@@ -263,8 +263,8 @@ BOOST_AUTO_TEST_CASE(derive_prints_the_disturbing_function_and_its_gradient_befo
     const auto model = model_of(orbit_scene("s", j2_parameters, "[effects]\nkeep = [\"J2\"]\n"));
     const auto eqs = eomc::mechanics::derive(model);
     std::ostringstream text, json;
-    eomc::codegen::print_derivation(model, eqs, eomc::codegen::DerivationFormat::text, text);
-    eomc::codegen::print_derivation(model, eqs, eomc::codegen::DerivationFormat::json, json);
+    eomc::report::print_derivation(model, eqs, eomc::report::DerivationFormat::text, text);
+    eomc::report::print_derivation(model, eqs, eomc::report::DerivationFormat::json, json);
     const std::string t = text.str();
     const auto equations = t.find("Lagrange's equations");
     for (const char* piece : {"R_J2 = ", "∂R/∂x = ", "∂R/∂y = ", "∂R/∂z = "}) {
@@ -298,8 +298,8 @@ BOOST_AUTO_TEST_CASE(custom_disturbing_function_reproduces_the_library_j2) {
     const auto custom =
         generate(orbit_scene("custom_j2", j2_parameters, "[effects.custom]\ndisturbing_function = \"" + j2_by_hand + "\"\n"));
     const double rtol = 1e-12, atol = 1e-9;
-    const SimulationResult a = eomc::cli::simulate(request(library, 86400, rtol, atol));
-    const SimulationResult b = eomc::cli::simulate(request(custom, 86400, rtol, atol));
+    const SimulationResult a = eomc::host::simulate(request(library, 86400, rtol, atol));
+    const SimulationResult b = eomc::host::simulate(request(custom, 86400, rtol, atol));
     const double budget = double(a.steps) * std::sqrt(6.0) * (atol + rtol * 7100);
     double worst = 0;
     for (std::size_t i = 0; i < 6; ++i) worst = std::max(worst, std::abs(a.state[i].second - b.state[i].second));
@@ -314,8 +314,8 @@ BOOST_AUTO_TEST_CASE(custom_disturbing_function_reproduces_the_library_j2) {
 BOOST_AUTO_TEST_CASE(hamiltonian_formulation_gives_the_same_motion) {
     const std::string scene = orbit_scene("leo_h", j2_parameters, "[effects]\nkeep = [\"J2\"]\n");
     const double rtol = 1e-12, atol = 1e-9;
-    const SimulationResult l = eomc::cli::simulate(request(generate(scene), 86400, rtol, atol));
-    const SimulationResult h = eomc::cli::simulate(request(generate(scene, true), 86400, rtol, atol));
+    const SimulationResult l = eomc::host::simulate(request(generate(scene), 86400, rtol, atol));
+    const SimulationResult h = eomc::host::simulate(request(generate(scene, true), 86400, rtol, atol));
     const double budget = double(l.steps + h.steps) * std::sqrt(6.0) * (atol + rtol * 7100);
     double worst = 0;
     for (std::size_t i = 0; i < 6; ++i) worst = std::max(worst, std::abs(l.state[i].second - h.state[i].second));
@@ -338,7 +338,7 @@ BOOST_AUTO_TEST_CASE(drag_decays_a_circular_orbit_at_the_first_order_rate) {
     const auto kernel = generate(orbit_scene("decay", parameters, "[effects]\nkeep = [\"drag\"]\n",
                                              "elements = { a = " + std::to_string(a0) + ", e = 0.0, i = 30.0 }"));
     const double t_end = 2 * 86400.0;
-    const SimulationResult r = eomc::cli::simulate(request(kernel, t_end, 1e-12, 1e-10));
+    const SimulationResult r = eomc::host::simulate(request(kernel, t_end, 1e-12, 1e-10));
     BOOST_TEST(r.stopped_by.empty());
     double x[6];
     for (std::size_t i = 0; i < 6; ++i) x[i] = r.state[i].second;
@@ -371,7 +371,7 @@ BOOST_AUTO_TEST_CASE(re_entry_stops_the_run_at_the_surface) {
     const fs::path dir = fresh_dir("reentry");
     SimulationRequest req = request(kernel, scene.simulate.t_end, scene.simulate.rtol, scene.simulate.atol);
     req.csv_path = (dir / "drag.csv").string();
-    const SimulationResult r = eomc::cli::simulate(req);
+    const SimulationResult r = eomc::host::simulate(req);
     BOOST_TEST(r.stopped_by == "re_entry");
     BOOST_TEST(r.t < scene.simulate.t_end);
     BOOST_TEST(r.t > 86400.0);  // 250 km with this atmosphere lasts days, not hours
@@ -387,7 +387,7 @@ BOOST_AUTO_TEST_CASE(re_entry_stops_the_run_at_the_surface) {
     BOOST_TEST(rows.back()[0] == r.t);
     for (std::size_t i = 0; i < 6; ++i) BOOST_TEST(rows.back()[i + 1] == x[i]);
     std::ostringstream summary;
-    eomc::cli::print_summary(r, "text", summary);
+    eomc::host::print_summary(r, "text", summary);
     BOOST_TEST(summary.str().find("stopped by the terminal event 're_entry'") != std::string::npos);
 }
 
@@ -416,7 +416,7 @@ BOOST_AUTO_TEST_CASE(third_body_conserves_the_jacobi_like_constant) {
     const double rtol = 1e-13, atol = 1e-12;
     SimulationRequest req = request(kernel, 10 * 86400.0, rtol, atol);
     req.csv_path = (dir / "moon.csv").string();
-    const SimulationResult r = eomc::cli::simulate(req);
+    const SimulationResult r = eomc::host::simulate(req);
     BOOST_TEST(r.invariants.empty());  // neither H0 − R nor h_z is claimed
     const double n3 = std::sqrt((mu_earth + mu3) / (a3 * a3 * a3));
     const double k3[] = {0.0, -std::sin(i3), std::cos(i3)};
@@ -477,7 +477,7 @@ std::vector<double> final_cartesian(const std::string& toml, const std::string& 
     const fs::path dir = fresh_dir(name);
     SimulationRequest req = request(generate(toml), t_end, rtol, atol);
     req.csv_path = (dir / "run.csv").string();
-    const SimulationResult r = eomc::cli::simulate(req);
+    const SimulationResult r = eomc::host::simulate(req);
     steps = r.steps;
     const auto rows = read_csv(dir / "run.csv");
     BOOST_REQUIRE(!rows.empty());

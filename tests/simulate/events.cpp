@@ -10,20 +10,20 @@
 #include <string>
 #include <vector>
 
-#include "cli/simulate.hpp"
+#include "../support/pendulum.hpp"
 #include "codegen/cpp_emitter.hpp"
 #include "codegen/kernel_ir.hpp"
-#include "mechanics/hamiltonian.hpp"
-#include "mechanics/lagrange.hpp"
+#include "host/simulate.hpp"
+#include "mechanics/canonical/hamiltonian.hpp"
+#include "mechanics/derive.hpp"
 #include "model/model.hpp"
 #include "scene/scene.hpp"
 #include "support/diagnostic.hpp"
-#include "../support/pendulum.hpp"
 
 namespace fs = std::filesystem;
-using eomc::cli::SimulationRequest;
-using eomc::cli::SimulationResult;
-using eomc::cli::simulate;
+using eomc::host::SimulationRequest;
+using eomc::host::SimulationResult;
+using eomc::host::simulate;
 
 namespace {
 

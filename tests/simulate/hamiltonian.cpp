@@ -11,11 +11,11 @@
 #include <fstream>
 #include <sstream>
 
-#include "cli/simulate.hpp"
 #include "codegen/cpp_emitter.hpp"
 #include "codegen/kernel_ir.hpp"
-#include "mechanics/hamiltonian.hpp"
-#include "mechanics/lagrange.hpp"
+#include "host/simulate.hpp"
+#include "mechanics/canonical/hamiltonian.hpp"
+#include "mechanics/derive.hpp"
 #include "model/model.hpp"
 #include "scene/scene.hpp"
 #include "support/diagnostic.hpp"
@@ -53,19 +53,19 @@ position = ["x", "y", "0"]
 potential = "k*(x^2 + y^2)/2"
 )toml";
 
-eomc::cli::SimulationResult run(const std::string& toml, bool hamiltonian, double t_end) {
+eomc::host::SimulationResult run(const std::string& toml, bool hamiltonian, double t_end) {
     const auto model = eomc::model::build_model(eomc::scene::parse_scene_string(toml, "test.toml"));
     const auto eqs = eomc::mechanics::derive(model);
     const auto ir = hamiltonian ? eomc::codegen::lower(model, eomc::mechanics::canonical_equations(model, eqs).form)
                                 : eomc::codegen::lower(model, eqs);
-    eomc::cli::SimulationRequest r;
+    eomc::host::SimulationRequest r;
     r.header_text = eomc::codegen::emit_header(ir, {EOMC_VERSION});
     r.struct_name = model.struct_name;
     r.t_end = t_end;
     r.rtol = r.atol = 1e-12;
     r.cache_dir = cache_dir;
     r.progress = false;
-    return eomc::cli::simulate(r);
+    return eomc::host::simulate(r);
 }
 
 void compare(const std::string& toml, double t_end) {

@@ -12,20 +12,20 @@
 #include <thread>
 #include <vector>
 
-#include "cli/kernel_loader.hpp"
-#include "cli/simulate.hpp"
 #include "codegen/cpp_emitter.hpp"
 #include "codegen/kernel_ir.hpp"
 #include "eomc/runtime/errors.hpp"
-#include "mechanics/lagrange.hpp"
+#include "host/kernel_loader.hpp"
+#include "host/simulate.hpp"
+#include "mechanics/derive.hpp"
 #include "model/model.hpp"
 #include "scene/scene.hpp"
 #include "support/diagnostic.hpp"
 
 namespace fs = std::filesystem;
-using eomc::cli::SimulationRequest;
-using eomc::cli::SimulationResult;
-using eomc::cli::simulate;
+using eomc::host::SimulationRequest;
+using eomc::host::SimulationResult;
+using eomc::host::simulate;
 
 namespace {
 
@@ -314,7 +314,7 @@ BOOST_AUTO_TEST_CASE(second_run_is_a_cache_hit) {
     std::vector<std::string> entries;
     for (const auto& e : fs::directory_iterator(req.cache_dir)) entries.push_back(e.path().filename().string());
     BOOST_REQUIRE(entries.size() == 1u);
-    BOOST_TEST(entries[0] == eomc::cli::cache_key(dtb().header, dtb().struct_name) + ".so");
+    BOOST_TEST(entries[0] == eomc::host::cache_key(dtb().header, dtb().struct_name) + ".so");
 }
 
 BOOST_AUTO_TEST_CASE(concurrent_first_runs_share_the_cache_safely) {
@@ -417,7 +417,7 @@ BOOST_AUTO_TEST_CASE(json_summary) {
     r.stopped_by = "wall";
     r.compensated = true;
     std::ostringstream out;
-    eomc::cli::print_summary(r, "json", out);
+    eomc::host::print_summary(r, "json", out);
     BOOST_TEST(out.str() ==
                "{\"t\": 1, \"state\": {\"q\": 0.10000000000000001, \"q_dot\": null}, \"outputs\": {}, \"invariants\": {\"energy\": "
                "{\"initial\": -0.25, \"max_abs_drift\": 1.0000000000000001e-17}}, \"events\": [{\"name\": \"wall\", "
@@ -429,7 +429,7 @@ BOOST_AUTO_TEST_CASE(json_summary) {
 BOOST_AUTO_TEST_CASE(text_summary) {
     const SimulationResult r = simulate(request(dtb()));
     std::ostringstream out;
-    eomc::cli::print_summary(r, "text", out);
+    eomc::host::print_summary(r, "text", out);
     const std::string s = out.str();
     BOOST_TEST_MESSAGE(s);
     for (const std::string fragment : {"disk_tube_ball: dopri5 (rtol 1e-10, atol 1e-12) to t = 1", "q_dot", "energy",

@@ -9,10 +9,10 @@
 
 #include <cmath>
 
-#include "cli/simulate.hpp"
 #include "codegen/cpp_emitter.hpp"
 #include "codegen/kernel_ir.hpp"
-#include "mechanics/lagrange.hpp"
+#include "host/simulate.hpp"
+#include "mechanics/derive.hpp"
 #include "model/model.hpp"
 #include "scene/scene.hpp"
 
@@ -45,7 +45,7 @@ BOOST_AUTO_TEST_CASE(uniform_motion_seen_from_a_spinning_up_frame) {
         if (term.effect != eomc::model::Effect::translation && term.effect != eomc::model::Effect::relative)
             BOOST_TEST(!term.value.expand().is_zero(), eomc::model::name(term.effect));
     BOOST_TEST(eqs.invariants.empty());  // ω depends on t: no Jacobi integral
-    eomc::cli::SimulationRequest r;
+    eomc::host::SimulationRequest r;
     r.header_text = eomc::codegen::emit_header(eomc::codegen::lower(model, eqs), {EOMC_VERSION});
     r.struct_name = model.struct_name;
     const double t = 4.0, alpha = 1.0;
@@ -53,7 +53,7 @@ BOOST_AUTO_TEST_CASE(uniform_motion_seen_from_a_spinning_up_frame) {
     r.rtol = r.atol = 1e-12;
     r.cache_dir = std::string(EOMC_BINARY_DIR) + "/test-cache";
     r.progress = false;
-    const auto result = eomc::cli::simulate(r);
+    const auto result = eomc::host::simulate(r);
     const double X = 1.0 + 0.3 * t, Y = -0.5 + 0.8 * t, theta = alpha * t * t / 2;
     const double x = std::cos(theta) * X + std::sin(theta) * Y, y = -std::sin(theta) * X + std::cos(theta) * Y;
     BOOST_TEST_MESSAGE("x error " << result.value("x") - x << ", y error " << result.value("y") - y);

@@ -19,19 +19,19 @@
 
 #include <Eigen/Dense>
 
-#include "cli/simulate.hpp"
 #include "codegen/cpp_emitter.hpp"
 #include "codegen/kernel_ir.hpp"
-#include "mechanics/hamiltonian.hpp"
-#include "mechanics/lagrange.hpp"
+#include "host/simulate.hpp"
+#include "mechanics/canonical/hamiltonian.hpp"
+#include "mechanics/derive.hpp"
 #include "model/model.hpp"
 #include "scene/scene.hpp"
 #include "support/diagnostic.hpp"
 
 namespace {
 
-using eomc::cli::SimulationRequest;
-using eomc::cli::SimulationResult;
+using eomc::host::SimulationRequest;
+using eomc::host::SimulationResult;
 
 SimulationRequest kepler_request(bool hamiltonian) {
     std::ifstream in(EOMC_SOURCE_DIR "/scenes/kepler_orbit.toml");
@@ -65,7 +65,7 @@ BOOST_AUTO_TEST_CASE(liouville_in_lagrangian_variables) {
     SimulationRequest req = kepler_request(false);
     for (const double t_end : {M_PI / 2, M_PI, 2 * M_PI}) {
         req.t_end = t_end;
-        const SimulationResult r = eomc::cli::simulate(req);
+        const SimulationResult r = eomc::host::simulate(req);
         const double r0 = 0.5, rt = r.value("r");
         const Eigen::Matrix4d P = phi(r);
         BOOST_TEST_MESSAGE("t = " << t_end << ": det Φ = " << P.determinant() << ", (r0/r)² = " << r0 * r0 / (rt * rt)
@@ -78,7 +78,7 @@ BOOST_AUTO_TEST_CASE(liouville_in_lagrangian_variables) {
 }
 
 BOOST_AUTO_TEST_CASE(symplectic_in_canonical_variables) {
-    const SimulationResult r = eomc::cli::simulate(kepler_request(true));
+    const SimulationResult r = eomc::host::simulate(kepler_request(true));
     const Eigen::Matrix4d P = phi(r);
     Eigen::Matrix4d J = Eigen::Matrix4d::Zero();
     J.topRightCorner<2, 2>().setIdentity();
@@ -97,5 +97,5 @@ BOOST_AUTO_TEST_CASE(symplectic_in_canonical_variables) {
 BOOST_AUTO_TEST_CASE(splitting_methods_cannot_carry_the_variational_equations) {
     SimulationRequest req = kepler_request(false);
     req.integrator = "verlet";
-    BOOST_CHECK_THROW(eomc::cli::simulate(req), eomc::InputError);
+    BOOST_CHECK_THROW(eomc::host::simulate(req), eomc::InputError);
 }

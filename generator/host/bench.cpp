@@ -1,0 +1,589 @@
+#include "host/bench.hpp"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <limits>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+#include <string_view>
+
+#include <fmt/format.h>
+
+#include "codegen/cpp_text.hpp"
+#include "codegen/templates.hpp"
+#include "host/toolchain.hpp"
+#include "support/diagnostic.hpp"
+#include "support/output_file.hpp"
+
+namespace eomc::host {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::vector<std::string> method_names() { return {bench_method_names.begin(), bench_method_names.end()}; }
+
+std::string join(const std::vector<std::string>& items, const char* separator = ", ") {
+    std::string out;
+    for (const auto& s : items) {
+        if (!out.empty()) out += separator;
+        out += s;
+    }
+    return out;
+}
+
+bool has_control_character(std::string_view s) {
+    return std::any_of(s.begin(), s.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7F; });
+}
+
+// Everything that can be checked before compiling, so that a typo costs no compile.
+void validate(const BenchRequest& r) {
+    // The directory reaches the plot script; a line break there would end its quoted string.
+    if (has_control_character(r.out_dir))
+        throw InputError(SourcePos{"-o"}, fmt::format("the output directory '{}' contains a control character",
+                                                       codegen::comment_text(r.out_dir)));
+    const std::vector<std::string> known = method_names();
+    for (const auto& m : r.methods) {
+        if (std::find(known.begin(), known.end(), m) != known.end()) continue;
+        const std::string near = nearest_name(m, known);
+        throw InputError(SourcePos{"--methods"}, fmt::format("unknown method '{}'{} (expected one of {})", m,
+                                                             near.empty() ? "" : "; did you mean '" + near + "'?",
+                                                             join(known)));
+    }
+    if (!(std::isfinite(r.t_end) && r.t_end > 0.0))
+        throw InputError(SourcePos{"--t-end"}, fmt::format("the end time must be positive and finite, not {}", r.t_end));
+    for (double tol : r.tolerances)
+        if (!(tol > 0.0 && tol < 1.0))
+            throw InputError(SourcePos{"--tolerances"}, fmt::format("a tolerance must lie in (0, 1), not {}", tol));
+    for (double n : r.steps)
+        if (!(n >= 1.0 && n <= 1e9 && n == std::floor(n)))
+            throw InputError(SourcePos{"--steps"}, fmt::format("a step count must be a whole number from 1 to 1e9, not {}", n));
+    if (!(r.min_time >= 0.0 && std::isfinite(r.min_time)))
+        throw InputError(SourcePos{"--min-time"}, fmt::format("--min-time must be >= 0, not {}", r.min_time));
+    if (r.repeats < 1) throw InputError(SourcePos{"--repeats"}, fmt::format("--repeats must be >= 1, not {}", r.repeats));
+    for (std::size_t i = 0; i < r.formulations.size(); ++i)
+        for (std::size_t j = 0; j < i; ++j)
+            if (r.formulations[i].name == r.formulations[j].name)
+                throw InputError(SourcePos{"--formulations"},
+                                 fmt::format("the formulation '{}' is listed twice", r.formulations[i].name));
+    if (!(r.reference_tolerance > 0.0 && r.reference_tolerance < 1e-3))
+        throw InputError(SourcePos{"--reference-tolerance"},
+                         fmt::format("the reference tolerance must lie in (0, 1e-3), not {}", r.reference_tolerance));
+}
+
+std::string indent(const std::string& text, int spaces) {
+    std::string out, pad(static_cast<std::size_t>(spaces), ' ');
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) out += (line.empty() ? "" : pad + line) + "\n";
+    return out;
+}
+
+std::string number_list(const std::vector<double>& values) {
+    std::string out;
+    for (double v : values) {
+        if (!out.empty()) out += ',';
+        out += fmt::format("{:.17g}", v);
+    }
+    return out;
+}
+
+std::vector<std::string> split(const std::string& line, char separator) {
+    std::vector<std::string> out;
+    std::size_t start = 0;
+    for (;;) {
+        const std::size_t at = line.find(separator, start);
+        out.push_back(line.substr(start, at == std::string::npos ? std::string::npos : at - start));
+        if (at == std::string::npos) return out;
+        start = at + 1;
+    }
+}
+
+double parse_double(const std::string& s) {
+    if (s.empty()) return std::numeric_limits<double>::quiet_NaN();
+    std::size_t used = 0;
+    const double v = std::stod(s, &used);
+    if (used != s.size()) throw std::runtime_error("not a number: " + s);
+    return v;
+}
+
+BenchRow parse_row(const std::string& line, const std::string& formulation) {
+    const std::vector<std::string> f = split(line, ',');
+    if (f.size() != 11) throw std::runtime_error("the benchmark driver wrote a malformed row: " + line);
+    BenchRow r;
+    r.formulation = formulation;
+    r.method = f[0];
+    r.library = f[1];
+    r.kind = f[2];
+    r.setting = parse_double(f[3]);
+    r.error = parse_double(f[4]);
+    r.drift = parse_double(f[5]);
+    r.rhs_evals = std::stoull(f[6]);
+    r.steps = std::stoull(f[7]);
+    r.rejected = std::stoull(f[8]);
+    r.seconds = parse_double(f[9]);
+    r.repetitions = std::stoi(f[10]);
+    return r;
+}
+
+std::string read_text(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+// --- the plot ------------------------------------------------------------------------------
+
+// $EOMC_GNUPLOT (a path or a name on PATH; tests point it at nothing) or gnuplot on PATH.
+std::string find_gnuplot() {
+    const char* configured = std::getenv("EOMC_GNUPLOT");
+    const std::string name = configured && *configured ? configured : "gnuplot";
+    if (name.find('/') != std::string::npos) return ::access(name.c_str(), X_OK) == 0 ? name : "";
+    const char* path = std::getenv("PATH");
+    for (const std::string& dir : split(path ? path : "", ':')) {
+        const fs::path candidate = fs::path(dir.empty() ? "." : dir) / name;
+        if (::access(candidate.c_str(), X_OK) == 0 && !fs::is_directory(candidate)) return candidate.string();
+    }
+    return "";
+}
+
+// A single-quoted gnuplot string: no backslash, backquote or macro processing happens inside
+// one (gnuplot's "quote marks" and "substitution"), so only a line break could end it and
+// start a command; validate() refuses those in the paths, and this refuses them anyway.
+std::string gnuplot_quoted(const std::string& s) {
+    if (has_control_character(s)) throw std::logic_error("a control character in a gnuplot string: " + codegen::comment_text(s));
+    std::string out = "'";
+    for (char c : s) out += c == '\'' ? std::string("''") : std::string(1, c);
+    return out + "'";
+}
+
+// Text for an enhanced-mode label: '_' and '^' would start sub- and superscripts.
+std::string gnuplot_text(const std::string& s) {
+    std::string out;
+    for (char c : s) {
+        if (c == '_' || c == '^' || c == '@' || c == '&' || c == '~' || c == '{' || c == '}') out += '\\';
+        out += c;
+    }
+    return out;
+}
+
+// Two panels, log-log, one curve per method against the median wall time of a run: the error of
+// the final state, and the largest relative drift of the invariants. Ours solid, odeint dashed.
+std::string gnuplot_script(const BenchRequest& request, const BenchResult& result, const std::string& terminal,
+                           const fs::path& output) {
+    static const char* colors[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",
+                                   "#bcbd22", "#17becf", "#ff7f0e", "#393b79", "#637939", "#843c39"};
+    std::vector<std::string> methods;
+    for (const auto& r : result.rows)
+        if (std::find(methods.begin(), methods.end(), r.method) == methods.end()) methods.push_back(r.method);
+
+    std::string s = fmt::format("set terminal {} size 1600,700 font ',10'\nset output {}\n", terminal,
+                                gnuplot_quoted(output.string()));
+    bool any_drift = false;
+    for (std::size_t m = 0; m < methods.size(); ++m) {
+        std::vector<const BenchRow*> rows;
+        for (const auto& r : result.rows)
+            if (r.method == methods[m]) rows.push_back(&r);
+        std::sort(rows.begin(), rows.end(), [](const BenchRow* a, const BenchRow* b) { return a->seconds < b->seconds; });
+        s += fmt::format("$m{} << EOD\n", m);
+        for (const BenchRow* r : rows) {
+            // Zeros have no place on a log scale: NaN leaves the point out.
+            const auto positive = [](double v) { return v > 0.0 && std::isfinite(v) ? fmt::format("{:.6g}", v) : "NaN"; };
+            s += fmt::format("{} {} {}\n", positive(r->seconds), positive(r->error), positive(r->drift));
+            any_drift = any_drift || (r->drift > 0.0 && std::isfinite(r->drift));
+        }
+        s += "EOD\n";
+    }
+    s += fmt::format("set multiplot layout 1,2 title {}\n",
+                     gnuplot_quoted(gnuplot_text(
+                         fmt::format("{}: work-precision over t = 0 .. {:.6g}", request.scene_name, request.t_end))));
+    s += "set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\nset grid\nset key bottom left font ',9'\n"
+         "set xlabel 'wall time per run (s, median)'\n";
+    auto plot = [&](const char* ylabel, int column) {
+        std::string p = fmt::format("set ylabel '{}'\nplot ", ylabel);
+        for (std::size_t m = 0; m < methods.size(); ++m) {
+            const std::string& library =
+                std::find_if(result.rows.begin(), result.rows.end(), [&](const BenchRow& r) { return r.method == methods[m]; })
+                    ->library;
+            p += fmt::format("{}$m{} using 1:{} with linespoints lw 1.5 pt {} dt {} lc rgb '{}' title '{}{}'",
+                             m ? ", \\\n     " : "", m, column, m % 13 + 1, library == "eomc" ? 1 : 2,
+                             colors[m % 13], gnuplot_text(methods[m]), library == "eomc" ? "" : " (odeint)");
+        }
+        return p + "\n";
+    };
+    if (!methods.empty()) {
+        s += plot("error of the final state (max norm)", 2);
+        if (any_drift) {
+            s += plot("max relative drift of the invariants", 3);
+        } else {
+            s += "unset logscale\nunset key\nunset xlabel\nunset ylabel\nset format x ''\nset format y ''\n"
+                 "set label 1 'no invariants' at graph 0.5, 0.5 center\nplot [0:1] [0:1] NaN notitle\n";
+        }
+    }
+    s += "unset multiplot\n";
+    return s;
+}
+
+// Two panels, log-log, one curve per formulation and method: the error of the position at t_end
+// against the median wall time of a run, and against its rhs evaluations. Colour: formulation;
+// point and dash: method.
+// Errors above `error_cap` are left out of the plot (they are in the CSV and the table).
+std::string orbit_gnuplot_script(const BenchRequest& request, const BenchResult& result, double error_cap,
+                                 const std::string& terminal, const fs::path& output) {
+    static const char* colors[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",
+                                   "#bcbd22", "#17becf", "#ff7f0e"};
+    std::vector<std::string> formulations, methods;
+    std::vector<std::pair<std::string, std::string>> curves;
+    for (const auto& r : result.rows) {
+        if (std::find(formulations.begin(), formulations.end(), r.formulation) == formulations.end())
+            formulations.push_back(r.formulation);
+        if (std::find(methods.begin(), methods.end(), r.method) == methods.end()) methods.push_back(r.method);
+        const std::pair<std::string, std::string> c{r.formulation, r.method};
+        if (std::find(curves.begin(), curves.end(), c) == curves.end()) curves.push_back(c);
+    }
+    const auto index = [](const std::vector<std::string>& v, const std::string& x) {
+        return static_cast<std::size_t>(std::find(v.begin(), v.end(), x) - v.begin());
+    };
+    const auto positive = [](double v) { return v > 0.0 && std::isfinite(v) ? fmt::format("{:.6g}", v) : "NaN"; };
+    std::string s = fmt::format("set terminal {} size 1600,700 font ',10'\nset output {}\n", terminal,
+                                gnuplot_quoted(output.string()));
+    for (std::size_t c = 0; c < curves.size(); ++c) {
+        std::vector<const BenchRow*> rows;
+        for (const auto& r : result.rows)
+            if (r.formulation == curves[c].first && r.method == curves[c].second) rows.push_back(&r);
+        // In sweep order (tolerances falling, step counts rising); a run that lost the orbit is a
+        // gap in its curve.
+        s += fmt::format("$c{} << EOD\n", c);
+        for (const BenchRow* r : rows)
+            s += fmt::format("{} {} {}\n", positive(r->seconds), positive(static_cast<double>(r->rhs_evals)),
+                             r->error <= error_cap ? positive(r->error) : "NaN");
+        s += "EOD\n";
+    }
+    s += fmt::format("set multiplot layout 1,2 title {}\n",
+                     gnuplot_quoted(gnuplot_text(fmt::format(
+                         "{}: position error at t = {:.6g} against a float128 Cowell run (runs that lost the orbit, "
+                         "error > its radius, left out)",
+                         request.scene_name, request.t_end))));
+    s += "set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\nset grid\nset key bottom left font ',9'\n"
+         "set ylabel 'position error at the end time'\n";
+    if (std::isfinite(error_cap)) s += fmt::format("set yrange [:{:.3g}]\n", 2.0 * error_cap);
+    const auto panel = [&](const char* xlabel, int column) {
+        std::string p = fmt::format("set xlabel '{}'\nplot ", xlabel);
+        for (std::size_t c = 0; c < curves.size(); ++c) {
+            const std::size_t f = index(formulations, curves[c].first), m = index(methods, curves[c].second);
+            p += fmt::format("{}$c{} using {}:3 with linespoints lw 1.5 pt {} dt {} lc rgb '{}' title '{} {}'",
+                             c ? ", \\\n     " : "", c, column, m % 13 + 1, m % 5 + 1, colors[f % 10],
+                             gnuplot_text(curves[c].first), gnuplot_text(curves[c].second));
+        }
+        return p + "\n";
+    };
+    if (!curves.empty()) {
+        s += panel("wall time per run (s, median)", 1);
+        s += panel("rhs evaluations per run", 2);
+    }
+    s += "unset multiplot\n";
+    return s;
+}
+
+// Writes `png` through gnuplot (pngcairo, else png) with the script script(terminal, output).
+// Returns "" on success, else the reason there is no plot.
+std::string plot(const std::function<std::string(const std::string&, const fs::path&)>& script_for,
+                 const fs::path& png) {
+    const std::string gnuplot = find_gnuplot();
+    if (gnuplot.empty())
+        return "gnuplot was not found (install gnuplot-nox); " + png.string() + " was not written";
+    TempDir dir("eomc-plot-");
+    const fs::path partial = png.parent_path() / fmt::format(".{}.{}.tmp", png.filename().string(), ::getpid());
+    std::string log;
+    for (const char* terminal : {"pngcairo", "png"}) {
+        const fs::path script = dir.path() / "plot.gp";
+        std::ofstream(script) << script_for(terminal, partial);
+        const int status = run_process({gnuplot, script.string()}, dir.path() / "gnuplot.log", true);
+        if (WIFEXITED(status) && WEXITSTATUS(status) == 0 && fs::exists(partial)) {
+            std::error_code ec;
+            fs::rename(partial, png, ec);
+            if (!ec) return "";
+            log = ec.message();
+            break;
+        }
+        log = read_text(dir.path() / "gnuplot.log");
+    }
+    std::error_code ignored;
+    fs::remove(partial, ignored);
+    return fmt::format("gnuplot failed, {} was not written:\n{}", png.string(), log);
+}
+
+// The request for one formulation's kernel: the same sweep on another header.
+BenchRequest with_kernel(const BenchRequest& request, const BenchFormulation& f) {
+    BenchRequest r = request;
+    r.header_text = f.header_text;
+    r.struct_name = f.struct_name;
+    r.scene_name = f.scene_name;
+    r.autonomous = f.autonomous;
+    r.reference_body.clear();
+    r.formulations.clear();
+    return r;
+}
+
+// The driver program of a request's kernel, compiled unless the cache has it.
+fs::path driver_for(const BenchRequest& request, bool& cache_hit) {
+    CompileRequest build;
+    build.files = {{"bench_driver.cpp", codegen::bench_driver_template()},
+                   {"kernel.hpp", request.header_text},
+                   {"bench_config.hpp", bench_config_source(request)}};
+    if (request.odeint_array) build.flags = {"-DEOMC_BENCH_ODEINT_ARRAY"};
+    build.libraries = {"-lquadmath"};
+    build.what = "the benchmark driver";
+    const fs::path driver = cached_path(build, request.cache_dir);
+    cache_hit = fs::exists(driver);
+    if (!cache_hit) {
+        std::cerr << "compiling the benchmark driver for " << request.scene_name
+                  << " (once per kernel; it is cached as " << driver.string() << ")\n";
+        compile(build, driver);
+    }
+    return driver;
+}
+
+// Runs a driver; its standard output (CSV rows and '# ' notes).
+std::string run_driver(const std::vector<std::string>& argv) {
+    TempDir work("eomc-bench-");
+    const fs::path output = work.path() / "driver.csv";
+    const int status = run_process(argv, output, false);
+    if (!(WIFEXITED(status) && WEXITSTATUS(status) == 0))
+        throw std::runtime_error(fmt::format("the benchmark driver {} {}", argv.front(), describe_status(status)));
+    return read_text(output);
+}
+
+// The sweep's options, as the driver takes them.
+std::vector<std::string> sweep_arguments(const BenchRequest& request, const std::vector<std::string>& methods,
+                                         const std::vector<double>& steps) {
+    std::vector<std::string> argv{"--t-end", fmt::format("{:.17g}", request.t_end)};
+    if (!methods.empty()) argv.insert(argv.end(), {"--methods", join(methods, ",")});
+    if (!request.tolerances.empty()) argv.insert(argv.end(), {"--tolerances", number_list(request.tolerances)});
+    if (!steps.empty()) argv.insert(argv.end(), {"--steps", number_list(steps)});
+    argv.insert(argv.end(), {"--min-time", fmt::format("{:.17g}", request.min_time == 0.0 ? 1e-9 : request.min_time),
+                             "--repeats", std::to_string(request.repeats)});
+    return argv;
+}
+
+// Rows (tagged with `formulation`) and notes (prefixed with `note_prefix`) of a driver's output;
+// the rows as written, after "formulation," when there is one, are appended to `csv`.
+void collect(const std::string& text, const std::string& formulation, const std::string& note_prefix,
+             BenchResult& result, std::string& csv) {
+    bool header_seen = false;
+    std::istringstream lines(text);
+    for (std::string line; std::getline(lines, line);) {
+        if (line.rfind("# ", 0) == 0) {
+            result.notes.push_back(note_prefix + line.substr(2));
+        } else if (!header_seen) {
+            if (line != bench_csv_header)
+                throw std::runtime_error("the benchmark driver wrote an unexpected header: " + line);
+            header_seen = true;
+        } else if (!line.empty()) {
+            result.rows.push_back(parse_row(line, formulation));
+            csv += (formulation.empty() ? "" : formulation + ",") + line + "\n";
+        }
+    }
+    if (!header_seen) throw std::runtime_error("the benchmark driver wrote no CSV header");
+}
+
+// DIR/work_precision.csv (`csv`: header and rows) and DIR/work_precision.png.
+void write_outputs(const BenchRequest& request, BenchResult& result, const std::string& csv,
+                   const std::function<std::string(const std::string&, const fs::path&)>& script_for) {
+    const fs::path dir = request.out_dir.empty() ? fs::path(".") : fs::path(request.out_dir);
+    const fs::path csv_path = dir / "work_precision.csv", png_path = dir / "work_precision.png";
+    write_file_atomically(csv_path, csv);
+    result.csv_path = csv_path.string();
+    const std::string no_plot = plot(script_for, png_path);
+    if (no_plot.empty()) {
+        result.png_path = png_path.string();
+    } else {
+        std::cerr << "eomc: warning: " << no_plot << "\n";
+        result.notes.push_back(no_plot.substr(0, no_plot.find('\n')));
+    }
+}
+
+// The Cowell reference of an orbit bench: the position at t_end and its spread, from the cache
+// when this kernel, end time and tolerance have been run before (it takes minutes on long runs).
+struct OrbitReference {
+    std::string position;  // X,Y,Z in full float128 precision
+    double spread = 0.0;
+    std::string note;
+};
+
+OrbitReference orbit_reference(const BenchRequest& request, const fs::path& driver) {
+    const fs::path cached = driver.parent_path() / fmt::format("{}.reference-{:.17g}-{:.3g}.txt", driver.filename().string(),
+                                                              request.t_end, request.reference_tolerance);
+    std::string text;
+    if (fs::exists(cached)) {
+        text = read_text(cached);
+    } else {
+        std::cerr << "computing the float128 Cowell reference for " << request.scene_name << " over t = 0 .. "
+                  << fmt::format("{:.6g}", request.t_end) << " (once; it is cached as " << cached.string() << ")\n";
+        text = run_driver({driver.string(), "--reference-only", "--t-end", fmt::format("{:.17g}", request.t_end),
+                           "--reference-tolerance", fmt::format("{:.17g}", request.reference_tolerance)});
+        write_file_atomically(cached, text);
+    }
+    OrbitReference ref;
+    std::istringstream lines(text);
+    for (std::string line; std::getline(lines, line);) {
+        if (line.rfind("# ", 0) == 0) {
+            ref.note = line.substr(2);
+        } else if (line.rfind("reference_position,", 0) == 0) {
+            const std::vector<std::string> f = split(line, ',');
+            if (f.size() != 5) break;
+            ref.position = f[1] + "," + f[2] + "," + f[3];
+            ref.spread = parse_double(f[4]);
+        }
+    }
+    if (ref.position.empty() || ref.note.empty())
+        throw std::runtime_error("the reference run wrote no position (" + cached.string() + "):\n" + text);
+    return ref;
+}
+
+// Step counts for fixed-step methods on an orbit: 8 .. 2048 per revolution in half octaves (fewer
+// than 8 steps per revolution only measure divergence).
+std::vector<double> orbit_steps(const BenchRequest& request) {
+    std::vector<double> steps;
+    const double orbits = request.t_end / request.orbit_period;
+    for (int k = 6; k <= 22; ++k) steps.push_back(std::max(1.0, std::round(orbits * std::pow(2.0, k / 2.0))));
+    steps.erase(std::unique(steps.begin(), steps.end()), steps.end());
+    return steps;
+}
+
+BenchResult orbit_bench(const BenchRequest& request) {
+    BenchResult result;
+    const std::vector<std::string> methods =
+        request.methods.empty() ? std::vector<std::string>{"dop853", "dopri5", "rk4"} : request.methods;
+    const std::vector<double> steps =
+        request.steps.empty() && request.orbit_period > 0.0 ? orbit_steps(request) : request.steps;
+
+    // The reference: the request's own kernel (Cowell) in float128.
+    const fs::path reference_driver = driver_for(request, result.cache_hit);
+    result.driver_path = reference_driver.string();
+    const OrbitReference ref = orbit_reference(request, reference_driver);
+    result.reference_spread = ref.spread;
+    result.notes.push_back(ref.note);
+    result.notes.insert(result.notes.end(), request.skipped.begin(), request.skipped.end());
+
+    std::string csv = std::string(bench_orbit_csv_header) + "\n";
+    for (const BenchFormulation& f : request.formulations) {
+        bool hit = false;
+        const BenchRequest kernel = with_kernel(request, f);
+        const fs::path driver = driver_for(kernel, hit);
+        std::cerr << "formulation " << f.name << "\n";
+        std::vector<std::string> argv{driver.string()};
+        for (std::string& a : sweep_arguments(kernel, methods, steps)) argv.push_back(std::move(a));
+        argv.insert(argv.end(), {"--reference-position", ref.position});
+        collect(run_driver(argv), f.name, f.name + ": ", result, csv);
+    }
+
+    // The reference must be far more accurate than anything it judges.
+    double best = std::numeric_limits<double>::infinity();
+    for (const BenchRow& r : result.rows) best = std::min(best, r.error);
+    if (std::isfinite(best))
+        result.notes.push_back(fmt::format("{}the reference's spread ({:.2g}) is {} the smallest error measured ({:.2g})",
+                                           ref.spread * 100.0 <= best ? "" : "warning: ", ref.spread,
+                                           ref.spread * 100.0 <= best ? fmt::format("{:.2g} times below", best / ref.spread)
+                                                                      : std::string("not 100 times below"),
+                                           best));
+    // An error as large as the orbit only says that the run lost it (coarse steps fly off to 1e8
+    // km, or fall in): such runs are left out of the plot, whose scale stays with the others.
+    double radius2 = 0.0;
+    for (const std::string& c : split(ref.position, ',')) radius2 += parse_double(c) * parse_double(c);
+    const double error_cap = std::sqrt(radius2);
+    write_outputs(request, result, csv, [&](const std::string& terminal, const fs::path& output) {
+        return orbit_gnuplot_script(request, result, error_cap, terminal, output);
+    });
+    return result;
+}
+
+}  // namespace
+
+std::string bench_config_source(const BenchRequest& request) {
+    const bool has_reference = !request.reference_body.empty();
+    return fmt::format(
+        "// Generated by eomc for `eomc bench` on {}. Do not edit.\n"
+        "#pragma once\n\n#include \"kernel.hpp\"\n\nnamespace eomc::bench {{\n\n"
+        "using Model = eomc::models::{};\n"
+        "inline constexpr bool autonomous = {};\n"
+        "inline constexpr bool has_reference = {};\n"
+        "inline constexpr const char* reference_source = {};\n\n"
+        "// The exact state at time t (the scene's [reference]).\n"
+        "template <class S>\nvoid reference(S t, S* out, const Model::Parameters& p) {{\n{}}}\n\n"
+        "}}  // namespace eomc::bench\n",
+        request.scene_path.empty() ? request.scene_name : request.scene_path, request.struct_name,
+        request.autonomous ? "true" : "false", has_reference ? "true" : "false",
+        codegen::string_literal(has_reference ? "[reference] of " + (request.scene_path.empty() ? request.scene_name : request.scene_path)
+                                 : "none"),
+        indent(has_reference ? request.reference_body : "(void)t;\n(void)out;\n(void)p;", 4));
+}
+
+BenchResult bench(const BenchRequest& request) {
+    validate(request);
+    if (!request.formulations.empty()) return orbit_bench(request);
+    BenchResult result;
+    const fs::path driver = driver_for(request, result.cache_hit);
+    result.driver_path = driver.string();
+    std::vector<std::string> argv{driver.string()};
+    for (std::string& a : sweep_arguments(request, request.methods, request.steps)) argv.push_back(std::move(a));
+    std::string csv = std::string(bench_csv_header) + "\n";
+    collect(run_driver(argv), "", "", result, csv);
+    write_outputs(request, result, csv, [&](const std::string& terminal, const fs::path& output) {
+        return gnuplot_script(request, result, terminal, output);
+    });
+    return result;
+}
+
+void print_bench_table(const BenchResult& result, std::ostream& out) {
+    // Orbit benches: one line per formulation and method, at position errors of a unit (a km in
+    // the bundled scenes), a thousandth (a metre) and a millionth (a millimetre).
+    const bool orbit = std::any_of(result.rows.begin(), result.rows.end(),
+                                   [](const BenchRow& r) { return !r.formulation.empty(); });
+    std::vector<std::pair<std::string, std::string>> lines;
+    for (const auto& r : result.rows) {
+        const std::pair<std::string, std::string> key{r.formulation, r.method};
+        if (std::find(lines.begin(), lines.end(), key) == lines.end()) lines.push_back(key);
+    }
+    const std::vector<double> targets = orbit ? std::vector<double>{1.0, 1e-3, 1e-6} : std::vector<double>{1e-6, 1e-9, 1e-12};
+    const int width = orbit ? 20 : 18;
+    std::string s = orbit ? fmt::format("{:<12} {:<8} {:>4}  {:>10}", "formulation", "method", "runs", "best error")
+                          : fmt::format("{:<30} {:<7} {:>4}  {:>10}", "method", "library", "runs", "best error");
+    for (double t : targets) s += fmt::format("  {:>{}}", fmt::format("to {:.0e}: ms, rhs", t), width);
+    s += fmt::format("  {:>12}\n", "drift (best)");
+    for (const auto& [formulation, method] : lines) {
+        std::vector<const BenchRow*> rows;
+        for (const auto& r : result.rows)
+            if (r.formulation == formulation && r.method == method) rows.push_back(&r);
+        const BenchRow* best = *std::min_element(rows.begin(), rows.end(),
+                                                 [](const BenchRow* a, const BenchRow* b) { return a->error < b->error; });
+        s += orbit ? fmt::format("{:<12} {:<8} {:>4}  {:>10.2e}", formulation, method, rows.size(), best->error)
+                   : fmt::format("{:<30} {:<7} {:>4}  {:>10.2e}", method, rows.front()->library, rows.size(), best->error);
+        for (double t : targets) {
+            // The cheapest run (wall time) whose error is at most t.
+            const BenchRow* cheapest = nullptr;
+            for (const BenchRow* r : rows)
+                if (r->error <= t && (!cheapest || r->seconds < cheapest->seconds)) cheapest = r;
+            s += cheapest ? fmt::format("  {:>{}}",
+                                        fmt::format("{:.3g} {:>{}}", cheapest->seconds * 1e3, cheapest->rhs_evals, orbit ? 9 : 7),
+                                        width)
+                          : fmt::format("  {:>{}}", "-", width);
+        }
+        s += std::isnan(best->drift) ? fmt::format("  {:>12}\n", "-") : fmt::format("  {:>12.2e}\n", best->drift);
+    }
+    for (const auto& n : result.notes) s += "note: " + n + "\n";
+    s += "csv: " + result.csv_path + "\n";
+    if (!result.png_path.empty()) s += "plot: " + result.png_path + "\n";
+    out << s;
+}
+
+}  // namespace eomc::host

@@ -1,0 +1,113 @@
+// `eomc bench`: work-precision sweeps of every integrator on one scene, ours and Boost.Odeint's
+// side by side on the same emitted kernel.
+//
+// On an orbit scene the sweep has a second axis, the formulation: one such program per
+// formulation's kernel, all judged by their Cartesian position at t_end against one float128
+// Cowell run (cached), so that their accuracy and cost compare directly.
+//
+// The sweep itself runs in a generated program, templates/bench_driver.cpp compiled with the
+// kernel header and a small configuration header (the model's struct, whether it is autonomous,
+// the closed-form reference of the scene's [reference] printed as C++). This module validates
+// the request, builds (or finds in the cache) that program, runs it, and turns its CSV into
+// DIR/work_precision.csv, DIR/work_precision.png (gnuplot) and a table.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <limits>
+#include <ostream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace eomc::host {
+
+// Every method the driver knows, ours first, then Boost.Odeint's under their own names.
+inline constexpr std::array<std::string_view, 13> bench_method_names{
+    "rk4",      "dopri5",   "dop853",
+    "gl4",      "gl6",      "gl8",
+    "verlet",   "yoshida6", "kahanli8",
+    "runge_kutta_dopri5", "runge_kutta_fehlberg78", "bulirsch_stoer", "symplectic_rkn_sb3a_mclachlan"};
+
+// One formulation of an orbit scene: its kernel, judged by its Cartesian position (the state's
+// x, y, z, or else the outputs named so).
+struct BenchFormulation {
+    std::string name;         // "cowell", "equinoctial", …
+    std::string header_text;  // its emitted kernel
+    std::string struct_name;  // "LeoJ2Equinoctial"
+    std::string scene_name;   // "leo_j2_equinoctial"
+    bool autonomous = true;
+};
+
+struct BenchRequest {
+    std::string header_text;     // the emitted kernel, as `eomc generate` writes it
+    std::string struct_name;     // "KeplerE06"
+    std::string scene_name;      // "kepler_e06"
+    std::string scene_path;      // for messages and the reference's provenance
+    std::string reference_body;  // codegen::emit_reference_body(); "" when the scene has no [reference]
+    bool autonomous = true;      // the equations do not depend on t explicitly
+    double t_end = 1.0;
+    std::vector<std::string> methods;  // a subset of bench_method_names; empty: all of them
+    std::vector<double> tolerances;    // rtol = atol of the adaptive methods; empty: 1e-3 .. 1e-15
+    std::vector<double> steps;         // step counts of the fixed-step methods; empty: 16 .. 2^20
+    bool odeint_array = false;         // odeint on std::array<double, n_state> instead of std::vector
+    double min_time = 0.02;            // each run is repeated until the repetitions add up to this ...
+    int repeats = 3;                   // ... and at least this often; the median is reported
+    std::string out_dir = ".";
+    std::string cache_dir;             // "" = default_cache_dir()
+    // An orbit scene's formulation axis. Non-empty: the kernel above must be Cowell's (state x, y,
+    // z, x_dot, y_dot, z_dot); it gives the reference, and every formulation listed here is swept
+    // (methods empty: dop853, dopri5, rk4; steps empty: 8 .. 2048 per orbit when orbit_period > 0).
+    std::vector<BenchFormulation> formulations;
+    std::vector<std::string> skipped;   // formulations that do not take the scene, with the reason (notes)
+    double orbit_period = 0.0;          // of the initial osculating orbit; 0: unknown (not an ellipse)
+    double reference_tolerance = 1e-26; // rtol = atol of the float128 reference run
+};
+
+// One run of one method at one setting (one CSV row).
+struct BenchRow {
+    std::string formulation;            // "" outside an orbit bench
+    std::string method, library, kind;  // kind: "tolerance" | "steps"
+    double setting = 0;                 // rtol = atol, or the number of steps over [0, t_end]
+    double error = 0;                   // max-norm distance of the final state from the reference; orbit
+                                        // bench: Euclidean distance of the position at t_end
+    double drift = 0;                   // max over the run and the invariants of |I - I0| / |I0|; NaN: no invariants
+    std::size_t rhs_evals = 0, steps = 0, rejected = 0;
+    double seconds = 0;                 // median wall time of one run
+    int repetitions = 0;
+};
+
+struct BenchResult {
+    std::vector<BenchRow> rows;
+    std::vector<std::string> notes;  // the reference used, methods skipped, settings that failed
+    std::string csv_path, png_path;  // png_path "" when no plot was made
+    std::string driver_path;            // orbit bench: the reference's (Cowell) driver
+    bool cache_hit = false;
+    // Orbit bench: how far the position of a reference run 1000 times looser ends from the
+    // reference's (a bound on its error); NaN otherwise.
+    double reference_spread = std::numeric_limits<double>::quiet_NaN();
+};
+
+// The CSV header of work_precision.csv.
+inline constexpr const char* bench_csv_header =
+    "method,library,kind,setting,error,max_invariant_drift,rhs_evals,steps,rejected,wall_seconds,repetitions";
+// ... and of an orbit bench's: the formulation first, the error as the position's distance (in the
+// scene's length unit) from the reference at t_end.
+inline constexpr const char* bench_orbit_csv_header =
+    "formulation,method,library,kind,setting,position_error,max_invariant_drift,rhs_evals,steps,rejected,"
+    "wall_seconds,repetitions";
+
+// Throws eomc::InputError for a bad request (an unknown method, with the nearest name; a bad
+// end time, tolerance or step count) before compiling anything; std::runtime_error when the
+// driver does not compile or fails. Nothing is left in out_dir on failure. When gnuplot is
+// missing (or fails) the CSV is still written and a note says why there is no plot.
+BenchResult bench(const BenchRequest& request);
+
+// bench_config.hpp for a request (exposed for tests).
+std::string bench_config_source(const BenchRequest& request);
+
+// Per method (per formulation and method on an orbit scene): the cheapest run (wall time) reaching each of a few error levels, the best error,
+// and the largest invariant drift; then the notes.
+void print_bench_table(const BenchResult& result, std::ostream& out);
+
+}  // namespace eomc::host

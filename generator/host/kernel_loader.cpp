@@ -1,0 +1,358 @@
+#include "host/kernel_loader.hpp"
+
+#include <dlfcn.h>
+
+#include <cctype>
+#include <chrono>
+#include <filesystem>
+#include <iostream>
+#include <stdexcept>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "support/sha256.hpp"
+
+namespace eomc::host {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Bumped whenever the C interface below changes; the loader refuses a library that reports
+// another value (a cache written by an older eomc).
+constexpr int adapter_abi = 7;  // 3: acceleration and events; 4: project; 5: variational_rhs; 6: project(t, x, p);
+                                // 7: eomc_kernel_identity
+
+// The adapter: C functions over double, so that the host needs no knowledge of the kernel's
+// C++ types. Parameters travel by position in parameter_names order, never by member name
+// (a parameter named like a C++ keyword becomes a member with a trailing underscore).
+constexpr const char* adapter_template = R"(// eomc simulate: C interface over one generated kernel.
+#include "kernel.hpp"
+
+#include <array>
+#include <bit>
+#include <cstddef>
+#include <type_traits>
+#include <utility>
+
+namespace {
+using K = eomc::models::@STRUCT@;
+using P = K::Parameters;
+constexpr std::size_t n_par = K::n_parameters;
+
+// Parameters must be exactly n_parameters doubles in parameter_names order: aggregate
+// initialisation then fills them by position, and their bytes are an array of doubles.
+static_assert(std::is_aggregate_v<P> && std::is_trivially_copyable_v<P> && std::is_standard_layout_v<P>,
+              "eomc simulate: Parameters must be a plain aggregate of doubles");
+static_assert(n_par == 0 || sizeof(P) == n_par * sizeof(double),
+              "eomc simulate: Parameters must hold exactly n_parameters doubles");
+
+template <std::size_t... I>
+P* create(const double* v, std::index_sequence<I...>) {
+    (void)v;
+    return new P{v[I]...};
+}
+
+// Kernels of separable systems have acceleration(); kernels of scenes with [events] have events().
+// Templates, so that the branch for a kernel without them is discarded.
+template <class M>
+concept HasAcceleration = requires(double t, const double* q, double* a, const typename M::Parameters& p) {
+    M::template acceleration<double>(t, q, a, p);
+};
+template <class M>
+concept HasEvents = requires(double t, const double* x, double* out, const typename M::Parameters& p) {
+    M::n_events;
+    M::event_names;
+    M::event_directions;
+    M::event_terminal;
+    M::template events<double>(t, x, out, p);
+};
+
+// Kernels generated with --variational have variational_rhs() over (x, Φ).
+template <class M>
+concept HasVariational = requires(double t, const double* y, double* dydt, const typename M::Parameters& p) {
+    M::n_variational;
+    M::template variational_rhs<double>(t, y, dydt, p);
+};
+template <class M>
+void variational_rhs(double t, const double* y, double* dydt, const void* p) {
+    if constexpr (HasVariational<M>) M::template variational_rhs<double>(t, y, dydt, *static_cast<const typename M::Parameters*>(p));
+    else (void)t, (void)y, (void)dydt, (void)p;
+}
+
+// Kernels whose state holds a unit quaternion, and encke kernels (rectification), have project().
+template <class M>
+concept HasProjection = requires(double t, double* x, const typename M::Parameters& p) {
+    M::template project<double>(t, x, p);
+};
+template <class M>
+void project(double t, double* x, const void* p) {
+    if constexpr (HasProjection<M>) M::template project<double>(t, x, *static_cast<const typename M::Parameters*>(p));
+    else (void)t, (void)x, (void)p;
+}
+
+template <class M>
+void acceleration(double t, const double* q, double* a, const void* p) {
+    if constexpr (HasAcceleration<M>) M::template acceleration<double>(t, q, a, *static_cast<const typename M::Parameters*>(p));
+    else (void)t, (void)q, (void)a, (void)p;
+}
+template <class M>
+constexpr int n_events() {
+    if constexpr (HasEvents<M>) return M::n_events;
+    else return 0;
+}
+template <class M>
+const char* event_name(int i) {
+    if constexpr (HasEvents<M>) return M::event_names[std::size_t(i)];
+    else return (void)i, nullptr;
+}
+template <class M>
+int event_direction(int i) {
+    if constexpr (HasEvents<M>) return M::event_directions[std::size_t(i)];
+    else return (void)i, 0;
+}
+template <class M>
+int event_terminal(int i) {
+    if constexpr (HasEvents<M>) return M::event_terminal[std::size_t(i)] ? 1 : 0;
+    else return (void)i, 0;
+}
+template <class M>
+void events(double t, const double* x, double* out, const void* p) {
+    if constexpr (HasEvents<M>) M::template events<double>(t, x, out, *static_cast<const typename M::Parameters*>(p));
+    else (void)t, (void)x, (void)out, (void)p;
+}
+}  // namespace
+
+#define EOMC_EXPORT extern "C" __attribute__((visibility("default")))
+
+EOMC_EXPORT int eomc_adapter_abi() { return @ABI@; }
+// Which kernel this is: the struct and the SHA-256 of the header it was compiled from.
+EOMC_EXPORT const char* eomc_kernel_identity() { return "@IDENTITY@"; }
+EOMC_EXPORT const char* eomc_scene_name() { return K::scene_name; }
+EOMC_EXPORT int eomc_n_state() { return K::n_state; }
+EOMC_EXPORT int eomc_n_parameters() { return K::n_parameters; }
+EOMC_EXPORT int eomc_n_invariants() { return K::n_invariants; }
+EOMC_EXPORT int eomc_n_outputs() { return K::n_outputs; }
+EOMC_EXPORT const char* const* eomc_state_names() { return K::state_names.data(); }
+EOMC_EXPORT const char* const* eomc_parameter_names() { return K::parameter_names.data(); }
+EOMC_EXPORT const char* const* eomc_invariant_names() { return K::invariant_names.data(); }
+EOMC_EXPORT const char* const* eomc_output_names() { return K::output_names.data(); }
+EOMC_EXPORT const double* eomc_initial_state() { return K::initial_state.data(); }
+
+EOMC_EXPORT void eomc_parameter_defaults(double* out) {
+    if constexpr (n_par > 0) {
+        const auto values = std::bit_cast<std::array<double, n_par>>(P{});
+        for (std::size_t i = 0; i < n_par; ++i) out[i] = values[i];
+    } else {
+        (void)out;
+    }
+}
+EOMC_EXPORT void* eomc_create_parameters(const double* values) {
+    return create(values, std::make_index_sequence<n_par>{});
+}
+EOMC_EXPORT void eomc_destroy_parameters(void* p) { delete static_cast<P*>(p); }
+
+EOMC_EXPORT void eomc_rhs(double t, const double* x, double* dxdt, const void* p) {
+    K::rhs<double>(t, x, dxdt, *static_cast<const P*>(p));
+}
+EOMC_EXPORT void eomc_invariants(double t, const double* x, double* out, const void* p) {
+    K::invariants<double>(t, x, out, *static_cast<const P*>(p));
+}
+EOMC_EXPORT void eomc_outputs(double t, const double* x, double* out, const void* p) {
+    K::outputs<double>(t, x, out, *static_cast<const P*>(p));
+}
+
+EOMC_EXPORT int eomc_separable() { return HasAcceleration<K> ? 1 : 0; }
+EOMC_EXPORT int eomc_projects() { return HasProjection<K> ? 1 : 0; }
+EOMC_EXPORT int eomc_variational() { return HasVariational<K> ? 1 : 0; }
+EOMC_EXPORT void eomc_variational_rhs(double t, const double* y, double* dydt, const void* p) {
+    variational_rhs<K>(t, y, dydt, p);
+}
+EOMC_EXPORT void eomc_project(double t, double* x, const void* p) { project<K>(t, x, p); }
+EOMC_EXPORT void eomc_acceleration(double t, const double* q, double* a, const void* p) { acceleration<K>(t, q, a, p); }
+EOMC_EXPORT int eomc_n_events() { return n_events<K>(); }
+EOMC_EXPORT const char* eomc_event_name(int i) { return event_name<K>(i); }
+EOMC_EXPORT int eomc_event_direction(int i) { return event_direction<K>(i); }
+EOMC_EXPORT int eomc_event_terminal(int i) { return event_terminal<K>(i); }
+EOMC_EXPORT void eomc_events(double t, const double* x, double* out, const void* p) { events<K>(t, x, out, p); }
+)";
+
+std::string replace_all(std::string text, const std::string& from, const std::string& to) {
+    for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
+        text.replace(at, from.size(), to);
+    return text;
+}
+
+bool is_identifier(const std::string& s) {
+    if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
+    for (char c : s)
+        if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) return false;
+    return true;
+}
+
+// The adapter and the kernel, built into a shared object with only the adapter's C functions
+// exported (hidden visibility keeps the kernel's template instantiations out of the dynamic
+// symbol table).
+CompileRequest kernel_request(const std::string& header_text, const std::string& struct_name) {
+    CompileRequest r;
+    r.files = {{"adapter.cpp", adapter_source(struct_name, header_text)}, {"kernel.hpp", header_text}};
+    r.flags = {"-fPIC", "-shared", "-fvisibility=hidden"};
+    r.suffix = ".so";
+    r.what = "the generated kernel";
+    return r;
+}
+
+template <class F>
+F symbol(void* handle, const char* name, const std::string& path) {
+    void* p = ::dlsym(handle, name);
+    if (!p) throw std::runtime_error(fmt::format("{}: no symbol {} (not an eomc kernel library)", path, name));
+    return reinterpret_cast<F>(p);
+}
+
+std::vector<std::string> names(const char* const* array, int n) {
+    return std::vector<std::string>(array, array + n);
+}
+
+}  // namespace
+
+static std::string kernel_identity(const std::string& struct_name, const std::string& header_text) {
+    return struct_name + " " + sha256_hex(header_text);
+}
+
+std::string adapter_source(const std::string& struct_name, const std::string& header_text) {
+    if (!is_identifier(struct_name))
+        throw std::runtime_error(fmt::format("'{}' is not a C++ identifier (expected the kernel's struct name)", struct_name));
+    return replace_all(replace_all(replace_all(adapter_template, "@STRUCT@", struct_name), "@ABI@", std::to_string(adapter_abi)),
+                       "@IDENTITY@", kernel_identity(struct_name, header_text));
+}
+
+std::string cache_key(const std::string& header_text, const std::string& struct_name) {
+    return cache_key(kernel_request(header_text, struct_name));
+}
+
+KernelLibrary KernelLibrary::load(const std::string& header_text, const std::string& struct_name,
+                                  const std::string& cache_dir) {
+    const auto start = std::chrono::steady_clock::now();
+    const CompileRequest request = kernel_request(header_text, struct_name);
+    // Verified against its record before dlopen (which runs the object's initialisers and maps
+    // its pages: a truncated file would SIGBUS later): a bad entry is rebuilt, never loaded.
+    const Artifact artifact = find_or_compile(request, cache_dir);
+    const fs::path path = artifact.path;
+
+    KernelLibrary lib;
+    lib.path_ = path.string();
+    lib.cache_hit_ = artifact.cache_hit;
+    // And once loaded, the kernel must say it is this one: the same struct, from the same header.
+    const std::string identity = kernel_identity(struct_name, header_text);
+    const auto identity_of = [&](void* handle) -> std::string {
+        const auto abi = reinterpret_cast<int (*)()>(::dlsym(handle, "eomc_adapter_abi"));
+        const auto id = reinterpret_cast<const char* (*)()>(::dlsym(handle, "eomc_kernel_identity"));
+        if (!abi || !id) return "it is not an eomc kernel library";
+        if (abi() != adapter_abi) return fmt::format("it has adapter interface {}, not {}", abi(), adapter_abi);
+        return id() == identity ? "" : fmt::format("it is the kernel '{}', not '{}'", id(), identity);
+    };
+    lib.handle_ = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+    std::string wrong = lib.handle_ ? identity_of(lib.handle_) : std::string(::dlerror());
+    if (!wrong.empty() && lib.cache_hit_) {
+        if (lib.handle_) ::dlclose(lib.handle_);
+        lib.handle_ = nullptr;
+        std::cerr << fmt::format("eomc: note: rebuilding {} cached as {}: {}\n", request.what, path.string(), wrong);
+        compile(request, path);
+        lib.cache_hit_ = false;
+        lib.handle_ = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+        wrong = lib.handle_ ? identity_of(lib.handle_) : std::string(::dlerror());
+    }
+    if (!wrong.empty()) throw std::runtime_error(fmt::format("cannot load the compiled kernel {}: {}", path.string(), wrong));
+
+    void* h = lib.handle_;
+    const std::string& p = lib.path_;
+    lib.scene_name_ = symbol<const char* (*)()>(h, "eomc_scene_name", p)();
+    const int n_state = symbol<int (*)()>(h, "eomc_n_state", p)();
+    const int n_par = symbol<int (*)()>(h, "eomc_n_parameters", p)();
+    const int n_inv = symbol<int (*)()>(h, "eomc_n_invariants", p)();
+    const int n_out = symbol<int (*)()>(h, "eomc_n_outputs", p)();
+    using Names = const char* const* (*)();
+    lib.state_names_ = names(symbol<Names>(h, "eomc_state_names", p)(), n_state);
+    lib.parameter_names_ = names(symbol<Names>(h, "eomc_parameter_names", p)(), n_par);
+    lib.invariant_names_ = names(symbol<Names>(h, "eomc_invariant_names", p)(), n_inv);
+    lib.output_names_ = names(symbol<Names>(h, "eomc_output_names", p)(), n_out);
+    const double* x0 = symbol<const double* (*)()>(h, "eomc_initial_state", p)();
+    lib.initial_state_.assign(x0, x0 + n_state);
+    lib.parameter_defaults_.assign(static_cast<std::size_t>(n_par), 0.0);
+    symbol<void (*)(double*)>(h, "eomc_parameter_defaults", p)(lib.parameter_defaults_.data());
+    lib.create_parameters_ = symbol<void* (*)(const double*)>(h, "eomc_create_parameters", p);
+    lib.destroy_parameters_ = symbol<void (*)(void*)>(h, "eomc_destroy_parameters", p);
+    lib.rhs_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_rhs", p);
+    lib.invariants_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_invariants", p);
+    lib.outputs_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_outputs", p);
+    lib.separable_ = symbol<int (*)()>(h, "eomc_separable", p)() != 0;
+    lib.projects_ = symbol<int (*)()>(h, "eomc_projects", p)() != 0;
+    lib.variational_ = symbol<int (*)()>(h, "eomc_variational", p)() != 0;
+    lib.variational_rhs_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_variational_rhs", p);
+    lib.project_ = symbol<void (*)(double, double*, const void*)>(h, "eomc_project", p);
+    lib.acceleration_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_acceleration", p);
+    const int n_ev = symbol<int (*)()>(h, "eomc_n_events", p)();
+    const auto event_name = symbol<const char* (*)(int)>(h, "eomc_event_name", p);
+    const auto event_direction = symbol<int (*)(int)>(h, "eomc_event_direction", p);
+    const auto event_terminal = symbol<int (*)(int)>(h, "eomc_event_terminal", p);
+    for (int i = 0; i < n_ev; ++i) {
+        lib.event_names_.emplace_back(event_name(i));
+        lib.event_directions_.push_back(event_direction(i));
+        lib.event_terminal_.push_back(event_terminal(i) != 0);
+    }
+    lib.events_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_events", p);
+    lib.seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return lib;
+}
+
+KernelLibrary::Parameters KernelLibrary::make_parameters(const std::vector<double>& values) const {
+    if (values.size() != parameter_names_.size())
+        throw std::invalid_argument(fmt::format("make_parameters: {} values for {} parameters", values.size(),
+                                                parameter_names_.size()));
+    return Parameters(create_parameters_(values.data()), ParameterDeleter{destroy_parameters_});
+}
+
+KernelLibrary::KernelLibrary(KernelLibrary&& other) noexcept { *this = std::move(other); }
+
+KernelLibrary& KernelLibrary::operator=(KernelLibrary&& other) noexcept {
+    if (this != &other) {
+        close();
+        handle_ = std::exchange(other.handle_, nullptr);
+        path_ = std::move(other.path_);
+        cache_hit_ = other.cache_hit_;
+        seconds_ = other.seconds_;
+        scene_name_ = std::move(other.scene_name_);
+        state_names_ = std::move(other.state_names_);
+        parameter_names_ = std::move(other.parameter_names_);
+        invariant_names_ = std::move(other.invariant_names_);
+        output_names_ = std::move(other.output_names_);
+        initial_state_ = std::move(other.initial_state_);
+        parameter_defaults_ = std::move(other.parameter_defaults_);
+        create_parameters_ = other.create_parameters_;
+        destroy_parameters_ = other.destroy_parameters_;
+        rhs_ = other.rhs_;
+        invariants_ = other.invariants_;
+        outputs_ = other.outputs_;
+        separable_ = other.separable_;
+        projects_ = other.projects_;
+        variational_ = other.variational_;
+        variational_rhs_ = other.variational_rhs_;
+        project_ = other.project_;
+        acceleration_ = other.acceleration_;
+        event_names_ = std::move(other.event_names_);
+        event_directions_ = std::move(other.event_directions_);
+        event_terminal_ = std::move(other.event_terminal_);
+        events_ = other.events_;
+    }
+    return *this;
+}
+
+KernelLibrary::~KernelLibrary() { close(); }
+
+void KernelLibrary::close() {
+    if (handle_) ::dlclose(handle_);
+    handle_ = nullptr;
+}
+
+}  // namespace eomc::host

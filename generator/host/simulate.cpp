@@ -1,0 +1,520 @@
+#include "host/simulate.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <iterator>
+#include <limits>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "eomc/runtime/runtime.hpp"
+#include "host/kernel_loader.hpp"
+#include "scene/scene.hpp"
+#include "support/diagnostic.hpp"
+#include "support/json.hpp"
+#include "support/output_file.hpp"
+
+namespace eomc::host {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using runtime::State;
+
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+std::string join(const std::vector<std::string>& names) {
+    std::string out;
+    for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
+    return out.empty() ? "none" : out;
+}
+
+// Everything that can be checked before compiling, so that a typo costs no compile.
+void validate(const SimulationRequest& r) {
+    if (!scene::is_integrator(r.integrator)) {
+        const std::vector<std::string> names(scene::integrator_names.begin(), scene::integrator_names.end());
+        const std::string near = nearest_name(r.integrator, names);
+        throw InputError(SourcePos{"--integrator"}, fmt::format("unknown integrator '{}'{} (expected one of {})",
+                                                                r.integrator,
+                                                                near.empty() ? "" : "; did you mean '" + near + "'?",
+                                                                join(names)));
+    }
+    const bool fixed = scene::is_fixed_step(r.integrator);
+    if (!(std::isfinite(r.t_end) && r.t_end > 0.0))
+        throw InputError(SourcePos{"--t-end"}, fmt::format("the end time must be positive and finite, not {}", r.t_end));
+    if (fixed && !(std::isfinite(r.step) && r.step > 0.0))
+        throw InputError(SourcePos{"--step"}, fmt::format("the {} step must be positive and finite, not {}",
+                                                          r.integrator, r.step));
+    if (!fixed) {
+        if (!(r.rtol >= 0.0 && r.atol >= 0.0 && (r.rtol > 0.0 || r.atol > 0.0) && std::isfinite(r.rtol) &&
+              std::isfinite(r.atol)))
+            throw InputError(SourcePos{"--rtol"}, fmt::format("tolerances must be finite, non-negative and not both zero "
+                                                              "(rtol {}, atol {})", r.rtol, r.atol));
+    }
+    if (r.max_steps && *r.max_steps == 0)
+        throw InputError(SourcePos{"--max-steps"}, "the step budget must be at least 1");
+    if (fixed) {
+        // Known before the run: refuse it now rather than after hours, or after a disk is full.
+        const double steps = std::ceil(r.t_end / r.step);
+        const std::size_t budget = r.max_steps.value_or(SimulationRequest::default_max_fixed_steps);
+        if (steps > static_cast<double>(budget))
+            throw InputError(SourcePos{"--step"},
+                             fmt::format("{} with step {} to t_end = {} takes {:.3g} steps, more than the budget of {} "
+                                         "(--max-steps); take a larger step or a shorter run, or raise --max-steps",
+                                         r.integrator, r.step, r.t_end, steps, budget));
+        if (!r.csv_path.empty() && steps + 1.0 > static_cast<double>(r.max_rows))
+            throw InputError(SourcePos{"--output"},
+                             fmt::format("the CSV {} would hold {:.3g} rows (one per step), more than the limit of {} "
+                                         "(--max-rows); take a larger step or a shorter run, or raise --max-rows",
+                                         r.csv_path, steps + 1.0, r.max_rows));
+    }
+    if (r.summary_format != "text" && r.summary_format != "json")
+        throw InputError(SourcePos{"--summary"},
+                         fmt::format("unknown summary format '{}' (expected text or json)", r.summary_format));
+}
+
+// --set NAME=VALUE: a parameter, or the initial value of a state component ("q", "q_dot").
+void apply_overrides(const SimulationRequest& r, const KernelLibrary& lib, std::vector<double>& parameters,
+                     State<double>& x) {
+    const SourcePos where{"--set"};
+    for (const auto& [name, value] : r.overrides) {
+        const auto find = [&](const std::vector<std::string>& names) {
+            for (std::size_t i = 0; i < names.size(); ++i)
+                if (names[i] == name) return static_cast<std::ptrdiff_t>(i);
+            return std::ptrdiff_t{-1};
+        };
+        const std::ptrdiff_t p = find(lib.parameter_names()), s = find(lib.state_names());
+        if (p < 0 && s < 0) {
+            std::vector<std::string> known = lib.parameter_names();
+            known.insert(known.end(), lib.state_names().begin(), lib.state_names().end());
+            const std::string near = nearest_name(name, known);
+            throw InputError(where, fmt::format("'{}' is neither a parameter nor a state variable of {}{} "
+                                                "(parameters: {}; initial values: {})",
+                                                name, lib.scene_name(), near.empty() ? "" : "; did you mean '" + near + "'?",
+                                                join(lib.parameter_names()), join(lib.state_names())));
+        }
+        if (p >= 0 && s >= 0)
+            throw InputError(where, fmt::format("'{}' names both a parameter and a state variable", name));
+        if (!std::isfinite(value)) throw InputError(where, fmt::format("{}={}: the value must be finite", name, value));
+        (p >= 0 ? parameters[static_cast<std::size_t>(p)] : x[static_cast<std::size_t>(s)]) = value;
+    }
+}
+
+// The CSV goes to a temporary file next to the target and is renamed over it when the run ends:
+// after a successful integration, or after one that failed mid-run (a collision, a step-size
+// collapse), when it holds every row up to the last accepted state. A run that fails in any other
+// way (bad input, an I/O error, the row limit, a signal) leaves neither a half-written file nor a
+// clobbered old one (cli/output_file.hpp: what may be replaced, and how).
+class CsvOutput {
+public:
+    CsvOutput(const std::string& path, const std::vector<std::string>& columns, std::size_t max_rows)
+        : max_rows_(max_rows) {
+        if (path.empty()) return;
+        out_.emplace(path);  // refuses a target that is not a regular file now, not after a long run
+        file_ = out_->stream();
+        std::setvbuf(file_, nullptr, _IOFBF, 1 << 20);
+        std::string header;
+        for (const auto& c : columns) header += (header.empty() ? "" : ",") + c;
+        header += '\n';
+        std::fwrite(header.data(), 1, header.size(), file_);
+    }
+    CsvOutput(const CsvOutput&) = delete;
+    CsvOutput& operator=(const CsvOutput&) = delete;
+
+    // `event`: the name of the event located at t, or null; with_event_column: the CSV has one.
+    // Throws RowLimit before writing row max_rows + 1.
+    void row(double t, const State<double>& x, const std::vector<double>& invariants, const std::vector<double>& outputs,
+             const std::string* event = nullptr, bool with_event_column = false) {
+        if (!file_) return;
+        if (rows_ >= max_rows_) throw RowLimit(t);
+        buffer_.clear();
+        fmt::format_to(std::back_inserter(buffer_), "{:.17g}", t);
+        for (double v : x) fmt::format_to(std::back_inserter(buffer_), ",{:.17g}", v);
+        for (double v : invariants) fmt::format_to(std::back_inserter(buffer_), ",{:.17g}", v);
+        for (double v : outputs) fmt::format_to(std::back_inserter(buffer_), ",{:.17g}", v);
+        if (with_event_column) {
+            buffer_.push_back(',');
+            if (event) buffer_.append(event->data(), event->data() + event->size());
+        }
+        buffer_.push_back('\n');
+        std::fwrite(buffer_.data(), 1, buffer_.size(), file_);
+        ++rows_;
+    }
+
+    // Flushes, syncs, closes and renames into place; throws (and removes the temporary) on any I/O error.
+    void commit() {
+        if (!file_) return;
+        file_ = nullptr;
+        out_->commit();
+    }
+
+    std::size_t rows() const { return rows_; }
+
+    struct RowLimit {
+        double t;
+    };
+
+private:
+    std::optional<AtomicOutput> out_;
+    std::FILE* file_ = nullptr;
+    fmt::memory_buffer buffer_;
+    std::size_t rows_ = 0, max_rows_;
+};
+
+// A one-line bar on stderr, for people watching a terminal: silent for runs under ~1 s,
+// redrawn at most 10 times a second, erased when done (also when the run fails).
+class ProgressBar {
+public:
+    ProgressBar(bool wanted, double t_end) : enabled_(wanted && ::isatty(STDERR_FILENO)), t_end_(t_end) {}
+    ProgressBar(const ProgressBar&) = delete;
+    ProgressBar& operator=(const ProgressBar&) = delete;
+    ~ProgressBar() {
+        if (drawn_) std::fputs("\r\033[K", stderr);
+    }
+
+    void update(double t) {
+        // Reading the clock every step would cost more than a small kernel's step.
+        if (!enabled_ || (++calls_ & 63u) != 0) return;
+        const auto now = Clock::now();
+        if (now - start_ < std::chrono::seconds(1) || now - last_ < std::chrono::milliseconds(100)) return;
+        last_ = now;
+        const double fraction = std::clamp(t / t_end_, 0.0, 1.0);
+        constexpr int width = 30;
+        const int filled = static_cast<int>(fraction * width);
+        std::fprintf(stderr, "\r[%s%s] %3d%%  t = %.6g / %.6g", std::string(filled, '#').c_str(),
+                     std::string(width - filled, ' ').c_str(), static_cast<int>(fraction * 100), t, t_end_);
+        std::fflush(stderr);
+        drawn_ = true;
+    }
+
+private:
+    bool enabled_;
+    double t_end_;
+    Clock::time_point start_ = Clock::now(), last_{};
+    unsigned calls_ = 0;
+    bool drawn_ = false;
+};
+
+// max |I(t) − I(0)| over the observed points; a NaN drift sticks, so it is reported, not hidden.
+double track_max(double current_max, double drift) {
+    if (std::isnan(current_max)) return current_max;
+    return std::isnan(drift) || drift > current_max ? drift : current_max;
+}
+
+std::string number(double v) { return fmt::format("{:.17g}", v); }
+
+std::string json_number(double v) { return std::isfinite(v) ? number(v) : "null"; }
+
+}  // namespace
+
+void check_separable(const std::string& integrator, const SourcePos& where, bool separable,
+                     const std::string& scene_name) {
+    if (scene::is_splitting(integrator) && !separable)
+        throw InputError(where, fmt::format("the {} integrator needs a separable system (q̈ = a(t, q) with a constant "
+                                            "mass matrix, forces free of the velocities), and {} is not one; use gl4, "
+                                            "gl6 or gl8 for a symplectic fixed-step method",
+                                            integrator, scene_name));
+}
+
+double InvariantReport::relative_drift() const {
+    return initial != 0.0 ? max_abs_drift / std::abs(initial) : std::numeric_limits<double>::quiet_NaN();
+}
+
+double SimulationResult::value(const std::string& name) const {
+    for (const auto& [n, v] : state)
+        if (n == name) return v;
+    for (const auto& [n, v] : outputs)
+        if (n == name) return v;
+    throw std::out_of_range("no state variable or output '" + name + "'");
+}
+
+// An orbit kernel's re_entry event (g = r − radius, downwards) cannot see a start already below
+// the surface: the generator refuses such a scene, and this refuses a --set that moves the start
+// (or the radius) there.
+void refuse_start_below_surface(const SimulationRequest& r, const KernelLibrary& lib,
+                                const KernelLibrary::Parameters& parameters, const State<double>& x) {
+    const auto& names = lib.event_names();
+    const auto it = std::find(names.begin(), names.end(), "re_entry");
+    if (it == names.end() || r.overrides.empty()) return;
+    std::vector<double> g(names.size());
+    lib.events(0.0, x.data(), g.data(), parameters);
+    const double height = g[static_cast<std::size_t>(it - names.begin())];
+    if (!(height > 0))
+        throw InputError(SourcePos{"--set"},
+                         fmt::format("the initial state of {} is {} km below the central body's surface "
+                                     "(r − radius = {}): the run would start re-entered",
+                                     lib.scene_name(), number(-height), number(height)));
+}
+
+SimulationResult simulate(const SimulationRequest& request) {
+    validate(request);
+    const KernelLibrary lib = KernelLibrary::load(request.header_text, request.struct_name, request.cache_dir);
+
+    std::vector<double> parameter_values = lib.parameter_defaults();
+    State<double> x(lib.initial_state().begin(), lib.initial_state().end());
+    apply_overrides(request, lib, parameter_values, x);
+    const KernelLibrary::Parameters parameters = lib.make_parameters(parameter_values);
+    refuse_start_below_surface(request, lib, parameters, x);
+
+    SimulationResult result;
+    result.scene_name = lib.scene_name();
+    const bool compensated_run = request.compensated.value_or(scene::compensated_by_default(request.integrator));
+    result.integrator = scene::is_fixed_step(request.integrator)
+                            ? fmt::format("{} (step {}{})", request.integrator, request.step,
+                                          compensated_run ? ", compensated" : "")
+                            : fmt::format("{} (rtol {}, atol {}{})", request.integrator, request.rtol, request.atol,
+                                          compensated_run ? ", compensated" : "");
+    result.compile_s = lib.seconds();
+    result.cache_hit = lib.cache_hit();
+    result.library_path = lib.library_path();
+    for (std::size_t i = 0; i < parameter_values.size(); ++i)
+        result.parameters.emplace_back(lib.parameter_names()[i], parameter_values[i]);
+
+    check_separable(request.integrator, request.integrator_pos, lib.separable(), lib.scene_name());
+
+    // The variational run extends the state by Φ, starting from the identity.
+    std::vector<std::string> state_names = lib.state_names();
+    if (request.variational) {
+        if (!lib.variational())
+            throw std::runtime_error("the kernel has no variational_rhs: generate it with --variational");
+        if (scene::is_splitting(request.integrator))
+            throw InputError(request.integrator_pos,
+                             fmt::format("the {} integrator steps q and q̇ by the acceleration alone and cannot carry "
+                                         "the variational equations; use rk4, gl4, gl6, gl8, dopri5 or dop853",
+                                         request.integrator));
+        const std::size_t n = x.size();
+        x.resize(n + n * n, 0.0);
+        for (std::size_t i = 0; i < n; ++i) {
+            x[n + i * n + i] = 1.0;
+            for (std::size_t j = 0; j < n; ++j) state_names.push_back(fmt::format("Phi_{}_{}", i, j));
+        }
+    }
+
+    const std::size_t n_inv = lib.invariant_names().size(), n_ev = lib.event_names().size();
+    std::vector<std::string> columns{"t"};
+    columns.insert(columns.end(), state_names.begin(), state_names.end());
+    columns.insert(columns.end(), lib.invariant_names().begin(), lib.invariant_names().end());
+    columns.insert(columns.end(), lib.output_names().begin(), lib.output_names().end());
+    if (n_ev > 0) columns.push_back("event");  // only for scenes with [events]: other CSVs keep their shape
+    CsvOutput csv(request.csv_path, columns, request.max_rows);
+    std::vector<double> outputs(lib.output_names().size());
+
+    // The kernel as a runtime system. One whose state holds a unit quaternion puts it back on
+    // |e| = 1 after every step, an encke kernel rectifies its reference orbit (runtime::Projecting);
+    // for the others project() changes nothing, and an unchanged state costs the steppers nothing.
+    struct KernelSystem {
+        const KernelLibrary& lib;
+        const KernelLibrary::Parameters& parameters;
+        bool variational;
+        void operator()(double t, const State<double>& xs, State<double>& dxdt) const {
+            if (variational) lib.variational_rhs(t, xs.data(), dxdt.data(), parameters);
+            else lib.rhs(t, xs.data(), dxdt.data(), parameters);
+        }
+        void project(double t, State<double>& xs) const {
+            if (lib.projects()) lib.project(t, xs.data(), parameters);
+        }
+    };
+    KernelSystem system{lib, parameters, request.variational};
+    auto acceleration = [&](double t, const State<double>& q, State<double>& a) {
+        lib.acceleration(t, q.data(), a.data(), parameters);
+    };
+    auto event_functions = [&](double t, const State<double>& xs, State<double>& g) {
+        lib.events(t, xs.data(), g.data(), parameters);
+    };
+    std::vector<runtime::EventSpec> specs;
+    for (std::size_t i = 0; i < n_ev; ++i)
+        specs.push_back({static_cast<runtime::EventDirection>(lib.event_directions()[i]), lib.event_terminal()[i]});
+    runtime::EventLocator<double> locator(specs);
+
+    // One CSV row (and one look at the invariants) at t0, after every step and at every event.
+    std::vector<double> inv(n_inv), inv0(n_inv), max_drift(n_inv, 0.0);
+    bool first = true;
+    double t_last = 0.0;
+    State<double> x_last = x;
+    ProgressBar progress(request.progress, request.t_end);
+    auto record = [&](double t, const State<double>& xs, const std::string* event) {
+        lib.invariants(t, xs.data(), inv.data(), parameters);
+        if (first) inv0 = inv, first = false;
+        for (std::size_t i = 0; i < n_inv; ++i) max_drift[i] = track_max(max_drift[i], std::abs(inv[i] - inv0[i]));
+        if (!outputs.empty() && !request.csv_path.empty()) lib.outputs(t, xs.data(), outputs.data(), parameters);
+        csv.row(t, xs, inv, outputs, n_ev > 0 ? event : nullptr, n_ev > 0);
+        t_last = t;
+        x_last = xs;
+        progress.update(t);
+    };
+    auto observer = [&](double t, const State<double>& xs) { record(t, xs, nullptr); };
+    auto on_event = [&](const runtime::EventHit<double>& hit) {
+        const std::string& name = lib.event_names()[hit.index];
+        record(hit.t, hit.x, &name);
+        result.events.push_back({name, hit.t, hit.direction, hit.terminal, hit.x});
+    };
+
+    const bool compensated = compensated_run;
+    result.compensated = compensated;
+    const auto start = Clock::now();
+    runtime::EventOutcome<double> outcome;
+    try {
+        auto fixed_step = [&](auto&& stepper, auto& sys) {
+            // The step count is the user's choice here, not a sign of no progress: the budget must
+            // not stop a long fixed-step run short of t_end. validate() bounded it by max_steps;
+            // the two spare attempts are the runtime's (a last partial step, an event re-step).
+            runtime::Limits limits;
+            const double steps = std::ceil(request.t_end / request.step) + 2.0;
+            limits.max_steps = std::max(limits.max_steps, static_cast<std::size_t>(steps));
+            return runtime::integrate_fixed_events(stepper, sys, x, 0.0, request.t_end, request.step, locator,
+                                                   event_functions, observer, on_event, limits);
+        };
+        auto adaptive = [&](auto&& stepper) {
+            stepper.set_compensated(compensated);
+            runtime::Limits limits;
+            if (request.max_steps) limits.max_steps = *request.max_steps;
+            return runtime::integrate_adaptive_events(stepper, system, x, 0.0, request.t_end, 0.0,
+                                                      runtime::Tolerances{request.rtol, request.atol}, locator,
+                                                      event_functions, observer, on_event, limits);
+        };
+        runtime::GaussLegendreOptions gauss;
+        gauss.compensated = compensated;
+        runtime::SplittingOptions splitting;
+        splitting.compensated = compensated;
+        runtime::Rk4<double> rk4;
+        rk4.set_compensated(compensated);
+        const std::string& name = request.integrator;
+        if (name == "rk4") outcome = fixed_step(rk4, system);
+        else if (name == "gl4") outcome = fixed_step(runtime::Gl4<double>{gauss}, system);
+        else if (name == "gl6") outcome = fixed_step(runtime::Gl6<double>{gauss}, system);
+        else if (name == "gl8") outcome = fixed_step(runtime::Gl8<double>{gauss}, system);
+        else if (name == "verlet") outcome = fixed_step(runtime::Verlet<double>{splitting}, acceleration);
+        else if (name == "yoshida6") outcome = fixed_step(runtime::Yoshida6<double>{splitting}, acceleration);
+        else if (name == "kahanli8") outcome = fixed_step(runtime::KahanLi8<double>{splitting}, acceleration);
+        else if (name == "dop853") outcome = adaptive(runtime::Dop853<double>{});
+        else outcome = adaptive(runtime::Dopri5<double>{});
+    } catch (const CsvOutput::RowLimit& limit) {
+        // Not a failure of the integration but a refusal of its size: nothing is kept.
+        throw std::runtime_error(fmt::format("simulating {} with {}: the CSV {} reached its limit of {} rows at t = {} "
+                                             "(of t_end = {}) and was not written; raise --max-rows, shorten --t-end, "
+                                             "or run without --output",
+                                             lib.scene_name(), request.integrator, request.csv_path, request.max_rows,
+                                             number(limit.t), number(request.t_end)));
+    } catch (const runtime::IntegrationError& e) {
+        // Say which variable failed and where the solution was last seen; the rows up to there are
+        // a valid trajectory, kept for the post-mortem.
+        std::string message = fmt::format("simulating {} with {}: {}", lib.scene_name(), request.integrator, e.what());
+        if (e.component() < state_names.size())
+            message += fmt::format("; component {} is {}", e.component(), state_names[e.component()]);
+        message += fmt::format("; last accepted state at t = {}:", number(t_last));
+        for (std::size_t i = 0; i < x_last.size(); ++i)
+            message += fmt::format(" {} = {}", state_names[i], number(x_last[i]));
+        if (!request.csv_path.empty()) {
+            csv.commit();
+            message += fmt::format("; {} holds the {} rows up to t = {}", request.csv_path, csv.rows(), number(t_last));
+        }
+        throw runtime::IntegrationError(e.kind(), e.t(), message, e.component());
+    }
+    result.wall_s = seconds_since(start);
+    csv.commit();
+
+    result.t = outcome.t;
+    if (outcome.stopped) result.stopped_by = lib.event_names()[outcome.event];
+    const runtime::Stats& stats = outcome.stats;
+    for (std::size_t i = 0; i < x.size(); ++i) result.state.emplace_back(state_names[i], x[i]);
+    if (!outputs.empty()) {
+        lib.outputs(result.t, x.data(), outputs.data(), parameters);
+        for (std::size_t i = 0; i < outputs.size(); ++i) result.outputs.emplace_back(lib.output_names()[i], outputs[i]);
+    }
+    for (std::size_t i = 0; i < n_inv; ++i)
+        result.invariants.push_back({lib.invariant_names()[i], inv0[i], inv[i], max_drift[i]});
+    result.steps = stats.accepted;
+    result.rejected = stats.rejected;
+    result.rhs_evals = stats.rhs_evals;
+    if (!request.csv_path.empty()) {
+        result.csv_path = request.csv_path;
+        result.csv_rows = csv.rows();
+    }
+    return result;
+}
+
+void print_summary(const SimulationResult& r, const std::string& format, std::ostream& out) {
+    if (format == "json") {
+        std::string s = fmt::format("{{\"t\": {}, \"state\": {{", json_number(r.t));
+        for (std::size_t i = 0; i < r.state.size(); ++i)
+            s += fmt::format("{}{}: {}", i ? ", " : "", json_string(r.state[i].first), json_number(r.state[i].second));
+        s += "}, \"outputs\": {";
+        for (std::size_t i = 0; i < r.outputs.size(); ++i)
+            s += fmt::format("{}{}: {}", i ? ", " : "", json_string(r.outputs[i].first), json_number(r.outputs[i].second));
+        s += "}, \"invariants\": {";
+        for (std::size_t i = 0; i < r.invariants.size(); ++i) {
+            const auto& v = r.invariants[i];
+            s += fmt::format("{}{}: {{\"initial\": {}, \"max_abs_drift\": {}}}", i ? ", " : "", json_string(v.name),
+                             json_number(v.initial), json_number(v.max_abs_drift));
+        }
+        s += "}, \"events\": [";
+        for (std::size_t i = 0; i < r.events.size(); ++i) {
+            const auto& e = r.events[i];
+            s += fmt::format("{}{{\"name\": {}, \"t\": {}, \"direction\": \"{}\", \"terminal\": {}, \"state\": {{",
+                             i ? ", " : "", json_string(e.name), json_number(e.t), e.direction > 0 ? "up" : "down",
+                             e.terminal ? "true" : "false");
+            for (std::size_t k = 0; k < e.state.size() && k < r.state.size(); ++k)
+                s += fmt::format("{}{}: {}", k ? ", " : "", json_string(r.state[k].first), json_number(e.state[k]));
+            s += "}}";
+        }
+        s += fmt::format("], \"stopped_by\": {}, \"compensated\": {}",
+                         r.stopped_by.empty() ? "null" : json_string(r.stopped_by), r.compensated ? "true" : "false");
+        s += fmt::format(", \"steps\": {}, \"rejected\": {}, \"rhs_evals\": {}, \"wall_s\": {}, \"compile_s\": {}, "
+                         "\"cache_hit\": {}}}\n",
+                         r.steps, r.rejected, r.rhs_evals, json_number(r.wall_s), json_number(r.compile_s),
+                         r.cache_hit ? "true" : "false");
+        out << s;
+        return;
+    }
+    if (format != "text")
+        throw InputError(SourcePos{"--summary"}, fmt::format("unknown summary format '{}' (expected text or json)", format));
+
+    std::size_t width = 6;  // aligns the values of the longest name
+    for (const auto& [n, v] : r.state) width = std::max(width, n.size());
+    for (const auto& [n, v] : r.outputs) width = std::max(width, n.size());
+    for (const auto& v : r.invariants) width = std::max(width, v.name.size());
+    for (const auto& e : r.events) width = std::max(width, e.name.size());
+
+    std::string s = fmt::format("{}: {} to t = {}{}\n", r.scene_name, r.integrator, number(r.t),
+                                r.stopped_by.empty() ? "" : fmt::format(", stopped by the terminal event '{}'", r.stopped_by));
+    s += "final state\n";
+    for (const auto& [n, v] : r.state) s += fmt::format("  {:<{}}  {:>24}\n", n, width, number(v));
+    if (!r.outputs.empty()) s += "outputs\n";
+    for (const auto& [n, v] : r.outputs) s += fmt::format("  {:<{}}  {:>24}\n", n, width, number(v));
+    if (!r.invariants.empty()) {
+        s += fmt::format("invariants\n  {:<{}}  {:>24}  {:>12}  {:>12}\n", "", width, "initial", "max |drift|", "relative");
+        for (const auto& v : r.invariants) {
+            const double rel = v.relative_drift();
+            s += fmt::format("  {:<{}}  {:>24}  {:>12.3g}  {:>12}\n", v.name, width, number(v.initial), v.max_abs_drift,
+                             std::isnan(rel) && !std::isnan(v.max_abs_drift) ? "-" : fmt::format("{:.3g}", rel));
+        }
+    }
+    if (!r.events.empty()) {
+        // Each event once per crossing; a long run lists the first ones (all are in the CSV and the JSON).
+        constexpr std::size_t shown = 20;
+        s += fmt::format("events      {} located\n", r.events.size());
+        for (std::size_t i = 0; i < r.events.size() && i < shown; ++i) {
+            const auto& e = r.events[i];
+            s += fmt::format("  {:<{}}  t = {:>24}  {}{}\n", e.name, width, number(e.t), e.direction > 0 ? "up" : "down",
+                             e.terminal ? ", terminal" : "");
+        }
+        if (r.events.size() > shown) s += fmt::format("  ... {} more\n", r.events.size() - shown);
+    }
+    s += fmt::format("steps       {} accepted, {} rejected, {} rhs evaluations\n", r.steps, r.rejected, r.rhs_evals);
+    s += fmt::format("time        integration {:.3g} s; kernel {:.3g} s ({})\n", r.wall_s, r.compile_s,
+                     r.cache_hit ? "cached: " + r.library_path : "compiled into " + r.library_path);
+    if (!r.csv_path.empty()) s += fmt::format("csv         {} ({} rows)\n", r.csv_path, r.csv_rows);
+    out << s;
+}
+
+}  // namespace eomc::host

@@ -1,0 +1,38 @@
+// Evaluation of expressions at reproducible pseudo-random points: how the generator decides
+// questions that exact simplification cannot always settle (is M singular, is a quantity
+// conserved) without guessing. The same seed gives the same points on every machine.
+//
+// Evaluation is in double precision by a walk over the expression DAG (each shared node
+// once), not by GiNaC's subs + evalf, which is arbitrary-precision and far slower; time
+// derivatives along a motion are taken in forward mode (dual numbers), not symbolically.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <vector>
+
+#include <ginac/ginac.h>
+
+#include "model/model.hpp"
+
+namespace eomc::symbolic {
+
+struct ProbePoint {
+    std::map<GiNaC::ex, double, GiNaC::ex_is_less> values;  // t, q, q_dot, q_ddot, quasi-velocities and their rates, parameters
+    std::map<GiNaC::ex, double, GiNaC::ex_is_less> rates;   // d/dt of each: 1 for t, q_dot for q, q_ddot for q_dot
+};
+
+// Points with t, q, q_dot, q_ddot drawn from [-1, 1] and parameters from their defaults
+// scaled by a factor in [0.8, 1.25] (so a relation that holds only for the defaults is not
+// mistaken for an identity); a parameter whose default is 0 gets a value in [0.3, 1.3].
+std::vector<ProbePoint> probe_points(const model::Model& model, std::size_t count, std::uint64_t seed = 0x5eed);
+// Points at the parameters' defaults exactly (for properties of the user's system).
+std::vector<ProbePoint> probe_points_at_defaults(const model::Model& model, std::size_t count,
+                                                 std::uint64_t seed = 0x5eed);
+
+// The value; NaN if it does not evaluate to a real number there.
+double evaluate(const GiNaC::ex& e, const ProbePoint& at);
+// The total time derivative along the motion through the point (q̈ taken from the point).
+double evaluate_rate(const GiNaC::ex& e, const ProbePoint& at);
+
+}  // namespace eomc::symbolic
