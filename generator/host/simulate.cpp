@@ -386,18 +386,23 @@ SimulationResult simulate(const SimulationRequest& request) {
         gauss.compensated = compensated;
         runtime::SplittingOptions splitting;
         splitting.compensated = compensated;
-        runtime::Rk4<double> rk4;
-        rk4.set_compensated(compensated);
-        const std::string& name = request.integrator;
-        if (name == "rk4") outcome = fixed_step(rk4, system);
-        else if (name == "gl4") outcome = fixed_step(runtime::Gl4<double>{gauss}, system);
-        else if (name == "gl6") outcome = fixed_step(runtime::Gl6<double>{gauss}, system);
-        else if (name == "gl8") outcome = fixed_step(runtime::Gl8<double>{gauss}, system);
-        else if (name == "verlet") outcome = fixed_step(runtime::Verlet<double>{splitting}, acceleration);
-        else if (name == "yoshida6") outcome = fixed_step(runtime::Yoshida6<double>{splitting}, acceleration);
-        else if (name == "kahanli8") outcome = fixed_step(runtime::KahanLi8<double>{splitting}, acceleration);
-        else if (name == "dop853") outcome = adaptive(runtime::Dop853<double>{});
-        else outcome = adaptive(runtime::Dopri5<double>{});
+        // The stepper named in the request, through the runtime's registry (validate() checked the
+        // name); each kind takes its own options.
+        outcome = runtime::visit_integrator<double>(request.integrator, [&](auto tag) {
+            using Tag = decltype(tag);
+            using Stepper = typename Tag::type;
+            if constexpr (Tag::info.kind == runtime::IntegratorKind::adaptive) {
+                return adaptive(Stepper{});
+            } else if constexpr (Tag::info.needs_separable) {
+                return fixed_step(Stepper{splitting}, acceleration);
+            } else if constexpr (Tag::info.kind == runtime::IntegratorKind::implicit) {
+                return fixed_step(Stepper{gauss}, system);
+            } else {
+                Stepper stepper;
+                stepper.set_compensated(compensated);
+                return fixed_step(stepper, system);
+            }
+        });
     } catch (const CsvOutput::RowLimit& limit) {
         // Not a failure of the integration but a refusal of its size: nothing is kept.
         throw std::runtime_error(fmt::format("simulating {} with {}: the CSV {} reached its limit of {} rows at t = {} "
