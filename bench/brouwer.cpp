@@ -25,8 +25,8 @@
 #include <string>
 #include <vector>
 
-#include <eomc/runtime/gauss_legendre.hpp>
-#include <eomc/runtime/splitting.hpp>
+#include <eomc/runtime/stepper/gauss_legendre.hpp>
+#include <eomc/runtime/stepper/splitting.hpp>
 
 #include "kepler_e06.hpp"
 

@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include <eomc/runtime/dop853.hpp>
+#include <eomc/runtime/stepper/dop853.hpp>
 #include <eomc/runtime/integrate.hpp>
 
 #include "kepler_e06.hpp"

@@ -9,6 +9,8 @@
 #include <fmt/format.h>
 
 #include "codegen/cpp_emitter.hpp"
+#include "eomc/runtime/integrate.hpp"
+#include "eomc/runtime/registry.hpp"
 #include "model/model.hpp"
 #include "scene/scene.hpp"
 
@@ -100,6 +102,21 @@ void check_overrides_against_scene(const std::string& scene_path, const std::str
 
 namespace {
 
+// The runtime's integrators (eomc/runtime/registry.hpp) that satisfy `keep`, in the registry's
+// order, joined by `separator`: the --help texts list what the registry holds.
+template <class Keep>
+std::string integrators_where(Keep keep, std::string_view separator = ", ") {
+    std::string out;
+    for (const runtime::IntegratorInfo& info : runtime::integrator_infos)
+        if (keep(info)) {
+            if (!out.empty()) out += separator;
+            out += info.name;
+        }
+    return out;
+}
+bool adaptive(const runtime::IntegratorInfo& info) { return !info.fixed_step(); }
+bool fixed_step(const runtime::IntegratorInfo& info) { return info.fixed_step(); }
+
 // CLI11 would read "0x10" and "inf" as numbers: the numeric options take parse_decimal's grammar.
 const CLI::Validator decimal(
     [](std::string& text) {
@@ -117,12 +134,15 @@ const CLI::Validator decimal(
 void add_simulate_options(CLI::App* cmd, SimulateOptions& o) {
     cmd->add_option("--t-end", o.t_end, "final time (default: [simulate] t_end)")->check(decimal)->check(CLI::PositiveNumber);
     cmd->add_option("--integrator", o.integrator,
-                    "rk4 | dopri5 | dop853 | gl4 | gl6 | gl8 | verlet | yoshida6 | kahanli8 (default: [simulate] "
-                    "integrator; the last three need a separable system)")
+                    fmt::format("{} (default: [simulate] integrator; {} need a separable system)",
+                                integrators_where([](const auto&) { return true; }, " | "),
+                                integrators_where([](const auto& i) { return i.needs_separable; })))
         ->check(CLI::IsMember(std::vector<std::string>(scene::integrator_names.begin(), scene::integrator_names.end())));
-    cmd->add_option("--rtol", o.rtol, "relative tolerance (dopri5, dop853)")->check(decimal)->check(CLI::PositiveNumber);
-    cmd->add_option("--atol", o.atol, "absolute tolerance (dopri5, dop853)")->check(decimal)->check(CLI::PositiveNumber);
-    cmd->add_option("--step", o.step, "step size (rk4, gl4, gl6, gl8, verlet, yoshida6, kahanli8)")
+    cmd->add_option("--rtol", o.rtol, fmt::format("relative tolerance ({})", integrators_where(adaptive)))
+        ->check(decimal)->check(CLI::PositiveNumber);
+    cmd->add_option("--atol", o.atol, fmt::format("absolute tolerance ({})", integrators_where(adaptive)))
+        ->check(decimal)->check(CLI::PositiveNumber);
+    cmd->add_option("--step", o.step, fmt::format("step size ({})", integrators_where(fixed_step)))
         ->check(decimal)->check(CLI::PositiveNumber);
     cmd->add_option("--compensated", o.compensated,
                     "on | off: compensated (Kahan) summation of the state update (default: [simulate] compensated, "
@@ -134,8 +154,9 @@ void add_simulate_options(CLI::App* cmd, SimulateOptions& o) {
     cmd->add_option("--cache-dir", o.cache_dir, "where compiled kernels are kept (default ~/.cache/eomc)");
     cmd->add_option("--max-steps", o.max_steps,
                     fmt::format("the most steps the run may take (default: {} for the fixed-step methods, refused "
-                                "before the run when t_end/step is more; 10000000 attempts for dopri5 and dop853)",
-                                host::SimulationRequest::default_max_fixed_steps))
+                                "before the run when t_end/step is more; {} attempts for {})",
+                                host::SimulationRequest::default_max_fixed_steps, runtime::Limits{}.max_steps,
+                                integrators_where(adaptive, " and ")))
         ->check(CLI::PositiveNumber);
     cmd->add_option("--max-rows", o.max_rows,
                     fmt::format("the most rows the CSV may hold (default {}); a run that would write more leaves no CSV",
@@ -191,9 +212,7 @@ std::vector<double> number_list(const std::string& text, const char* option) {
 
 void add_bench_options(CLI::App* cmd, BenchOptions& o) {
     cmd->add_option("--methods", o.methods,
-                      "comma-separated subset of rk4, dopri5, dop853, gl4, gl6, gl8, verlet, yoshida6, kahanli8, "
-                      "runge_kutta_dopri5, runge_kutta_fehlberg78, bulirsch_stoer, symplectic_rkn_sb3a_mclachlan "
-                      "(default: all)");
+                    fmt::format("comma-separated subset of {} (default: all)", fmt::join(host::bench_method_names, ", ")));
     cmd->add_option("--t-end", o.t_end, "end time (default: [simulate] t_end)")->check(CLI::PositiveNumber);
     cmd->add_option("--tolerances", o.tolerances, "comma-separated rtol = atol of the adaptive methods "
                                                      "(default: 1e-3 .. 1e-15 in half decades)");

@@ -20,14 +20,23 @@
 #include <string_view>
 #include <vector>
 
+#include "eomc/runtime/registry.hpp"
+
 namespace eomc::host {
 
-// Every method the driver knows, ours first, then Boost.Odeint's under their own names.
-inline constexpr std::array<std::string_view, 13> bench_method_names{
-    "rk4",      "dopri5",   "dop853",
-    "gl4",      "gl6",      "gl8",
-    "verlet",   "yoshida6", "kahanli8",
+// Boost.Odeint's methods the driver also runs, under their own names.
+inline constexpr std::array<std::string_view, 4> odeint_method_names{
     "runge_kutta_dopri5", "runge_kutta_fehlberg78", "bulirsch_stoer", "symplectic_rkn_sb3a_mclachlan"};
+
+// Every method the driver knows: ours, the runtime's registry (eomc/runtime/registry.hpp) in its
+// order, then Boost.Odeint's.
+inline constexpr auto bench_method_names = [] {
+    std::array<std::string_view, runtime::integrator_names.size() + odeint_method_names.size()> all{};
+    std::size_t k = 0;
+    for (std::string_view name : runtime::integrator_names) all[k++] = name;
+    for (std::string_view name : odeint_method_names) all[k++] = name;
+    return all;
+}();
 
 // One formulation of an orbit scene: its kernel, judged by its Cartesian position (the state's
 // x, y, z, or else the outputs named so).

@@ -334,18 +334,23 @@ runtime::EventOutcome<double> integrate(const SimulationRequest& request, bool c
     gauss.compensated = compensated;
     runtime::SplittingOptions splitting;
     splitting.compensated = compensated;
-    runtime::Rk4<double> rk4;
-    rk4.set_compensated(compensated);
-    const std::string& name = request.integrator;
-    if (name == "rk4") return fixed_step(rk4, sys);
-    if (name == "gl4") return fixed_step(runtime::Gl4<double>{gauss}, sys);
-    if (name == "gl6") return fixed_step(runtime::Gl6<double>{gauss}, sys);
-    if (name == "gl8") return fixed_step(runtime::Gl8<double>{gauss}, sys);
-    if (name == "verlet") return fixed_step(runtime::Verlet<double>{splitting}, acceleration);
-    if (name == "yoshida6") return fixed_step(runtime::Yoshida6<double>{splitting}, acceleration);
-    if (name == "kahanli8") return fixed_step(runtime::KahanLi8<double>{splitting}, acceleration);
-    if (name == "dop853") return adaptive(runtime::Dop853<double>{});
-    return adaptive(runtime::Dopri5<double>{});
+    // The stepper named in the request, through the runtime's registry (validate() checked the
+    // name); each kind takes its own options.
+    return runtime::visit_integrator<double>(request.integrator, [&](auto tag) {
+        using Tag = decltype(tag);
+        using Stepper = typename Tag::type;
+        if constexpr (Tag::info.kind == runtime::IntegratorKind::adaptive) {
+            return adaptive(Stepper{});
+        } else if constexpr (Tag::info.needs_separable) {
+            return fixed_step(Stepper{splitting}, acceleration);
+        } else if constexpr (Tag::info.kind == runtime::IntegratorKind::implicit) {
+            return fixed_step(Stepper{gauss}, sys);
+        } else {
+            Stepper stepper;
+            stepper.set_compensated(compensated);
+            return fixed_step(stepper, sys);
+        }
+    });
 }
 
 // Which variable failed and where the solution was last seen; the rows up to there are a valid

@@ -13,6 +13,7 @@
 #include <string_view>
 #include <vector>
 
+#include "eomc/runtime/registry.hpp"
 #include "support/diagnostic.hpp"
 
 namespace eomc::scene {
@@ -140,20 +141,25 @@ struct Orbit {
     SourcePos pos;                         // the [orbit] table
 };
 
-// The integrators `eomc simulate` offers: fixed-step ones take a step, adaptive ones tolerances.
-// The splitting methods (verlet, yoshida6, kahanli8) need a separable kernel (q̈ = a(t, q)).
-inline constexpr std::array<std::string_view, 9> integrator_names{"rk4", "dopri5", "dop853", "gl4", "gl6",
-                                                                  "gl8", "verlet", "yoshida6", "kahanli8"};
-inline bool is_integrator(std::string_view name) {
-    return std::find(integrator_names.begin(), integrator_names.end(), name) != integrator_names.end();
+// The integrators `eomc simulate` offers: the runtime's catalogue (eomc/runtime/registry.hpp),
+// which says for each its kind, order and traits. Fixed-step ones take a step, adaptive ones
+// tolerances; the splitting methods need a separable kernel (q̈ = a(t, q)).
+inline constexpr const auto& integrator_names = runtime::integrator_names;
+inline bool is_integrator(std::string_view name) { return runtime::is_integrator(name); }
+inline bool is_splitting(std::string_view name) {
+    const runtime::IntegratorInfo* info = runtime::find_integrator(name);
+    return info && info->needs_separable;
 }
-inline bool is_splitting(std::string_view name) { return name == "verlet" || name == "yoshida6" || name == "kahanli8"; }
 inline bool is_fixed_step(std::string_view name) {
-    return name == "rk4" || name.substr(0, 2) == "gl" || is_splitting(name);
+    const runtime::IntegratorInfo* info = runtime::find_integrator(name);
+    return info && info->fixed_step();
 }
 // Compensated summation of the state update is on by default for the fixed-step symplectic
 // methods (long runs, round-off the only drift left), off for the others.
-inline bool compensated_by_default(std::string_view name) { return name.substr(0, 2) == "gl" || is_splitting(name); }
+inline bool compensated_by_default(std::string_view name) {
+    const runtime::IntegratorInfo* info = runtime::find_integrator(name);
+    return info && info->compensated_by_default;
+}
 
 struct Simulate {
     double t_end = 10.0;

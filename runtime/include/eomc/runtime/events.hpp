@@ -8,7 +8,17 @@
 // leaves zero). A crossing in an allowed direction is then located on a continuous solution over
 // the step (the stepper's dense output for the adaptive methods, a re-step for the fixed-step
 // ones, see integrate.hpp) with Brent's method to a bracket of a few ulps of t, and reported with
-// the state there. A terminal event ends the step at its time: later crossings are dropped.
+// the state there.
+//
+// What an event does (EventAction): record it (the default), stop the integration at its time, or
+// edit the state there (an impact law, an impulsive manoeuvre) and restart the integration from the
+// edited state, the stepper reset (no first-same-as-last derivative, no dense output carried over
+// the discontinuity). A stopping or editing event ends the step at its time: later crossings are
+// dropped. A cooldown keeps an event function from being detected again for a time span after it
+// fired: an impact that leaves the gap at zero, or a hair on the wrong side of it, would otherwise
+// fire again at once. This is the restart-after-discontinuity scheme of Hairer's codes ([HNW]
+// Sect. II.6, "Discontinuities") and of L.F. Shampine, S. Thompson, "Event location for ordinary
+// differential equations", Comput. Math. Appl. 39 (2000) 43-54.
 //
 // Limitation, as in every sign-change locator (Hairer's, SciPy's): two crossings of one g inside
 // one step cancel and are not seen; the step must resolve the events' own time scale.
@@ -31,9 +41,19 @@ namespace eomc::runtime {
 // Which crossings count: up = g from negative to positive, down = from positive to negative.
 enum class EventDirection : int { both = 0, up = 1, down = -1 };
 
+// What a located event does: record it and go on, stop the integration there, or edit the state
+// there and restart from the edited state (the drivers then call the caller's edit(hit, x)).
+enum class EventAction : int { record = 0, stop = 1, edit = 2 };
+
 struct EventSpec {
   EventDirection direction = EventDirection::both;
-  bool terminal = false;  // stop the integration at the event
+  bool terminal = false;  // stop the integration at the event (the same as action = stop)
+  EventAction action = EventAction::record;
+  // After the event fired at t_e, the same event function is not detected in (t_e, t_e + cooldown]
+  // (in the direction of integration); its sign is read afresh where the cooldown ends. >= 0.
+  double cooldown = 0.0;
+
+  EventAction effective_action() const { return terminal ? EventAction::stop : action; }
 };
 
 template <class S>
@@ -41,8 +61,9 @@ struct EventHit {
   std::size_t index = 0;  // which event, in the order of the specs
   S t = S(0);
   int direction = 0;      // +1: g went up through zero, -1: down
-  bool terminal = false;
-  State<S> x;             // the state at t
+  bool terminal = false;  // action == stop
+  State<S> x;             // the state at t (before an edit)
+  EventAction action = EventAction::record;
 };
 
 // Brent's zeroin on [a, b] with f(a) = fa, f(b) = fb of opposite signs (or one of them zero).
@@ -110,37 +131,69 @@ S brent_root(F&& f, S a, S b, S fa, S fb, S tol = S(0), int max_evals = 200) {
 template <class S>
 class EventLocator {
  public:
-  explicit EventLocator(std::vector<EventSpec> specs) : specs_(std::move(specs)) {}
+  explicit EventLocator(std::vector<EventSpec> specs) : specs_(std::move(specs)) {
+    for (const EventSpec& spec : specs_)
+      if (!(spec.cooldown >= 0.0)) throw std::invalid_argument("EventSpec: cooldown must be >= 0");
+  }
 
   std::size_t size() const { return specs_.size(); }
   const std::vector<EventSpec>& specs() const { return specs_; }
   // Evaluations of g since construction (step ends and root-solver iterates).
   std::size_t evaluations() const { return evaluations_; }
 
-  // The values at the initial point arm the events whose g is not zero there.
+  // The values at the initial point arm the events whose g is not zero there; no cooldown runs.
   template <class G>
   void start(G& g, S t, const State<S>& x) {
     g_prev_.assign(size(), S(0));
     g_new_.assign(size(), S(0));
     g_tmp_.assign(size(), S(0));
+    cooling_.assign(size(), false);
+    cool_end_.assign(size(), S(0));
+    restart(g, t, x);
+  }
+
+  // Goes on from (t, x) after the state was edited there (an EventAction::edit): the signs are read
+  // afresh, as at the start, and running cooldowns are kept.
+  template <class G>
+  void restart(G& g, S t, const State<S>& x) {
     sign_.assign(size(), 0);
     eval(g, t, x, g_prev_);
     for (std::size_t i = 0; i < size(); ++i) sign_[i] = sign(g_prev_[i]);
   }
 
+  // Whether event i is in its cooldown, and where that ends.
+  bool cooling(std::size_t i) const { return cooling_[i]; }
+  S cooldown_end(std::size_t i) const { return cool_end_[i]; }
+
   // After a step from t_old to t_new with x_new the state at t_new; state_at(tau, out) gives the
   // solution at any tau in [t_old, t_new]. Replaces `hits` by the step's events in time order
-  // (equal times in index order) and returns true when the last of them is terminal: the
-  // integration must then stop at hits.back().t with the state hits.back().x (to go on from there,
-  // call start() again: the signs kept here are those at t_new).
+  // (equal times in index order) and returns true when the last of them interrupts the step
+  // (hits.back().action is stop or edit): the integration must then stop at hits.back().t with the
+  // state hits.back().x, or edit that state and go on from there after restart(). Events in their
+  // cooldown are not detected; where a cooldown ends inside the step, the sign there is the
+  // reference and only [cooldown end, t_new] is searched.
   template <class G, class StateAt>
   bool step(G& g, S t_old, S t_new, const State<S>& x_new, StateAt&& state_at, std::vector<EventHit<S>>& hits) {
     using std::abs;
     hits.clear();
     if (size() == 0) return false;
     eval(g, t_new, x_new, g_new_);
+    const S step_dir = t_new >= t_old ? S(1) : S(-1);
     for (std::size_t i = 0; i < size(); ++i) {
       const int s_new = sign(g_new_[i]);
+      // The bracket's start: t_old, or where the cooldown of event i ends inside this step.
+      S t_a = t_old, g_a = g_prev_[i];
+      if (cooling_[i]) {
+        if ((t_new - cool_end_[i]) * step_dir <= S(0)) continue;  // its sign is updated below
+        cooling_[i] = false;
+        if ((cool_end_[i] - t_old) * step_dir > S(0)) {
+          t_a = cool_end_[i];
+          state_at(t_a, buf_);
+          eval(g, t_a, buf_, g_tmp_);
+          g_a = g_tmp_[i];
+          if (const int s_a = sign(g_a); s_a != 0) sign_[i] = s_a;
+        }
+      }
       if (s_new == 0 || sign_[i] == 0 || s_new == sign_[i]) continue;
       const int dir = s_new > 0 ? 1 : -1;
       const EventDirection want = specs_[i].direction;
@@ -148,18 +201,19 @@ class EventLocator {
       EventHit<S> hit;
       hit.index = i;
       hit.direction = dir;
-      hit.terminal = specs_[i].terminal;
-      if (g_prev_[i] == S(0)) {
-        // g sat exactly on zero at t_old and has now left it on the other side.
-        hit.t = t_old;
+      hit.action = specs_[i].effective_action();
+      hit.terminal = hit.action == EventAction::stop;
+      if (g_a == S(0)) {
+        // g sat exactly on zero at the bracket's start and has now left it on the other side.
+        hit.t = t_a;
       } else {
         auto gi = [&](S tau) {
           state_at(tau, buf_);
           eval(g, tau, buf_, g_tmp_);
           return g_tmp_[i];
         };
-        const S scale = abs(t_old) > abs(t_new) ? abs(t_old) : abs(t_new);
-        hit.t = brent_root(gi, t_old, t_new, g_prev_[i], g_new_[i], std::numeric_limits<S>::epsilon() * scale);
+        const S scale = abs(t_a) > abs(t_new) ? abs(t_a) : abs(t_new);
+        hit.t = brent_root(gi, t_a, t_new, g_a, g_new_[i], std::numeric_limits<S>::epsilon() * scale);
       }
       if (hit.t == t_new) {
         hit.x = x_new;
@@ -171,15 +225,22 @@ class EventLocator {
     for (std::size_t i = 0; i < size(); ++i)
       if (const int s = sign(g_new_[i]); s != 0) sign_[i] = s;
     std::swap(g_prev_, g_new_);
-    const S dir = t_new >= t_old ? S(1) : S(-1);
     std::stable_sort(hits.begin(), hits.end(),
-                     [&](const EventHit<S>& a, const EventHit<S>& b) { return (a.t - b.t) * dir < S(0); });
+                     [&](const EventHit<S>& a, const EventHit<S>& b) { return (a.t - b.t) * step_dir < S(0); });
+    bool interrupted = false;
     for (std::size_t k = 0; k < hits.size(); ++k)
-      if (hits[k].terminal) {
+      if (hits[k].action != EventAction::record) {
         hits.resize(k + 1);
-        return true;
+        interrupted = true;
+        break;
       }
-    return false;
+    // The reported events start their cooldowns.
+    for (const EventHit<S>& hit : hits)
+      if (const double c = specs_[hit.index].cooldown; c > 0.0) {
+        cooling_[hit.index] = true;
+        cool_end_[hit.index] = hit.t + step_dir * S(c);
+      }
+    return interrupted;
   }
 
  private:
@@ -194,6 +255,8 @@ class EventLocator {
   std::vector<EventSpec> specs_;
   State<S> g_prev_, g_new_, g_tmp_, buf_;
   std::vector<int> sign_;  // last non-zero sign of each g (0: not armed yet)
+  std::vector<bool> cooling_;
+  State<S> cool_end_;  // where each running cooldown ends
   std::size_t evaluations_ = 0;
 };
 

@@ -12,11 +12,13 @@
 #include <vector>
 
 #include "eomc/runtime/checker.hpp"
-#include "eomc/runtime/dopri5.hpp"
+#include "eomc/runtime/stepper/dopri5.hpp"
 #include "eomc/runtime/events.hpp"
-#include "eomc/runtime/rk4.hpp"
+#include "eomc/runtime/stepper/rk4.hpp"
 #include "eomc/runtime/state.hpp"
-#include "eomc/runtime/step_control.hpp"
+#include "eomc/runtime/stepper/concepts.hpp"
+#include "eomc/runtime/control/error_checker.hpp"
+#include "eomc/runtime/control/initial_step.hpp"
 
 namespace eomc::runtime {
 
@@ -38,14 +40,24 @@ concept Projecting = requires(Sys& sys, S t, State<S>& x) { sys.project(t, x); }
 
 namespace detail {
 
-// on_step(t_old, t_new, x) may return void, or bool: false stops the loop after that step.
+// How a step's callback ends it: go on, stop the loop, or restart from the (t, x) it wrote (a state
+// edited at an event; the loop then resets the stepper).
+enum class StepEnd { go_on, stop, restart };
+
+// on_step(t_old, t_new, x) may return void, or bool (false stops the loop after that step), or
+// StepEnd: then it is called with t_new and x as lvalues it may overwrite for a restart.
 template <class F, class S>
-bool keep_going(F& f, S t_old, S t_new, const State<S>& x) {
-  if constexpr (std::is_same_v<std::invoke_result_t<F&, S, S, const State<S>&>, bool>) {
+inline constexpr bool restarts = std::is_same_v<std::invoke_result_t<F&, S, S&, State<S>&>, StepEnd>;
+
+template <class F, class S>
+StepEnd step_end(F& f, S t_old, S& t_new, State<S>& x) {
+  if constexpr (restarts<F, S>) {
     return f(t_old, t_new, x);
+  } else if constexpr (std::is_same_v<std::invoke_result_t<F&, S, S, const State<S>&>, bool>) {
+    return f(t_old, t_new, static_cast<const State<S>&>(x)) ? StepEnd::go_on : StepEnd::stop;
   } else {
-    f(t_old, t_new, x);
-    return true;
+    f(t_old, t_new, static_cast<const State<S>&>(x));
+    return StepEnd::go_on;
   }
 }
 
@@ -71,9 +83,22 @@ Stats fixed_loop(Stepper& stepper, Sys& sys, State<S>& x, S t0, S t1, S h, NoPro
     t = t_next;
     ++stats.accepted;
     checker.check_state(t, x);
-    const bool go_on = keep_going(on_step, t_old, t, static_cast<const State<S>&>(x));
+    const StepEnd end = step_end(on_step, t_old, t, x);
     if constexpr (Projecting<Sys, S>) sys.project(t, x);
-    if (!go_on || last) break;
+    if (end == StepEnd::stop) break;
+    if constexpr (restarts<OnStep, S>) {
+      if (end == StepEnd::restart) {
+        // The state was edited at t inside the step: the stepper forgets what it carried, and the
+        // step is redone from t to the same grid point (none left when t is that point).
+        stepper.reset();
+        checker.check_state(t, x);
+        if (t != t_next) {
+          --k;
+          continue;
+        }
+      }
+    }
+    if (last) break;
   }
   return stats;
 }
@@ -119,9 +144,14 @@ Stats adaptive_loop(Stepper<S>& stepper, Sys& sys, State<S>& x, S t0, S t1, S h0
 
   checker.check_derivative(t0, stepper.prepare(sys, x, t0));
   std::size_t extra_evals = 0;
-  S h = h0 > S(0) ? (h0 < hmax ? h0 : hmax)
-                  : initial_step(sys, t0, x, stepper.derivative(), dir, Stepper<S>::error_order, tol, hmax,
-                                 extra_evals);
+  // The first step from (t, x), where the derivative is prepared: at the start, and again after a
+  // restart, where the last step size says nothing about the edited solution.
+  const auto first_step = [&](S t_from) {
+    return h0 > S(0) ? (h0 < hmax ? h0 : hmax)
+                     : initial_step(sys, t_from, static_cast<const State<S>&>(x), stepper.derivative(), dir,
+                                    Stepper<S>::error_order, tol, hmax, extra_evals);
+  };
+  S h = first_step(t0);
   checker.set_reference_step(h);
   h *= dir;
 
@@ -144,9 +174,23 @@ Stats adaptive_loop(Stepper<S>& stepper, Sys& sys, State<S>& x, S t0, S t1, S h0
       if (last) t = t1;  // t_old + (t1 - t_old) can miss t1 by an ulp
       checker.check_state(t, x);
       checker.check_derivative(t, stepper.derivative());
-      const bool go_on = keep_going(on_accept, t_old, t, static_cast<const State<S>&>(x));
+      const StepEnd end = step_end(on_accept, t_old, t, x);
       if constexpr (Projecting<Sys, S>) sys.project(t, x);
-      if (!go_on || last) break;
+      if (end == StepEnd::stop) break;
+      if constexpr (restarts<OnAccept, S>) {
+        if (end == StepEnd::restart) {
+          // The state was edited at t (a discontinuity): the integration starts afresh there, no
+          // FSAL derivative, dense output, controller memory or step size carried over it ([HNW]
+          // Sect. II.6, "Discontinuities").
+          stepper.reset();
+          checker.check_state(t, x);
+          checker.check_derivative(t, stepper.prepare(sys, x, t));
+          if ((t1 - t) * dir <= S(0)) break;
+          h = dir * first_step(t);
+          continue;
+        }
+      }
+      if (last) break;
     } else {
       ++stats.rejected;
     }
@@ -157,13 +201,13 @@ Stats adaptive_loop(Stepper<S>& stepper, Sys& sys, State<S>& x, S t0, S t1, S h0
 
 }  // namespace detail
 
-// Adaptive integration with an embedded pair (Dopri5, Dop853: anything with prepare, try_step,
-// derivative, calc_state, error_order) from t0 to t1 (either direction). h0 > 0 is the magnitude of the
+// Adaptive integration with an adaptive stepper (Dopri5, Dop853: AdaptiveStepper in
+// stepper/concepts.hpp) from t0 to t1 (either direction). h0 > 0 is the magnitude of the
 // first step; h0 <= 0 chooses it with initial_step(). observer(t, x) at t0 and after every
 // accepted step, landing exactly on t1. Throws IntegrationError on step underflow, an exhausted
 // step budget or a non-finite state/derivative.
 template <template <class> class Stepper, class S, class Sys, class Obs>
-  requires System<Sys, S> && Observer<Obs, S>
+  requires AdaptiveStepper<Stepper<S>> && System<Sys, S> && Observer<Obs, S>
 Stats integrate_adaptive(Stepper<S>& stepper, Sys& sys, State<S>& x, std::type_identity_t<S> t0,
                          std::type_identity_t<S> t1, std::type_identity_t<S> h0, const Tolerances& tol,
                          Obs&& observer, const Limits& limits = {}) {
@@ -182,7 +226,7 @@ Stats integrate_adaptive(Stepper<S>& stepper, Sys& sys, State<S>& x, std::type_i
 // evaluated with the dense output of the step containing them (steps are not shortened for them),
 // times that coincide with a step end get that step's state.
 template <template <class> class Stepper, class S, class Sys, class Obs>
-  requires System<Sys, S> && Observer<Obs, S>
+  requires AdaptiveStepper<Stepper<S>> && DenseOutputStepper<Stepper<S>> && System<Sys, S> && Observer<Obs, S>
 Stats integrate_times(Stepper<S>& stepper, Sys& sys, State<S>& x, const std::vector<S>& times,
                       std::type_identity_t<S> h0, const Tolerances& tol, Obs&& observer,
                       const Limits& limits = {}) {
@@ -220,39 +264,70 @@ struct EventOutcome {
   S t = S(0);             // the end time reached: t1, or the time of the terminal event
   bool stopped = false;   // a terminal event ended it
   std::size_t event = 0;  // which one, when stopped
+  std::size_t edits = 0;  // states edited by EventAction::edit events (each a restart)
 };
 
 namespace detail {
 
+// The edit callback of the drivers without one: their specs may not ask for edits.
+struct NoEdit {
+  template <class Hit, class X>
+  void operator()(const Hit&, X&) const {}
+};
+
+inline void require_no_edits(const std::vector<EventSpec>& specs) {
+  for (const EventSpec& spec : specs)
+    if (spec.effective_action() == EventAction::edit)
+      throw std::invalid_argument("an event with EventAction::edit needs an edit callback");
+}
+
 // After each step: locate the step's events, report them (in time order, before the step's own
-// observer call), and stop at a terminal one. Returns whether to go on.
-template <class S, class G, class StateAt, class Obs, class OnEvent>
-bool handle_events(EventLocator<S>& events, G& g, S t_old, S t_new, const State<S>& x, StateAt&& state_at,
-                   std::vector<EventHit<S>>& hits, EventOutcome<S>& out, Obs& observer, OnEvent& on_event) {
-  const bool stop = events.step(g, t_old, t_new, x, state_at, hits);
+// observer call), stop at a stopping one, or edit the state at an editing one: t_new and x become
+// the event's time and the edited state, the locator restarts there, the observer sees it, and the
+// loop restarts the stepper.
+template <class S, class G, class StateAt, class Obs, class OnEvent, class Edit>
+StepEnd handle_events(EventLocator<S>& events, G& g, S t_old, S& t_new, State<S>& x, StateAt&& state_at,
+                      std::vector<EventHit<S>>& hits, EventOutcome<S>& out, Obs& observer, OnEvent& on_event,
+                      Edit& edit) {
+  const bool interrupted = events.step(g, t_old, t_new, static_cast<const State<S>&>(x), state_at, hits);
   for (const EventHit<S>& hit : hits) on_event(hit);
-  if (stop) {
+  if (interrupted && hits.back().action == EventAction::stop) {
     out.stopped = true;
     out.event = hits.back().index;
     out.t = hits.back().t;
-    return false;
+    return StepEnd::stop;
   }
-  observer(t_new, x);
-  return true;
+  if (interrupted) {
+    const EventHit<S>& hit = hits.back();
+    x = hit.x;
+    edit(hit, x);
+    t_new = hit.t;
+    ++out.edits;
+    events.restart(g, t_new, static_cast<const State<S>&>(x));
+    observer(t_new, static_cast<const State<S>&>(x));
+    return StepEnd::restart;
+  }
+  observer(t_new, static_cast<const State<S>&>(x));
+  return StepEnd::go_on;
 }
 
 }  // namespace detail
 
 // integrate_adaptive with events g(t, x, out) (one value per spec of `events`) located on the
 // stepper's dense output. observer(t, x) at t0 and after every accepted step; on_event(hit) for
-// every event, in time order, before the observer call of the step that holds it. A terminal event
-// ends the integration at its time: x is then the state there, and that step gets no observer call.
-template <template <class> class Stepper, class S, class Sys, class G, class Obs, class OnEvent>
-  requires System<Sys, S> && Observer<Obs, S> && std::invocable<OnEvent&, const EventHit<S>&>
+// every event, in time order, before the observer call of the step that holds it. A stopping event
+// (EventAction::stop, or terminal) ends the integration at its time: x is then the state there, and
+// that step gets no observer call. An editing event (EventAction::edit) ends the step at its time
+// t_e: edit(hit, x) changes the state there (x starts as hit.x), observer(t_e, x) sees the edited
+// state, and the integration restarts from it with the stepper reset; the rest of the step and its
+// later events are dropped.
+template <template <class> class Stepper, class S, class Sys, class G, class Obs, class OnEvent, class Edit>
+  requires AdaptiveStepper<Stepper<S>> && DenseOutputStepper<Stepper<S>> && System<Sys, S> && Observer<Obs, S> &&
+           std::invocable<OnEvent&, const EventHit<S>&> && std::invocable<Edit&, const EventHit<S>&, State<S>&>
 EventOutcome<S> integrate_adaptive_events(Stepper<S>& stepper, Sys& sys, State<S>& x, std::type_identity_t<S> t0,
                                           std::type_identity_t<S> t1, std::type_identity_t<S> h0,
                                           const Tolerances& tol, EventLocator<S>& events, G& g, Obs&& observer,
-                                          OnEvent&& on_event, const Limits& limits = {}) {
+                                          OnEvent&& on_event, Edit&& edit, const Limits& limits = {}) {
   validate(tol);
   NoProgressChecker<S> checker(limits);
   checker.check_state(t0, x);
@@ -264,25 +339,41 @@ EventOutcome<S> integrate_adaptive_events(Stepper<S>& stepper, Sys& sys, State<S
   std::vector<EventHit<S>> hits;
   const auto dense = [&](S tau, State<S>& o) { stepper.calc_state(tau, o); };
   out.stats = detail::adaptive_loop(stepper, sys, x, S(t0), S(t1), S(h0), tol, limits, checker,
-                                    [&](S t_old, S t_new, const State<S>& xs) {
+                                    [&](S t_old, S& t_new, State<S>& xs) {
                                       return detail::handle_events(events, g, t_old, t_new, xs, dense, hits, out,
-                                                                   observer, on_event);
+                                                                   observer, on_event, edit);
                                     });
   if (out.stopped) x = hits.back().x;
   return out;
 }
 
-// integrate_fixed with events, same contract as integrate_adaptive_events. A fixed-step method
+// The same without edits: no spec may ask for EventAction::edit.
+template <template <class> class Stepper, class S, class Sys, class G, class Obs, class OnEvent>
+  requires AdaptiveStepper<Stepper<S>> && DenseOutputStepper<Stepper<S>> && System<Sys, S> && Observer<Obs, S> &&
+           std::invocable<OnEvent&, const EventHit<S>&>
+EventOutcome<S> integrate_adaptive_events(Stepper<S>& stepper, Sys& sys, State<S>& x, std::type_identity_t<S> t0,
+                                          std::type_identity_t<S> t1, std::type_identity_t<S> h0,
+                                          const Tolerances& tol, EventLocator<S>& events, G& g, Obs&& observer,
+                                          OnEvent&& on_event, const Limits& limits = {}) {
+  detail::require_no_edits(events.specs());
+  return integrate_adaptive_events(stepper, sys, x, t0, t1, h0, tol, events, g, observer, on_event, detail::NoEdit{},
+                                   limits);
+}
+
+// integrate_fixed with events, same contract as integrate_adaptive_events (after an edited state
+// the steps go on from the event time to the next point of the grid t0 + k h). A fixed-step method
 // has no dense output of its own order, so inside a step where some g changes sign the solution at
 // t_old + tau is the method's own step of size tau from the step's start (a copy of the stepper,
 // reset, does it). The event then carries the method's full order (a cubic Hermite interpolant
 // would cap it at 4 for gl6, gl8 and the compositions), and steps without a sign change cost
 // nothing extra; the re-steps' system calls are counted in the stats.
-template <class Stepper, class S, class Sys, class G, class Obs, class OnEvent>
-  requires FixedStepper<Stepper, Sys, S> && Observer<Obs, S> && std::invocable<OnEvent&, const EventHit<S>&>
+template <class Stepper, class S, class Sys, class G, class Obs, class OnEvent, class Edit>
+  requires FixedStepper<Stepper, Sys, S> && Observer<Obs, S> && std::invocable<OnEvent&, const EventHit<S>&> &&
+           std::invocable<Edit&, const EventHit<S>&, State<S>&>
 EventOutcome<S> integrate_fixed_events(Stepper& stepper, Sys& sys, State<S>& x, std::type_identity_t<S> t0,
                                        std::type_identity_t<S> t1, std::type_identity_t<S> h, EventLocator<S>& events,
-                                       G& g, Obs&& observer, OnEvent&& on_event, const Limits& limits = {}) {
+                                       G& g, Obs&& observer, OnEvent&& on_event, Edit&& edit,
+                                       const Limits& limits = {}) {
   if (h == S(0) || (t1 - t0) * h < S(0))
     throw std::invalid_argument("integrate_fixed_events: h must be non-zero with the sign of t1 - t0");
   NoProgressChecker<S> checker(limits);
@@ -308,13 +399,23 @@ EventOutcome<S> integrate_fixed_events(Stepper& stepper, Sys& sys, State<S>& x, 
                                    t_start = t;
                                    x_old = xs;
                                  },
-                                 [&](S t_old, S t_new, const State<S>& xs) {
+                                 [&](S t_old, S& t_new, State<S>& xs) {
                                    return detail::handle_events(events, g, t_old, t_new, xs, restep, hits, out,
-                                                                observer, on_event);
+                                                                observer, on_event, edit);
                                  });
   out.stats.rhs_evals = stepper.rhs_evals() - evals0 + (probe.rhs_evals() - probe0);
   if (out.stopped) x = hits.back().x;
   return out;
+}
+
+// The same without edits: no spec may ask for EventAction::edit.
+template <class Stepper, class S, class Sys, class G, class Obs, class OnEvent>
+  requires FixedStepper<Stepper, Sys, S> && Observer<Obs, S> && std::invocable<OnEvent&, const EventHit<S>&>
+EventOutcome<S> integrate_fixed_events(Stepper& stepper, Sys& sys, State<S>& x, std::type_identity_t<S> t0,
+                                       std::type_identity_t<S> t1, std::type_identity_t<S> h, EventLocator<S>& events,
+                                       G& g, Obs&& observer, OnEvent&& on_event, const Limits& limits = {}) {
+  detail::require_no_edits(events.specs());
+  return integrate_fixed_events(stepper, sys, x, t0, t1, h, events, g, observer, on_event, detail::NoEdit{}, limits);
 }
 
 }  // namespace eomc::runtime

@@ -43,7 +43,7 @@
 #include <stdexcept>
 #include <type_traits>
 
-#include "eomc/runtime/coefficients.hpp"
+#include "eomc/runtime/stepper/coefficients.hpp"
 #include "eomc/runtime/state.hpp"
 
 namespace eomc::runtime {

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "eomc/runtime/runtime.hpp"
-#include "../support/pendulum.hpp"
+#include "../../support/pendulum.hpp"
 
 namespace rt = eomc::runtime;
 

@@ -268,8 +268,8 @@ BOOST_AUTO_TEST_CASE(equinoctial_elements_are_regular_at_e_0_and_i_0) {
       }
 }
 
-// Delaunay variables (Brouwer and Clemence, Methods of Celestial Mechanics, 1961):
-// L = sqrt(mu a), G = L sqrt(1 - e^2), H = G cos i;
+// Delaunay variables (D. Brouwer, G.M. Clemence, Methods of Celestial Mechanics, Academic Press
+// 1961): L = sqrt(mu a), G = L sqrt(1 - e^2), H = G cos i;
 // the Kepler Hamiltonian -mu^2/(2 L^2) equals the orbit energy v^2/2 - mu/r of the state. Round
 // trip: a and the angles come back to a few ulps; e = sqrt((L - G)(L + G))/L loses what the
 // rounding of G (eps L) costs when L - G ~ L e^2/2 is small: relative error ~ eps/e^2; i likewise

@@ -11,7 +11,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "eomc/runtime/gauss_legendre.hpp"
+#include "eomc/runtime/stepper/gauss_legendre.hpp"
 #include "eomc/runtime/integrate.hpp"
 
 namespace rt = eomc::runtime;

@@ -14,9 +14,9 @@
 #include <vector>
 
 #include "eomc/runtime/integrate.hpp"
-#include "eomc/runtime/rk4.hpp"
+#include "eomc/runtime/stepper/rk4.hpp"
 #include "eomc/runtime/runtime.hpp"
-#include "eomc/runtime/splitting.hpp"
+#include "eomc/runtime/stepper/splitting.hpp"
 
 namespace rt = eomc::runtime;
 
