@@ -128,7 +128,7 @@ OsculationResidual osculation(const std::string& formulation, const std::string&
     // Newton's acceleration in Cartesian variables, from the model itself.
     std::array<ex, 3> newton;
     for (std::size_t j = 0; j < 3; ++j)
-        newton[j] = -o.mu * c[j].q / GiNaC::pow(o.r, 3) + mech::derivative(o.R, c[j].q) + o.acceleration[j];
+        newton[j] = -o.mu * c[j].q / GiNaC::pow(o.r, 3) + eomc::symbolic::derivative(o.R, c[j].q) + o.acceleration[j];
     // The Cartesian state and its time derivative along the rates.
     std::array<ex, 6> cartesian, moved;
     if (form.outputs.empty()) {
@@ -144,9 +144,9 @@ OsculationResidual osculation(const std::string& formulation, const std::string&
         BOOST_REQUIRE_EQUAL(form.outputs.size(), 6u);
         for (std::size_t j = 0; j < 6; ++j) {
             cartesian[j] = form.outputs[j].value;
-            moved[j] = mech::derivative(form.outputs[j].value, model.t);  // encke's reference moves with t
+            moved[j] = eomc::symbolic::derivative(form.outputs[j].value, model.t);  // encke's reference moves with t
             for (const auto& [k, rate] : form.explicit_rates)
-                moved[j] += mech::derivative(form.outputs[j].value, form.state[k].symbol) * rate;
+                moved[j] += eomc::symbolic::derivative(form.outputs[j].value, form.state[k].symbol) * rate;
         }
     }
 
