@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "mechanics/inverse/given_equations.hpp"
+#include "mechanics/orbit/formulation.hpp"
 #include "mechanics/orbit/invariants.hpp"
 #include "mechanics/relative/lagrange.hpp"
 
@@ -15,6 +16,7 @@ Equations derive(const model::Model& model) {
         case model::ModelKind::orbit: {
             // Cowell's form: Lagrange's equations in Cartesian coordinates, with the orbit's own
             // integrals (the other formulations start from the model, mechanics/first_order).
+            check_state_names_free(model);
             Equations eqs = lagrange_equations(model);
             add_orbit_invariants(model, eqs);
             return eqs;

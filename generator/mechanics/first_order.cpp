@@ -1,13 +1,12 @@
 #include "mechanics/first_order.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
 #include "mechanics/inverse/inverse_problem.hpp"
-#include "mechanics/orbit/element_formulations.hpp"
-#include "mechanics/orbit/encke.hpp"
-#include "mechanics/orbit/equinoctial.hpp"
+#include "mechanics/orbit/formulation.hpp"
 #include "support/diagnostic.hpp"
 
 namespace eomc::mechanics {
@@ -75,11 +74,17 @@ void add_carrier_kinematics(const model::Model& model, FirstOrderForm& form) {
 }  // namespace
 
 FirstOrderForm first_order_form(const model::Model& model, const Equations& eqs) {
-    // An orbit scene's formulation decides what the kernel integrates; the equations derived
-    // (Cowell's) are the same either way.
-    if (model.orbit && model.orbit->formulation == "equinoctial") return equinoctial_form(model, eqs);
-    if (model.orbit && model.orbit->formulation == "encke") return encke_form(model, eqs);
-    if (model.orbit && model.orbit->formulation != "cowell") return element_form(model, eqs);
+    switch (model.kind()) {
+        case model::ModelKind::energies:
+        case model::ModelKind::given_equations: return lagrange_form(model, eqs);
+        // An orbit scene's formulation decides what the kernel integrates; the equations derived
+        // (Cowell's) are the same either way.
+        case model::ModelKind::orbit: return orbit_formulation(model.orbit->kind).build(model, eqs);
+    }
+    throw std::logic_error("first_order_form: unknown model kind");
+}
+
+FirstOrderForm lagrange_form(const model::Model& model, const Equations& eqs) {
     FirstOrderForm form;
     const std::size_t n = model.coordinates.size();
     form.n_coordinates = n;

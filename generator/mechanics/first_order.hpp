@@ -39,7 +39,7 @@ struct EventFunction {
     bool terminal = false;
 };
 
-// Encke's rectification (mechanics/encke.hpp): after an accepted step the kernel's project()
+// Encke's rectification (mechanics/orbit/encke.hpp): after an accepted step the kernel's project()
 // resets the reference orbit to the osculating orbit of the total state when the deviation has
 // grown past `ratio` of the reference radius, and re-expresses the deviation in the new reference.
 struct Rectification {
@@ -92,11 +92,12 @@ struct FirstOrderForm {
     std::size_t n_velocities() const { return velocity_rates.size(); }
 };
 
-// Lagrange's equations (with a free carrier's quasi-velocities and kinematics, when there
-// is one) as the first-order system x = (q, u, kinematic states); for an orbit scene in
-// equinoctial elements, Gauss's equations in those (mechanics/equinoctial.hpp), in classical or
-// Delaunay elements mechanics/element_formulations.hpp, and in the encke formulation the
-// deviation from a Kepler reference orbit (mechanics/encke.hpp), instead.
+// The first-order system the kernel integrates: Lagrange's equations as lagrange_form writes
+// them, or for an orbit scene its formulation's (mechanics/orbit/formulation.hpp).
 FirstOrderForm first_order_form(const model::Model& model, const Equations& equations);
+
+// Lagrange's equations (with a free carrier's quasi-velocities and kinematics, when there is one)
+// as the first-order system x = (q, u, kinematic states); an orbit's cowell formulation.
+FirstOrderForm lagrange_form(const model::Model& model, const Equations& equations);
 
 }  // namespace eomc::mechanics

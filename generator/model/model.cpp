@@ -227,24 +227,73 @@ const std::vector<EffectParameters>& orbit_effect_parameters() {
     return table;
 }
 
+// Whether the formulation can start from this initial orbit. The model keeps these checks, the
+// one piece of formulation knowledge it has, because they judge the scene's input: an error or
+// a warning at the formulation key, reported by build_model with the scene's other input
+// errors and warnings before anything is derived. Which elements each formulation integrates,
+// and how, is mechanics/orbit's.
+void check_formulation_domain(const Orbit& orbit, const std::array<double, 6>& x0, double mu,
+                              const SourcePos& initial_pos, std::vector<Warning>& warnings) {
+    using enum scene::OrbitFormulationKind;
+    switch (orbit.kind) {
+        case cowell:
+        case equinoctial: return;  // any conic (equinoctial: singular only at i = 180°, never refused)
+        case encke: {
+            // The reference is a Kepler ellipse (its position is written through E = kepler_E(M, e)).
+            const double r0 = std::hypot(x0[0], x0[1], x0[2]);
+            const double energy = (x0[3] * x0[3] + x0[4] * x0[4] + x0[5] * x0[5]) / 2 - mu / r0;
+            if (!(energy < 0))
+                throw InputError(orbit.formulation_pos,
+                                 fmt::format("the encke formulation needs an elliptic initial orbit (its reference is "
+                                             "a Kepler ellipse), but this one has specific energy {} ≥ 0 ({}); use "
+                                             "cowell or equinoctial",
+                                             energy, energy == 0 ? "a parabola" : "a hyperbola"));
+            return;
+        }
+        case gauss:
+        case lagrange:
+        case delaunay:
+        case mean: break;
+    }
+    // The classical elements' equations carry 1/e (ω̇, Ṁ) and 1/sin i (Ω̇, i̇): exactly there they
+    // are undefined, near there the perturbation's effect on ω and Ω is amplified by 1/e or
+    // 1/sin i and the angles turn fast while their sums stay smooth (Vallado, Fundamentals of
+    // Astrodynamics and Applications, 4th ed., §9.6).
+    const std::string_view kind = scene::name(orbit.kind);
+    runtime::ClassicalElements<double> el{};
+    try {
+        el = runtime::classical_from_cartesian(runtime::CartesianState<double>{x0[0], x0[1], x0[2], x0[3], x0[4], x0[5]},
+                                               mu);
+    } catch (const runtime::KeplerError& e) {
+        throw InputError(initial_pos, fmt::format("the orbit has no classical elements: {}", e.what()));
+    }
+    const double sin_i = std::sin(el.i);
+    constexpr double exactly = 1e-12, near = 1e-3;  // near: a thousandfold amplification
+    if (el.e < exactly || sin_i < exactly)
+        throw InputError(orbit.formulation_pos,
+                         fmt::format("the {} formulation's elements are singular for this orbit ({}): its "
+                                     "equations divide by e and sin i; use formulation = \"equinoctial\" "
+                                     "(non-singular at e = 0 and i = 0) or \"cowell\"",
+                                     kind, el.e < exactly ? "circular, e = 0" : "equatorial, sin i = 0"));
+    if (el.e < near || sin_i < near)
+        warnings.push_back(
+            {orbit.formulation_pos,
+             fmt::format("the {} formulation's elements are nearly singular for this orbit (e = {:.3g}, i = "
+                         "{:.3g}°): its equations divide by e and sin i, so ω and Ω turn fast and steps shrink; "
+                         "formulation = \"equinoctial\" is non-singular at e = 0 and i = 0",
+                         kind, el.e, el.i * 180 / std::numbers::pi)});
+}
+
 // [orbit] and an orbit scene's [effects]: coordinates x, y, z with the initial state, T, V and
 // the non-conservative accelerations. Each library effect is only its potential or its
 // acceleration; the equations follow by differentiation like any other scene's.
 void build_orbit(const scene::Scene& scene, SymbolTable& symbols, Model& model) {
     const scene::Orbit& given = *scene.orbit;
     Orbit orbit;
-    orbit.formulation = given.formulation;
+    orbit.kind = given.formulation;
+    orbit.formulation = std::string(scene::name(given.formulation));
     orbit.formulation_pos = given.formulation_pos.file.empty() ? given.pos : given.formulation_pos;
     orbit.rectify = given.rectify;
-    // The equinoctial kernel's state names must stay free.
-    if (given.formulation == "equinoctial")
-        for (const auto& p : model.parameters)
-            for (const char* element : equinoctial_state_names)
-                if (p.name == element)
-                    throw InputError(orbit.formulation_pos,
-                                     fmt::format("the equinoctial formulation's state has an element '{}', which names a "
-                                                 "parameter of this scene; rename the parameter",
-                                                 element));
     orbit.mu = symbols.parse(given.mu, unsigned(SymbolKind::parameter), "the central body's mu");
     orbit.radius = symbols.parse(given.radius, unsigned(SymbolKind::parameter), "the central body's radius");
     const double mu = at_defaults(orbit.mu, model, given.mu, "the central body's mu");
@@ -266,17 +315,6 @@ void build_orbit(const scene::Scene& scene, SymbolTable& symbols, Model& model) 
             throw InputError(given.initial_pos, fmt::format("the orbit's elements give no state: {}", e.what()));
         }
     }
-    // Encke's reference is a Kepler ellipse (its position is written through E = kepler_E(M, e)).
-    if (given.formulation == "encke") {
-        const double r0 = std::hypot(x0[0], x0[1], x0[2]);
-        const double energy = (x0[3] * x0[3] + x0[4] * x0[4] + x0[5] * x0[5]) / 2 - mu / r0;
-        if (!(energy < 0))
-            throw InputError(orbit.formulation_pos,
-                             fmt::format("the encke formulation needs an elliptic initial orbit (its reference is a "
-                                         "Kepler ellipse), but this one has specific energy {} ≥ 0 ({}); use cowell or "
-                                         "equinoctial",
-                                         energy, energy == 0 ? "a parabola" : "a hyperbola"));
-    }
     const char* names[] = {"x", "y", "z"};
     for (int k = 0; k < 3; ++k)
         model.coordinates.push_back({names[k], symbols.declare(names[k], SymbolKind::coordinate),
@@ -294,34 +332,7 @@ void build_orbit(const scene::Scene& scene, SymbolTable& symbols, Model& model) 
                          fmt::format("the orbit starts at r = {} km, at or below the central body's surface (radius {})",
                                      std::hypot(x0[0], x0[1], x0[2]), radius));
 
-    // The classical elements' equations carry 1/e (ω̇, Ṁ) and 1/sin i (Ω̇, i̇): exactly there they
-    // are undefined, near there the perturbation's effect on ω and Ω is amplified by 1/e or
-    // 1/sin i and the angles turn fast while their sums stay smooth.
-    const std::string& kind = orbit.formulation;
-    if (kind == "gauss" || kind == "lagrange" || kind == "delaunay" || kind == "mean") {
-        runtime::ClassicalElements<double> el{};
-        try {
-            el = runtime::classical_from_cartesian(runtime::CartesianState<double>{x0[0], x0[1], x0[2], x0[3], x0[4], x0[5]},
-                                                   mu);
-        } catch (const runtime::KeplerError& e) {
-            throw InputError(given.initial_pos, fmt::format("the orbit has no classical elements: {}", e.what()));
-        }
-        const double sin_i = std::sin(el.i);
-        constexpr double exactly = 1e-12, near = 1e-3;  // near: a thousandfold amplification
-        if (el.e < exactly || sin_i < exactly)
-            throw InputError(orbit.formulation_pos,
-                             fmt::format("the {} formulation's elements are singular for this orbit ({}): its "
-                                         "equations divide by e and sin i; use formulation = \"equinoctial\" "
-                                         "(non-singular at e = 0 and i = 0) or \"cowell\"",
-                                         kind, el.e < exactly ? "circular, e = 0" : "equatorial, sin i = 0"));
-        if (el.e < near || sin_i < near)
-            model.warnings.push_back(
-                {orbit.formulation_pos,
-                 fmt::format("the {} formulation's elements are nearly singular for this orbit (e = {:.3g}, i = "
-                             "{:.3g}°): its equations divide by e and sin i, so ω and Ω turn fast and steps shrink; "
-                             "formulation = \"equinoctial\" is non-singular at e = 0 and i = 0",
-                             kind, el.e, el.i * 180 / std::numbers::pi)});
-    }
+    check_formulation_domain(orbit, x0, mu, given.initial_pos, model.warnings);
 
     // Each kept effect's parameters, found by name; a missing one is an error at the effect.
     auto parameter = [&](const std::string& effect, const SourcePos& pos, const char* name) -> ex {
@@ -346,7 +357,7 @@ void build_orbit(const scene::Scene& scene, SymbolTable& symbols, Model& model) 
         const SourcePos& pos = scene.effects.keep_pos[k];
         auto P = [&](const char* name) { return parameter(e, pos, name); };
         // Zonal harmonics: U = (μ/r)[1 − Σ J_n (R_e/r)^n P_n(z/r)], so R_n = −(μ/r) J_n (R_e/r)^n P_n
-        // (Vallado, eq. 8-19).
+        // (Vallado, Fundamentals of Astrodynamics and Applications, eq. 8-19; Mei, ch. 2).
         if (e == "J2") {
             orbit.disturbing.push_back({e, -orbit.mu / r * P("J2") * GiNaC::pow(Re / r, 2) * (3 * s * s - 1) / 2});
         } else if (e == "J3") {

@@ -96,7 +96,7 @@ struct Event {
 
 // An orbit scene ([orbit]): a point mass about a central body in inertial Cartesian axes,
 // T = |v|²/2, V = −μ/r − R with R the sum of the kept disturbing functions (acceleration =
-// +∇R, FORMULAS §2), and the non-conservative accelerations as generalized forces.
+// +∇R; Mei, ch. 2), and the non-conservative accelerations as generalized forces.
 struct OrbitTerm {
     std::string effect;  // "J2", …, "custom"
     GiNaC::ex value;     // a disturbing function R(x, y, z, t)
@@ -112,20 +112,15 @@ struct Orbit {
     std::vector<OrbitAcceleration> accelerations;
     GiNaC::ex R = 0;                             // Σ disturbing
     Vec3 acceleration{0, 0, 0};                  // Σ accelerations
+    // What the kernel integrates (mechanics/orbit/formulation.hpp's registry decides by it).
+    scene::OrbitFormulationKind kind = scene::OrbitFormulationKind::cowell;
+    // name(kind), kept only because cli/main.cpp still compares it with strings; delete it when
+    // the CLI asks mechanics::hamiltonian_applies / variational_applies instead.
     std::string formulation = "cowell";
     SourcePos formulation_pos;                   // the [orbit] formulation key (or the [orbit] table)
     double rectify = 1e-2;                       // encke: reset the reference when |δ| > rectify |ρ|
     GiNaC::ex r;                                 // √(x² + y² + z²)
 };
-
-// The state of orbit formulations that are not Cartesian, in kernel order (the equinoctial
-// elements must not name a parameter; other clashes the emitter resolves).
-inline constexpr std::array<const char*, 6> equinoctial_state_names{"p", "f", "g", "h", "k", "L"};
-// Encke: the deviation δ = r − ρ and its rate, the reference orbit's epoch and classical elements
-// at that epoch (constant between rectifications), and the number of rectifications so far.
-inline constexpr std::array<const char*, 14> encke_state_names{
-    "dx", "dy", "dz", "dx_dot", "dy_dot", "dz_dot", "ref_t", "ref_a", "ref_e", "ref_i", "ref_raan", "ref_argp", "ref_M",
-    "rectifications"};
 
 // What a scene describes, which decides the chapter that derives its equations (mechanics/derive).
 enum class ModelKind {

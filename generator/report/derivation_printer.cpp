@@ -101,12 +101,12 @@ ex encke_f_of_q() {
 }
 
 // An orbit scene: the central body, each disturbing function and acceleration, then
-// R = Σ R_k and its gradient (the perturbing acceleration +∇R, FORMULAS §2).
+// R = Σ R_k and its gradient (the perturbing acceleration +∇R; Mei, ch. 2).
 // The formulation's own steps (an element formulation's R in the elements, its partials, the
 // equations in named partials); none for Cowell, whose equations follow below.
 std::vector<mechanics::NamedExpression> formulation_steps(const model::Model& model, const mechanics::Equations& eqs,
                                                           std::string& description) {
-    if (!model.orbit || model.orbit->formulation == "cowell") return {};
+    if (!model.orbit || model.orbit->kind == scene::OrbitFormulationKind::cowell) return {};
     mechanics::FirstOrderForm form = mechanics::first_order_form(model, eqs);
     description = form.description;
     return form.derivation;
@@ -126,7 +126,7 @@ std::string latex_step_name(const std::string& name) {
 void print_orbit_text(const model::Model& model, const mechanics::Equations& eqs, std::ostream& out) {
     const model::Orbit& o = *model.orbit;
     const auto& c = model.coordinates;
-    out << "Orbit (" << o.formulation << "): inertial x, y, z about a central body with μ = " << text(o.mu)
+    out << "Orbit (" << scene::name(o.kind) << "): inertial x, y, z about a central body with μ = " << text(o.mu)
         << ", radius " << text(o.radius) << "; r = " << text(o.r) << "\n";
     out << "Disturbing function R (acceleration = −μ r/r³ + ∇R + a)\n";
     if (o.disturbing.empty()) out << "  none\n";
@@ -136,11 +136,11 @@ void print_orbit_text(const model::Model& model, const mechanics::Equations& eqs
             out << "  ∂R/∂" << c[k].name << " = "
                 << text(display_form(symbolic::derivative(o.R, GiNaC::ex_to<GiNaC::symbol>(ex(c[k].q))))) << "\n";
     }
-    if (o.formulation == "equinoctial")
+    if (o.kind == scene::OrbitFormulationKind::equinoctial)
         out << "Formulation equinoctial: the kernel integrates (p, f, g, h, k, L) by Gauss's equations (Betts eq. 6.37)\n"
                "  with the acceleration ∇R + a below, evaluated at the Cartesian state of the elements and taken\n"
                "  in radial, transverse and normal axes; the Cowell equations below give the same motion\n";
-    if (o.formulation == "encke")
+    if (o.kind == scene::OrbitFormulationKind::encke)
         out << "Formulation encke (Battin §9.3): the kernel integrates the deviation δ = r − ρ from a reference Kepler "
                "ellipse ρ(t)\n"
                "  δ̈ = −(μ/ρ³)(δ + f(q) r) + ∇R(r) + a(r, ṙ),  r = ρ + δ,  q = δ·(δ − 2r)/r²\n"
@@ -157,7 +157,7 @@ void print_orbit_text(const model::Model& model, const mechanics::Equations& eqs
     std::string description;
     const auto steps = formulation_steps(model, eqs, description);
     if (!steps.empty()) {
-        out << "Formulation " << o.formulation << ": " << description << "\n";
+        out << "Formulation " << scene::name(o.kind) << ": " << description << "\n";
         for (const auto& step : steps) out << "  " << step.name << " = " << text(display_form(step.value)) << "\n";
     }
     out << "Non-conservative accelerations a (generalized forces Q = a)\n";
@@ -288,7 +288,7 @@ void print_latex(const model::Model& model, const mechanics::Equations& eqs, std
                 << ",\\ " << latex(display_form(a.value[1])) << ",\\ " << latex(display_form(a.value[2])) << "\\right)"
                 << (&a == &o.accelerations.back() ? "\n" : "\\\\\n");
         out << "\\end{align*}\n";
-        if (o.formulation == "encke")
+        if (o.kind == scene::OrbitFormulationKind::encke)
             out << "\\subsection*{Encke's formulation}\nThe kernel integrates the deviation $\\boldsymbol\\delta = "
                    "\\mathbf r - \\boldsymbol\\rho$ from a reference Kepler ellipse $\\boldsymbol\\rho(t)$ "
                    "(Battin \\S 9.3), rectified when $|\\boldsymbol\\delta| > "
@@ -306,7 +306,7 @@ void print_latex(const model::Model& model, const mechanics::Equations& eqs, std
         std::string description;
         const auto steps = formulation_steps(model, eqs, description);
         if (!steps.empty()) {
-            out << "\\subsection*{Formulation: " << latex_escape(o.formulation) << "}\n" << latex_escape(description)
+            out << "\\subsection*{Formulation: " << latex_escape(std::string(scene::name(o.kind))) << "}\n" << latex_escape(description)
                 << "\n\\begin{align*}\n";
             for (std::size_t k = 0; k < steps.size(); ++k)
                 out << latex_step_name(steps[k].name) << " &= " << latex(display_form(steps[k].value))
@@ -371,7 +371,7 @@ void print_json(const model::Model& model, const mechanics::Equations& eqs, std:
     out << "},\n  \"potential\": " << json_ex(eqs.V) << ",\n";
     if (model.orbit) {
         const model::Orbit& o = *model.orbit;
-        out << "  \"orbit\": {\"formulation\": " << json_string(o.formulation) << ", \"mu\": " << json_ex(o.mu)
+        out << "  \"orbit\": {\"formulation\": " << json_string(std::string(scene::name(o.kind))) << ", \"mu\": " << json_ex(o.mu)
             << ", \"radius\": " << json_ex(o.radius) << ", \"disturbing_function\": {";
         for (std::size_t k = 0; k < o.disturbing.size(); ++k)
             out << (k ? ", " : "") << json_string(o.disturbing[k].effect) << ": " << json_ex(o.disturbing[k].value);
@@ -390,7 +390,7 @@ void print_json(const model::Model& model, const mechanics::Equations& eqs, std:
             out << (k ? ", " : "") << "{\"name\": " << json_string(steps[k].name) << ", \"value\": " << json_ex(steps[k].value)
                 << "}";
         out << "]";
-        if (o.formulation == "encke")
+        if (o.kind == scene::OrbitFormulationKind::encke)
             out << ", \"encke\": {\"equation\": "
                 << json_string("delta_ddot = -(mu/rho^3)*(delta + f(q)*r) + grad R(r) + a(r, r_dot), r = rho + delta")
                 << ", \"q\": " << json_string("delta.(delta - 2*r)/r^2") << ", \"f\": " << json_ex(encke_f_of_q())

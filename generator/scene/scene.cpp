@@ -722,9 +722,8 @@ private:
             o.state = x;
         }
         if (const toml::node* f = t.get("formulation")) {
-            o.formulation = read_string(*f, "orbit.formulation");
             o.formulation_pos = at(*f);
-            check_orbit_formulation(o.formulation, o.formulation_pos);
+            o.formulation = parse_orbit_formulation(read_string(*f, "orbit.formulation"), o.formulation_pos);
         }
         // Read whatever the formulation, so that --orbit-formulation encke finds it.
         if (const toml::node* r = t.get("rectify")) {
@@ -965,23 +964,25 @@ private:
 
 }  // namespace
 
-void check_orbit_formulation(const std::string& name, const SourcePos& where) {
+OrbitFormulationKind parse_orbit_formulation(std::string_view name, const SourcePos& where) {
+    for (std::size_t k = 0; k < orbit_formulation_names.size(); ++k)
+        if (orbit_formulation_names[k] == name) return static_cast<OrbitFormulationKind>(k);
     const std::vector<std::string> names(orbit_formulation_names.begin(), orbit_formulation_names.end());
-    if (std::find(names.begin(), names.end(), name) == names.end()) {
-        const std::string near = nearest_name(name, names);
-        throw InputError(where, fmt::format("unknown orbit formulation '{}'; {}", name,
-                                            near.empty() ? fmt::format("expected one of {}", fmt::join(names, ", "))
-                                                         : fmt::format("did you mean '{}'?", near)));
-    }
+    const std::string near = nearest_name(std::string(name), names);
+    throw InputError(where, fmt::format("unknown orbit formulation '{}'; {}", name,
+                                        near.empty() ? fmt::format("expected one of {}", fmt::join(names, ", "))
+                                                     : fmt::format("did you mean '{}'?", near)));
 }
+
+void check_orbit_formulation(const std::string& name, const SourcePos& where) { parse_orbit_formulation(name, where); }
 
 void set_orbit_formulation(Scene& scene, const std::string& name, const SourcePos& where) {
     if (!scene.orbit)
         throw InputError(where, fmt::format("{} has no [orbit]; only an orbit scene has a formulation to choose",
                                             scene.path.empty() ? "the scene" : scene.path));
-    check_orbit_formulation(name, where);
+    const OrbitFormulationKind kind = parse_orbit_formulation(name, where);
     scene.name += "_" + name;
-    scene.orbit->formulation = name;
+    scene.orbit->formulation = kind;
     scene.orbit->formulation_pos = where;
 }
 

@@ -121,9 +121,16 @@ struct Effects {
 // An orbit scene's perturbation library ([effects] keep in a scene with [orbit]); each names the
 // parameters it reads (docs/scene-format.md).
 inline constexpr std::array<std::string_view, 5> orbit_effect_names{"J2", "J3", "J4", "drag", "third_body"};
-// The formulations of an orbit scene's equations (each one kernel from the same scene).
+// The formulations of an orbit scene's equations (each one kernel from the same scene), read
+// once here from [orbit] formulation or --orbit-formulation; what each one is and builds is
+// mechanics/orbit/formulation.hpp's registry.
+enum class OrbitFormulationKind { cowell, encke, lagrange, gauss, delaunay, equinoctial, mean };
+// Indexed by OrbitFormulationKind.
 inline constexpr std::array<std::string_view, 7> orbit_formulation_names{"cowell",   "encke",       "lagrange", "gauss",
                                                                          "delaunay", "equinoctial", "mean"};
+inline constexpr std::string_view name(OrbitFormulationKind kind) {
+    return orbit_formulation_names[static_cast<std::size_t>(kind)];
+}
 
 // [orbit]: a point mass about a central body. The model's coordinates are the inertial
 // Cartesian x, y, z; the initial state comes from classical elements or is given directly.
@@ -134,7 +141,7 @@ struct Orbit {
     std::optional<std::array<double, 6>> elements;
     std::optional<std::array<double, 6>> state;  // x, y, z, vx, vy, vz
     SourcePos initial_pos;                 // the elements or state value
-    std::string formulation = "cowell";    // one of orbit_formulation_names
+    OrbitFormulationKind formulation = OrbitFormulationKind::cowell;
     SourcePos formulation_pos;
     // encke: the reference orbit is reset to the osculating one when |δ| > rectify |ρ| (0 < rectify < 1).
     double rectify = 1e-2;
@@ -248,8 +255,10 @@ struct Scene {
 Scene parse_scene_file(const std::string& path);
 Scene parse_scene_string(std::string_view toml_text, const std::string& path = "<string>");
 
-// Checks an orbit formulation's name (unknown: with a did-you-mean) and throws InputError at
-// `where`.
+// The orbit formulation called `name`; an unknown name throws InputError at `where` (with a
+// did-you-mean).
+OrbitFormulationKind parse_orbit_formulation(std::string_view name, const SourcePos& where);
+// Checks an orbit formulation's name as parse_orbit_formulation does.
 void check_orbit_formulation(const std::string& name, const SourcePos& where);
 
 // `--orbit-formulation NAME`: the same scene in another formulation. The scene's name gains

@@ -144,6 +144,43 @@ std::vector<ProbePoint> probe_points_at_defaults(const model::Model& model, std:
     return make_points(model, count, seed, false);
 }
 
+namespace {
+
+// GiNaC's working precision (a global) raised for one evaluation and restored after.
+class PreciseDigits {
+public:
+    PreciseDigits() : saved_(GiNaC::Digits) { GiNaC::Digits = precise_digits; }
+    ~PreciseDigits() { GiNaC::Digits = saved_; }
+    PreciseDigits(const PreciseDigits&) = delete;
+    PreciseDigits& operator=(const PreciseDigits&) = delete;
+
+private:
+    long saved_;
+};
+
+// x = m · 2^k with m a 53-bit integer: the double's value as an exact rational.
+GiNaC::numeric exact(double x) {
+    int k = 0;
+    const double m = std::frexp(x, &k);
+    return GiNaC::numeric(static_cast<long>(std::ldexp(m, 53))) * GiNaC::numeric(2).power(k - 53);
+}
+
+}  // namespace
+
+GiNaC::exmap precise_values(const std::map<GiNaC::ex, double, GiNaC::ex_is_less>& values) {
+    const PreciseDigits digits;
+    GiNaC::exmap out;
+    for (const auto& [symbol, value] : values) out[symbol] = GiNaC::ex_to<GiNaC::numeric>(exact(value).evalf());
+    return out;
+}
+
+std::optional<GiNaC::numeric> evaluate_precise(const GiNaC::ex& e, const GiNaC::exmap& values) {
+    const PreciseDigits digits;
+    const GiNaC::ex v = e.subs(values, GiNaC::subs_options::no_pattern).evalf();
+    if (!GiNaC::is_a<GiNaC::numeric>(v) || !GiNaC::ex_to<GiNaC::numeric>(v).is_real()) return std::nullopt;
+    return GiNaC::ex_to<GiNaC::numeric>(v);
+}
+
 double evaluate(const GiNaC::ex& e, const ProbePoint& at) { return Evaluator(at)(e).v; }
 
 double evaluate_rate(const GiNaC::ex& e, const ProbePoint& at) { return Evaluator(at)(e).d; }

@@ -5,10 +5,14 @@
 // Evaluation is in double precision by a walk over the expression DAG (each shared node
 // once), not by GiNaC's subs + evalf, which is arbitrary-precision and far slower; time
 // derivatives along a motion are taken in forward mode (dual numbers), not symbolically.
+// Where double cannot settle a question (a residual that must vanish identically while its
+// terms cancel over many orders of magnitude), the same point is evaluated again in CLN's
+// floating point at many more digits (evaluate_precise).
 #pragma once
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <vector>
 
 #include <ginac/ginac.h>
@@ -34,5 +38,16 @@ std::vector<ProbePoint> probe_points_at_defaults(const model::Model& model, std:
 double evaluate(const GiNaC::ex& e, const ProbePoint& at);
 // The total time derivative along the motion through the point (q̈ taken from the point).
 double evaluate_rate(const GiNaC::ex& e, const ProbePoint& at);
+
+// The digits of the precise evaluation: enough that the rounding of an identity's residual
+// (about 10^-(digits-3) of its largest terms) lies far below any perturbation an orbit or a
+// carrier can carry (a third body's tidal term is 1e-13 of μ/r, and cancelling J2 torques
+// reach 1e10 at the probe points: 1e-23 of the terms).
+inline constexpr int precise_digits = 50;
+
+// A point's values (or rates) as CLN floats of precise_digits digits, each the double's exact value.
+GiNaC::exmap precise_values(const std::map<GiNaC::ex, double, GiNaC::ex_is_less>& values);
+// The value at precise_digits digits; nullopt if it does not evaluate to a real number there.
+std::optional<GiNaC::numeric> evaluate_precise(const GiNaC::ex& e, const GiNaC::exmap& values);
 
 }  // namespace eomc::symbolic

@@ -1,14 +1,17 @@
-// The element formulations of an orbit scene (gauss, lagrange, delaunay, mean; equinoctial
-// beside them) checked symbolically, before any integration:
-//   * osculation: the kernel's Cartesian outputs X(q), V(q) moved along its rates q̇ must give
-//     dX/dt = V and dV/dt = −μX/r³ + ∇R + a, the Cowell acceleration, at every state — the
-//     defining property of osculating elements. Checked at random states for a conservative
-//     perturbation (J2, J3, J4, a third body) and a dissipative one (J2, drag, a custom
-//     acceleration), so that Lagrange's equations in ∂R, Gauss's in ∇R + a and the canonical
-//     Delaunay equations each meet Newton's law, term by term;
-//   * mean: R̄ of J2 is FORMULAS §2's closed form, and the secular rates are the first-order
-//     mean rates Ω̇, ω̇, Ṁ there;
-//   * the classical elements' singularities: refused at e = 0 and i = 0, warned near them.
+// The orbit formulations of an orbit scene checked symbolically, before any integration:
+//   * Newton's law: every formulation but mean, its Cartesian state X, V (cowell: the state;
+//     the others: the kernel's outputs, functions of the state and, for encke's reference, of t)
+//     moved along its own rates must give dX/dt = V and dV/dt = −μX/r³ + ∇R + a, the Cowell
+//     acceleration, at every state — for the element formulations the defining property of
+//     osculating elements. Checked at random states for a conservative perturbation (J2, J3,
+//     J4, a third body) and a dissipative one (J2, drag, a custom acceleration), so that
+//     Lagrange's equations in ∂R, Gauss's in ∇R + a, the canonical Delaunay equations, Encke's
+//     deviation and Cowell's own each meet Newton's law, term by term;
+//   * mean, which by design drops the short-period motion and so cannot meet Newton's law: R̄
+//     of J2 is the closed form of Kozai (1959) and Brouwer (1959), and the secular rates are
+//     their first-order mean rates Ω̇, ω̇, Ṁ;
+//   * the classical elements' singularities: refused at e = 0 and i = 0, warned near them;
+//   * the registry: each entry's kind, name and state names are those of the form it builds.
 #define BOOST_TEST_MODULE orbit_formulations
 #include <boost/test/unit_test.hpp>
 
@@ -22,7 +25,7 @@
 
 #include "mechanics/derive.hpp"
 #include "mechanics/first_order.hpp"
-#include "mechanics/orbit/element_formulations.hpp"
+#include "mechanics/orbit/formulation.hpp"
 #include "model/model.hpp"
 #include "scene/scene.hpp"
 #include "support/diagnostic.hpp"
@@ -77,7 +80,21 @@ GiNaC::exmap random_state(const mech::FirstOrderForm& form, double mu, std::mt19
     const double raan = 2 * std::numbers::pi * u(rng), argp = 2 * std::numbers::pi * u(rng);
     const double M = 2 * std::numbers::pi * u(rng) - std::numbers::pi;
     std::vector<double> q;
-    if (form.state[0].name == "l") {
+    if (form.state[0].name == "x") {
+        // Cartesian: the periapsis or apoapsis of that ellipse, turned by the angles, at its speed there.
+        const double r = u(rng) < 0.5 ? a * (1 - e) : a * (1 + e), v = std::sqrt(mu * (2 / r - 1 / a));
+        const double cO = std::cos(raan), sO = std::sin(raan), ci = std::cos(i), si = std::sin(i);
+        const double cw = std::cos(argp), sw = std::sin(argp);
+        const double P[] = {cO * cw - sO * sw * ci, sO * cw + cO * sw * ci, sw * si};
+        const double Q[] = {-cO * sw - sO * cw * ci, -sO * sw + cO * cw * ci, cw * si};
+        q = {r * P[0], r * P[1], r * P[2], v * Q[0], v * Q[1], v * Q[2]};
+    } else if (form.state[0].name == "dx") {
+        // Encke: a reference ellipse with its epoch, and a deviation of up to 20 km and 20 m/s.
+        q = {20 * (2 * u(rng) - 1),   20 * (2 * u(rng) - 1),   20 * (2 * u(rng) - 1), 0.02 * (2 * u(rng) - 1),
+             0.02 * (2 * u(rng) - 1), 0.02 * (2 * u(rng) - 1), 1e5 * u(rng),           a,
+             e,                       i,                       raan,                   argp,
+             M,                       0};
+    } else if (form.state[0].name == "l") {
         const double L = std::sqrt(mu * a), G = L * std::sqrt(1 - e * e);
         q = {M, argp, raan, L, G, G * std::cos(i)};
     } else if (form.state[0].name == "p") {
@@ -90,7 +107,7 @@ GiNaC::exmap random_state(const mech::FirstOrderForm& form, double mu, std::mt19
         q = {a, e, i, raan, argp, M};
     }
     GiNaC::exmap at;
-    for (std::size_t k = 0; k < 6; ++k) at[form.state[k].symbol] = GiNaC::numeric(q[k]);
+    for (std::size_t k = 0; k < q.size(); ++k) at[form.state[k].symbol] = GiNaC::numeric(q[k]);
     return at;
 }
 
@@ -98,15 +115,13 @@ struct OsculationResidual {
     double position = 0, velocity = 0;  // worst |dX/dt − V|/|V| and |dV/dt − a|/(μ/r²)
 };
 
-// dX/dt and dV/dt of the kernel's outputs along its rates, against V and the Cowell
-// acceleration at the same Cartesian state, at `points` random states.
+// dX/dt and dV/dt of the formulation's Cartesian state along its rates, against V and the
+// Cowell acceleration at the same Cartesian state, at `points` random states.
 OsculationResidual osculation(const std::string& formulation, const std::string& parameters,
                               const std::string& effects, int points) {
     const auto model = model_of(scene_text(formulation, parameters, effects));
     const auto cowell = mech::derive(model);
     const auto form = mech::first_order_form(model, cowell);
-    BOOST_REQUIRE_EQUAL(form.state.size(), 6u);
-    BOOST_REQUIRE_EQUAL(form.outputs.size(), 6u);
     const auto& c = model.coordinates;
     const auto& o = *model.orbit;
 
@@ -114,12 +129,25 @@ OsculationResidual osculation(const std::string& formulation, const std::string&
     std::array<ex, 3> newton;
     for (std::size_t j = 0; j < 3; ++j)
         newton[j] = -o.mu * c[j].q / GiNaC::pow(o.r, 3) + eomc::symbolic::derivative(o.R, c[j].q) + o.acceleration[j];
-    // The outputs' time derivative along the rates.
-    std::array<ex, 6> moved;
-    for (std::size_t j = 0; j < 6; ++j) {
-        moved[j] = 0;
-        for (const auto& [k, rate] : form.explicit_rates)
-            moved[j] += eomc::symbolic::derivative(form.outputs[j].value, form.state[k].symbol) * rate;
+    // The Cartesian state and its time derivative along the rates.
+    std::array<ex, 6> cartesian, moved;
+    if (form.outputs.empty()) {
+        // Cowell: the state is (x, y, z, ẋ, ẏ, ż) and M u̇ = f with M = 1 (T = |v|²/2).
+        BOOST_REQUIRE_EQUAL(form.state.size(), 6u);
+        BOOST_REQUIRE_EQUAL(form.n_velocities(), 3u);
+        for (std::size_t i = 0; i < 3; ++i)
+            for (std::size_t j = 0; j < 3; ++j) BOOST_REQUIRE(form.mass_matrix(unsigned(i), unsigned(j)) == (i == j ? 1 : 0));
+        for (std::size_t j = 0; j < 6; ++j) cartesian[j] = form.state[j].symbol;
+        for (const auto& [k, rate] : form.explicit_rates) moved[k] = rate;
+        for (std::size_t j = 0; j < 3; ++j) moved[3 + j] = form.forcing[j];
+    } else {
+        BOOST_REQUIRE_EQUAL(form.outputs.size(), 6u);
+        for (std::size_t j = 0; j < 6; ++j) {
+            cartesian[j] = form.outputs[j].value;
+            moved[j] = eomc::symbolic::derivative(form.outputs[j].value, model.t);  // encke's reference moves with t
+            for (const auto& [k, rate] : form.explicit_rates)
+                moved[j] += eomc::symbolic::derivative(form.outputs[j].value, form.state[k].symbol) * rate;
+        }
     }
 
     std::mt19937_64 rng(20261121);
@@ -132,7 +160,7 @@ OsculationResidual osculation(const std::string& formulation, const std::string&
         at[model.t] = GiNaC::numeric(1e5 * (n + 1));
         std::array<double, 6> cart{}, rates{};
         for (std::size_t j = 0; j < 6; ++j) {
-            cart[j] = number(form.outputs[j].value, at);
+            cart[j] = number(cartesian[j], at);
             rates[j] = number(moved[j], at);
         }
         GiNaC::exmap at_cart = base;
@@ -156,12 +184,18 @@ OsculationResidual osculation(const std::string& formulation, const std::string&
 // cancel (ω̇ and Ṁ carry 1/e, Ω̇ 1/sin i; e ≥ 0.05, sin i ≥ 0.33 here, so a factor ≤ 60).
 // 1e-11 of the scale is that factor times a few hundred ulps; an error in any perturbation
 // term is of the size of J2 (1e-3) or of the drag (≥ 1e-9 of μ/r²) and shows far above it.
+// Cowell's equations and Encke's deviation carry no such factor (their floor is a few ulps of
+// μ/r²; Encke's reference ρ̈ comes through two derivatives of kepler_E, each 1/(1 − e cos E) ≤
+// 1/(1 − 0.6)), so the same floor holds for them with room to spare.
 constexpr double osculation_floor = 1e-11;
+
+// Every formulation but mean (secular only, checked against its closed form below).
+constexpr const char* newtonian_formulations[] = {"cowell", "encke", "gauss", "lagrange", "delaunay", "equinoctial"};
 
 }  // namespace
 
 BOOST_AUTO_TEST_CASE(conservative_perturbation_osculates) {
-    for (const char* f : {"gauss", "lagrange", "delaunay", "equinoctial"}) {
+    for (const char* f : newtonian_formulations) {
         const auto worst = osculation(f, zonal_and_moon, conservative_effects, 6);
         BOOST_TEST_MESSAGE(f << ": dX/dt − V " << worst.position << ", dV/dt − a " << worst.velocity);
         BOOST_TEST_INFO(f);
@@ -174,7 +208,7 @@ BOOST_AUTO_TEST_CASE(dissipative_perturbation_osculates) {
     // The custom acceleration is ~1e-6 of μ/r² at every state drawn, so a wrong sign or factor
     // in Gauss's terms shows far above the floor; drag reaches ~1e-6 only near a 300 km perigee
     // and is far smaller high up, so it is checked mainly at the low states.
-    for (const char* f : {"gauss", "lagrange", "delaunay", "equinoctial"}) {
+    for (const char* f : newtonian_formulations) {
         const auto worst = osculation(f, drag_parameters, dissipative_effects, 6);
         BOOST_TEST_MESSAGE(f << ": dX/dt − V " << worst.position << ", dV/dt − a " << worst.velocity);
         BOOST_TEST_INFO(f);
@@ -197,7 +231,7 @@ BOOST_AUTO_TEST_CASE(mean_j2_is_the_closed_form_average_and_gives_the_secular_ra
         for (std::size_t k = 0; k < 6; ++k) at[form.state[k].symbol] = GiNaC::numeric(values[k]);
         const double eta = std::sqrt(1 - e * e), p = a * eta * eta, nm = std::sqrt(mu / (a * a * a));
         const double ci = std::cos(i), si = std::sin(i), k2 = J2 * (Re / p) * (Re / p);
-        // FORMULAS §2.
+        // Kozai (1959), Brouwer (1959): the first-order secular rates of J2.
         const double R_bar = mu * J2 * Re * Re * (0.5 - 0.75 * si * si) / (a * a * a * eta * eta * eta);
         const double expected[] = {0, 0, 0, -1.5 * nm * k2 * ci, 0.75 * nm * k2 * (5 * ci * ci - 1),
                                    nm * (1 + 0.75 * k2 * eta * (3 * ci * ci - 1))};
@@ -265,5 +299,29 @@ BOOST_AUTO_TEST_CASE(classical_elements_are_refused_at_and_warned_near_their_sin
         BOOST_TEST(false, "a hyperbolic lagrange orbit was accepted");
     } catch (const eomc::InputError& e) {
         BOOST_TEST(e.message().find("needs an elliptic orbit") != std::string::npos);
+    }
+}
+
+BOOST_AUTO_TEST_CASE(the_registry_describes_what_each_formulation_builds) {
+    const std::string j2 = "J2 = 1.08262668e-3\n", keep = "[effects]\nkeep = [\"J2\"]\n";
+    BOOST_REQUIRE_EQUAL(mech::orbit_formulations().size(), eomc::scene::orbit_formulation_names.size());
+    for (std::size_t k = 0; k < eomc::scene::orbit_formulation_names.size(); ++k) {
+        const auto kind = static_cast<eomc::scene::OrbitFormulationKind>(k);
+        const mech::OrbitFormulation& f = mech::orbit_formulation(kind);
+        BOOST_TEST_INFO(eomc::scene::orbit_formulation_names[k]);
+        BOOST_TEST((f.kind == kind));
+        BOOST_TEST(f.name == eomc::scene::orbit_formulation_names[k]);
+        const auto model = model_of(scene_text(std::string(f.name), j2, keep));
+        const auto form = mech::first_order_form(model, mech::derive(model));
+        std::vector<std::string> built, listed(f.state_names.begin(), f.state_names.end());
+        for (const auto& s : form.state) built.push_back(s.name);
+        BOOST_TEST(built == listed, boost::test_tools::per_element());
+    }
+    // Today only Cowell's state is (q, q̇), and only Encke's changes meaning along a run.
+    using K = eomc::scene::OrbitFormulationKind;
+    for (std::size_t k = 0; k < eomc::scene::orbit_formulation_names.size(); ++k) {
+        const auto kind = static_cast<K>(k);
+        BOOST_TEST(mech::hamiltonian_applies(kind) == (kind == K::cowell));
+        BOOST_TEST(mech::variational_applies(kind) == (kind != K::encke));
     }
 }

@@ -47,7 +47,8 @@ std::string orbit_scene(const std::string& name, const std::string& parameters, 
 }
 
 const std::string j2_parameters = "J2 = 1.08262668e-3\n";
-// FORMULAS §2: R = −(μ J2 Re²/(2 r³))(3 z²/r² − 1).
+// J2 disturbing function (Vallado, Fundamentals of Astrodynamics and Applications, eq. 8-19):
+// R = −(μ J2 Re²/(2 r³))(3 z²/r² − 1).
 const std::string j2_by_hand = "-mu*J2*Re^2/(2*(x^2+y^2+z^2)^(3/2))*(3*z^2/(x^2+y^2+z^2) - 1)";
 
 eomc::model::Model model_of(const std::string& toml) {

@@ -1,8 +1,8 @@
 // Every orbit formulation integrated through `eomc simulate` and compared with Cowell's:
 //   * leo_j2 over a day: gauss, lagrange, delaunay, equinoctial and encke end where Cowell does;
 //   * an eccentric orbit decaying under drag: each re-enters when Cowell's does;
-//   * mean: a, e, i stay exactly constant, the angles advance at FORMULAS §2's secular rates,
-//     and its orbit stays within the first-order theory's error of Cowell's over ten days;
+//   * mean: a, e, i stay exactly constant, the angles advance at J2's first-order secular rates
+//     (Kozai 1959), and its orbit stays within the first-order theory's error of Cowell's over ten days;
 //   * e = 0.999 over many revolutions: the classical elements stay put and the position is the
 //     two-body propagator's.
 //
@@ -156,7 +156,7 @@ BOOST_AUTO_TEST_CASE(mean_elements_drift_at_the_secular_rates) {
     BOOST_TEST(mean.row.at("a") == a);
     BOOST_TEST(mean.row.at("e") == e);
     BOOST_TEST(mean.row.at("i") == i);
-    // The angles advance linearly at FORMULAS §2's rates. Integrating a constant rate, dop853's
+    // The angles advance linearly at Kozai's (1959) secular rates. Integrating a constant rate, dop853's
     // only error is rounding: a few ulps of the angle per step, over a few dozen steps.
     const double mu = 398600.4418, Re = 6378.137, J2 = 1.08262668e-3;
     const double eta = std::sqrt(1 - e * e), p = a * eta * eta, n = std::sqrt(mu / (a * a * a));

@@ -2,11 +2,13 @@
 
 #include <array>
 #include <cstddef>
+#include <string>
 
 #include <fmt/format.h>
 
 #include "eomc/runtime/orbit/orbital_elements.hpp"
 #include "mechanics/orbit/conic.hpp"
+#include "mechanics/orbit/formulation.hpp"
 #include "support/diagnostic.hpp"
 #include "symbolic/differentiation.hpp"
 
@@ -44,9 +46,10 @@ FirstOrderForm encke_form(const model::Model& model, const Equations& cowell) {
                          fmt::format("the encke formulation needs an elliptic initial orbit, but e = {}", el0.e));
     const double initial[14] = {0, 0, 0, 0, 0, 0, 0, el0.a, el0.e, el0.i, el0.raan, el0.argp, el0.mean_anomaly, 0};
     std::vector<GiNaC::symbol> s;
-    for (std::size_t k = 0; k < model::encke_state_names.size(); ++k) {
-        s.emplace_back(model::encke_state_names[k]);
-        form.state.push_back({model::encke_state_names[k], s.back(), initial[k]});
+    const auto names = orbit_formulation(OrbitFormulationKind::encke).state_names;
+    for (std::size_t k = 0; k < names.size(); ++k) {
+        s.emplace_back(std::string(names[k]));
+        form.state.push_back({std::string(names[k]), s.back(), initial[k]});
     }
     form.n_coordinates = 3;
     form.velocity_offset = form.state.size();

@@ -1,6 +1,6 @@
 // The integrals of a perturbed Kepler motion in Cartesian coordinates (Mei, ch. 2): the energy
-// H0 − R and the angular momentum about the central body's axis, each kept only where the
-// perturbations allow it and the equations prove it.
+// H0 − R and the angular momentum about the central body's axis, proposed here and kept only
+// where mechanics/invariants' prover (the same for every chapter) shows them constant.
 #pragma once
 
 #include "mechanics/equations.hpp"
