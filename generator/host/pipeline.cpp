@@ -7,6 +7,7 @@
 
 #include "codegen/cpp_emitter.hpp"
 #include "mechanics/derive.hpp"
+#include "mechanics/orbit/formulation.hpp"
 #include "scene/scene.hpp"
 #include "support/diagnostic.hpp"
 
@@ -29,24 +30,22 @@ void StageClock::print(std::ostream& out) const {
 
 namespace {
 
-// What an orbit formulation cannot be combined with.
+// What an orbit formulation cannot be combined with (its registry entry's traits).
 void check_formulation_options(const model::Model& model, const FrontEndOptions& options) {
     if (!model.orbit) return;
-    const std::string& formulation = model.orbit->formulation;
-    const bool hamiltonian = options.hamiltonian || model.hamiltonian;
-    if (formulation == "equinoctial" && hamiltonian)
+    const mechanics::OrbitFormulation& f = mechanics::orbit_formulation(model.orbit->kind);
+    if ((options.hamiltonian || model.hamiltonian) && !f.hamiltonian)
         throw InputError(model.orbit->formulation_pos,
-                         "the equinoctial formulation integrates Gauss's equations, not Hamilton's; use formulation = "
-                         "\"cowell\" with the Hamiltonian formulation");
-    if (formulation == "encke" && hamiltonian)
+                         fmt::format("the {} formulation integrates its own equations ({}), not Hamilton's; use "
+                                     "formulation = \"cowell\" with the Hamiltonian formulation",
+                                     f.name, f.summary));
+    // Φ would have to follow each change of the state's variables (encke's rectifications).
+    if (options.variational && !f.variational)
         throw InputError(model.orbit->formulation_pos,
-                         "the encke formulation integrates the deviation from a reference orbit, not Hamilton's "
-                         "equations; use formulation = \"cowell\" with the Hamiltonian formulation");
-    // Φ would have to follow each rectification's change of variables, which it does not.
-    if (formulation == "encke" && options.variational)
-        throw InputError(model.orbit->formulation_pos,
-                         "--variational cannot follow the encke formulation's rectifications (each one changes "
-                         "the state's variables); use formulation = \"cowell\" for the state-transition matrix");
+                         fmt::format("--variational cannot follow the {} formulation's rectifications (each one changes "
+                                     "the state's variables); use formulation = \"cowell\" for the state-transition "
+                                     "matrix",
+                                     f.name));
 }
 
 }  // namespace

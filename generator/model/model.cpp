@@ -291,7 +291,6 @@ void build_orbit(const scene::Scene& scene, SymbolTable& symbols, Model& model) 
     const scene::Orbit& given = *scene.orbit;
     Orbit orbit;
     orbit.kind = given.formulation;
-    orbit.formulation = std::string(scene::name(given.formulation));
     orbit.formulation_pos = given.formulation_pos.file.empty() ? given.pos : given.formulation_pos;
     orbit.rectify = given.rectify;
     orbit.mu = symbols.parse(given.mu, unsigned(SymbolKind::parameter), "the central body's mu");

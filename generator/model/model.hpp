@@ -114,9 +114,6 @@ struct Orbit {
     Vec3 acceleration{0, 0, 0};                  // Σ accelerations
     // What the kernel integrates (mechanics/orbit/formulation.hpp's registry decides by it).
     scene::OrbitFormulationKind kind = scene::OrbitFormulationKind::cowell;
-    // name(kind), kept only because cli/main.cpp still compares it with strings; delete it when
-    // the CLI asks mechanics::hamiltonian_applies / variational_applies instead.
-    std::string formulation = "cowell";
     SourcePos formulation_pos;                   // the [orbit] formulation key (or the [orbit] table)
     double rectify = 1e-2;                       // encke: reset the reference when |δ| > rectify |ρ|
     GiNaC::ex r;                                 // √(x² + y² + z²)
