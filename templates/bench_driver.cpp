@@ -467,25 +467,34 @@ Outcome odeint_sb3a(double t_end, double steps, bool observe) {
 enum class Kind { adaptive, fixed };
 
 struct Method {
-  const char* name;
+  const char* name;  // a string literal (the registry's names are literals too)
   const char* library;
   Kind kind;
   bool needs_acceleration;
   std::function<Outcome(double t_end, double setting, bool observe)> run;
 };
 
+// Ours: every method of the runtime's registry (eomc/runtime/registry.hpp), in its order, so that
+// a new integrator there is benchmarked without a change here.
+void add_ours(std::vector<Method>& m) {
+  for (const rt::IntegratorInfo& info : rt::integrator_infos)
+    rt::visit_integrator<double>(info.name, [&](auto tag) {
+      using Tag = decltype(tag);
+      using Stepper = typename Tag::type;
+      if constexpr (Tag::info.kind == rt::IntegratorKind::adaptive)
+        m.push_back({Tag::info.name.data(), "eomc", Kind::adaptive, false, ours_adaptive<Stepper>});
+      else if constexpr (Tag::info.needs_separable)
+        m.push_back({Tag::info.name.data(), "eomc", Kind::fixed, true, ours_splitting<Stepper>});
+      else
+        m.push_back({Tag::info.name.data(), "eomc", Kind::fixed, false, ours_fixed<Stepper>});
+    });
+}
+
 std::vector<Method> all_methods() {
-  using rt::Tolerances;
-  std::vector<Method> m{
-      {"rk4", "eomc", Kind::fixed, false, ours_fixed<rt::Rk4<double>>},
-      {"dopri5", "eomc", Kind::adaptive, false, ours_adaptive<rt::Dopri5<double>>},
-      {"dop853", "eomc", Kind::adaptive, false, ours_adaptive<rt::Dop853<double>>},
-      {"gl4", "eomc", Kind::fixed, false, ours_fixed<rt::Gl4<double>>},
-      {"gl6", "eomc", Kind::fixed, false, ours_fixed<rt::Gl6<double>>},
-      {"gl8", "eomc", Kind::fixed, false, ours_fixed<rt::Gl8<double>>},
-      {"verlet", "eomc", Kind::fixed, true, ours_splitting<rt::Verlet<double>>},
-      {"yoshida6", "eomc", Kind::fixed, true, ours_splitting<rt::Yoshida6<double>>},
-      {"kahanli8", "eomc", Kind::fixed, true, ours_splitting<rt::KahanLi8<double>>},
+  std::vector<Method> m;
+  add_ours(m);
+  // Boost.Odeint's, under their own names.
+  std::vector<Method> odeint_methods{
       {"runge_kutta_dopri5", "odeint", Kind::adaptive, false,
        [](double t_end, double tol, bool observe) {
          return odeint_adaptive([](double e) { return odeint::make_controlled(e, e, odeint::runge_kutta_dopri5<OState>()); },
@@ -503,6 +512,7 @@ std::vector<Method> all_methods() {
        }},
       {"symplectic_rkn_sb3a_mclachlan", "odeint", Kind::fixed, true, odeint_sb3a<>},
   };
+  m.insert(m.end(), odeint_methods.begin(), odeint_methods.end());
   return m;
 }
 
