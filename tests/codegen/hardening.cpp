@@ -50,7 +50,7 @@ using test_support::last_csv_row;
 // A harmonic oscillator q̈ = −k q whose scene strings are supplied by the test.
 std::string oscillator(const std::string& summary_line, const std::string& k_name = "k") {
     return test_support::oscillator_scene(
-        {.name = "osc", .summary_line = summary_line, .parameter = k_name, .value = "4.0", .stiffness = k_name});
+        {.name = "osc", .summary_line = summary_line, .parameter = k_name, .value = "4.0", .stiffness = k_name, .tail = ""});
 }
 
 }  // namespace
