@@ -26,7 +26,7 @@ constexpr std::array<std::string_view, 14> encke{"dx",     "dy",       "dz",    
                                                  "dz_dot", "ref_t",    "ref_a",    "ref_e",  "ref_i",
                                                  "ref_raan", "ref_argp", "ref_M", "rectifications"};
 
-// In OrbitFormulationKind order (tests/orbit checks each entry's kind and name).
+// In OrbitFormulationKind order (tests/mechanics/orbit checks each entry's kind and name).
 const std::array<OrbitFormulation, 7> registry{{
     {K::cowell, scene::name(K::cowell),
      "Cowell: Newton's equations in inertial Cartesian x, y, z (Lagrange's equations of T = |v|²/2, V = −μ/r − R)",

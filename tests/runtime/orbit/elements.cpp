@@ -299,7 +299,7 @@ BOOST_AUTO_TEST_CASE(delaunay_variables) {
     }
 }
 
-// The state names every formulation's CSV and summary use (issue 5).
+// The state names every formulation's CSV and summary use.
 BOOST_AUTO_TEST_CASE(state_names) {
   const std::array<std::string, 6> cart{"x", "y", "z", "vx", "vy", "vz"}, cl{"a", "e", "i", "raan", "argp", "mean_anomaly"},
       eq{"p", "f", "g", "h", "k", "L"}, de{"l", "g", "h", "L", "G", "H"};

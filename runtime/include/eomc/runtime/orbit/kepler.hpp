@@ -1,6 +1,6 @@
 #pragma once
 
-// Kepler's equation and the two-body propagator (issue 5, perturbation theory).
+// Kepler's equation and the two-body propagator (Mei, ch. 2, perturbation theory).
 //
 //   elliptic     E - e sin E = M,          0 <= e < 1    eccentric_from_mean
 //   hyperbolic   e sinh H - H = M,         e > 1         hyperbolic_from_mean

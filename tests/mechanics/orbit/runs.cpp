@@ -36,7 +36,7 @@ using test_support::run_eomc;
 namespace {
 
 const std::string scenes = EOMC_SOURCE_DIR "/scenes/";
-const std::string test_scenes = EOMC_SOURCE_DIR "/tests/orbit/scenes/";
+const std::string test_scenes = EOMC_SOURCE_DIR "/tests/mechanics/orbit/scenes/";
 
 using Row = std::map<std::string, double>;
 

@@ -72,18 +72,18 @@ BOOST_AUTO_TEST_CASE(json_shape_of_every_classical_case) {
         const char *self_adjoint, *multiplier, *lagrangian;
     };
     const Case cases[] = {
-        {"tests/inverse/scenes/pendulum_fundamental.toml", 1, "true", "no", "yes"},
+        {"tests/mechanics/inverse/scenes/pendulum_fundamental.toml", 1, "true", "no", "yes"},
         {"scenes/damped_oscillator.toml", 1, "false", "yes", "yes"},
-        {"tests/inverse/scenes/central_force_polar.toml", 2, "false", "yes", "yes"},
-        {"tests/inverse/scenes/douglas_no_lagrangian.toml", 2, "false", "no", "no"},
-        {"tests/inverse/scenes/isotropic_oscillator.toml", 2, "true", "no", "yes"},
+        {"tests/mechanics/inverse/scenes/central_force_polar.toml", 2, "false", "yes", "yes"},
+        {"tests/mechanics/inverse/scenes/douglas_no_lagrangian.toml", 2, "false", "no", "no"},
+        {"tests/mechanics/inverse/scenes/isotropic_oscillator.toml", 2, "true", "no", "yes"},
     };
     for (const Case& c : cases) {
         BOOST_TEST_CONTEXT(c.scene) {
             const fs::path out = dir / (fs::path(c.scene).stem().string() + ".json");
             const Result r = run("inverse " + scene(c.scene) + " --format json -o " + out.string(), dir);
             BOOST_TEST_REQUIRE(r.status == 0, r.err);
-            const std::string command = "python3 " + scene("tests/inverse/check_inverse_json.py") + " " + out.string() +
+            const std::string command = "python3 " + scene("tests/mechanics/inverse/check_inverse_json.py") + " " + out.string() +
                                         " " + std::to_string(c.n) + " " + c.self_adjoint + " " + c.multiplier + " " +
                                         c.lagrangian + " > " + (dir / "check.log").string() + " 2>&1";
             BOOST_TEST(std::system(command.c_str()) == 0, slurp(dir / "check.log"));
@@ -111,7 +111,7 @@ BOOST_AUTO_TEST_CASE(json_expressions_parse_back_with_ginac) {
 BOOST_AUTO_TEST_CASE(emitted_scene_is_a_lagrangian_scene_eomc_accepts) {
     const fs::path dir = scratch("emit");
     const fs::path emitted = dir / "polar_lagrangian.toml";
-    const Result r = run("inverse " + scene("tests/inverse/scenes/central_force_polar.toml") + " --emit-scene " +
+    const Result r = run("inverse " + scene("tests/mechanics/inverse/scenes/central_force_polar.toml") + " --emit-scene " +
                              emitted.string() + " -o " + (dir / "report.txt").string(),
                          dir);
     BOOST_TEST_REQUIRE(r.status == 0, r.err);
@@ -130,7 +130,7 @@ BOOST_AUTO_TEST_CASE(emitted_scene_is_a_lagrangian_scene_eomc_accepts) {
 BOOST_AUTO_TEST_CASE(no_scene_is_emitted_without_a_lagrangian) {
     const fs::path dir = scratch("refuse");
     const fs::path emitted = dir / "none.toml";
-    const Result r = run("inverse " + scene("tests/inverse/scenes/douglas_no_lagrangian.toml") + " --emit-scene " +
+    const Result r = run("inverse " + scene("tests/mechanics/inverse/scenes/douglas_no_lagrangian.toml") + " --emit-scene " +
                              emitted.string() + " -o " + (dir / "report.txt").string(),
                          dir);
     BOOST_TEST(r.status == 1);
@@ -142,13 +142,13 @@ BOOST_AUTO_TEST_CASE(no_scene_is_emitted_without_a_lagrangian) {
 
 BOOST_AUTO_TEST_CASE(text_report_names_the_verdict_and_the_reasoning) {
     const fs::path dir = scratch("text");
-    const Result douglas = run("inverse " + scene("tests/inverse/scenes/douglas_no_lagrangian.toml"), dir);
+    const Result douglas = run("inverse " + scene("tests/mechanics/inverse/scenes/douglas_no_lagrangian.toml"), dir);
     BOOST_REQUIRE(douglas.status == 0);
     BOOST_TEST(douglas.out.find("Verdict: not self-adjoint — S3(x,y) = 1 ≠ 0") != std::string::npos, douglas.out);
     BOOST_TEST(douglas.out.find("so g_x_y = 0") != std::string::npos);
     BOOST_TEST(douglas.out.find("so g_x_x = 0") != std::string::npos);
     BOOST_TEST(douglas.out.find("No regular Lagrangian exists.") != std::string::npos);
-    const Result iso = run("inverse " + scene("tests/inverse/scenes/isotropic_oscillator.toml"), dir);
+    const Result iso = run("inverse " + scene("tests/mechanics/inverse/scenes/isotropic_oscillator.toml"), dir);
     BOOST_REQUIRE(iso.status == 0);
     BOOST_TEST(iso.out.find("Verdict: self-adjoint") != std::string::npos);
     BOOST_TEST(iso.out.find("A second Lagrangian, from the constant multiplier g = [[0, 1], [1, 0]]") != std::string::npos,
@@ -157,8 +157,8 @@ BOOST_AUTO_TEST_CASE(text_report_names_the_verdict_and_the_reasoning) {
 
 BOOST_AUTO_TEST_CASE(latex_report_compiles_with_pdflatex) {
     const fs::path dir = scratch("latex");
-    for (const char* s : {"scenes/damped_oscillator.toml", "tests/inverse/scenes/douglas_no_lagrangian.toml",
-                          "tests/inverse/scenes/isotropic_oscillator.toml"}) {
+    for (const char* s : {"scenes/damped_oscillator.toml", "tests/mechanics/inverse/scenes/douglas_no_lagrangian.toml",
+                          "tests/mechanics/inverse/scenes/isotropic_oscillator.toml"}) {
         const std::string stem = fs::path(s).stem().string();
         const Result r = run("inverse " + scene(s) + " --format latex -o " + (dir / (stem + ".tex")).string(), dir);
         BOOST_REQUIRE(r.status == 0);
@@ -167,7 +167,7 @@ BOOST_AUTO_TEST_CASE(latex_report_compiles_with_pdflatex) {
         BOOST_TEST(std::system(command.c_str()) == 0, "pdflatex failed on " << stem << ", see " << dir);
     }
     // `eomc derive` of a Newtonian scene in LaTeX too.
-    const Result r = run("derive " + scene("tests/inverse/scenes/pendulum_fundamental.toml") + " --format latex -o " +
+    const Result r = run("derive " + scene("tests/mechanics/inverse/scenes/pendulum_fundamental.toml") + " --format latex -o " +
                              (dir / "derive.tex").string(),
                          dir);
     BOOST_REQUIRE(r.status == 0);
@@ -189,12 +189,12 @@ BOOST_AUTO_TEST_CASE(bad_newtonian_scene_exits_2_at_the_place) {
 
 BOOST_AUTO_TEST_CASE(derive_on_a_newtonian_scene_prints_both_forms) {
     const fs::path dir = scratch("derive");
-    const Result r = run("derive " + scene("tests/inverse/scenes/pendulum_fundamental.toml"), dir);
+    const Result r = run("derive " + scene("tests/mechanics/inverse/scenes/pendulum_fundamental.toml"), dir);
     BOOST_REQUIRE(r.status == 0);
     BOOST_TEST(r.out.find("Kinematic form q̈ = f(t, q, q̇) (solved from the fundamental form)") != std::string::npos, r.out);
     BOOST_TEST(r.out.find("Fundamental form A(t, q, q̇) q̈ + B(t, q, q̇) = 0 (as given)") != std::string::npos);
     BOOST_TEST(r.out.find("Equations of motion M q̈ = f") != std::string::npos);
-    const Result pj = run("derive " + scene("tests/inverse/scenes/pendulum_fundamental.toml") + " --format json", dir);
+    const Result pj = run("derive " + scene("tests/mechanics/inverse/scenes/pendulum_fundamental.toml") + " --format json", dir);
     BOOST_REQUIRE(pj.status == 0);
     const GiNaC::symbol m("m"), l("l"), g("g"), theta("theta");
     const std::vector<GiNaC::symbol> symbols{m, l, g, theta};
@@ -239,7 +239,7 @@ BOOST_AUTO_TEST_CASE(undecided_search_is_reported_in_text_latex_and_json) {
 
     const Result json = run(args + " --format json -o " + (dir / "leo.json").string(), dir);
     BOOST_TEST_REQUIRE(json.status == 0, json.err);
-    const std::string shape = "python3 " + scene("tests/inverse/check_inverse_json.py") + " " + (dir / "leo.json").string() +
+    const std::string shape = "python3 " + scene("tests/mechanics/inverse/check_inverse_json.py") + " " + (dir / "leo.json").string() +
                               " 3 false no no > " + (dir / "check.log").string() + " 2>&1";
     BOOST_TEST(std::system(shape.c_str()) == 0, slurp(dir / "check.log"));
     const std::string undecided =

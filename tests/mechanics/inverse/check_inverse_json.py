@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Checks the shape of `eomc inverse --format json` (run by tests/inverse/cli.cpp).
+"""Checks the shape of `eomc inverse --format json` (run by tests/mechanics/inverse/cli.cpp).
 
 usage: check_inverse_json.py FILE N SELF_ADJOINT MULTIPLIER LAGRANGIAN
   N             number of coordinates

@@ -129,7 +129,7 @@ double norm3(const std::vector<double>& v, std::size_t from = 0) {
 
 // The controller's guarantee per accepted step: the weighted RMS of the error estimate over the
 // N state components is ≤ 1, so each component's error is ≤ √N (atol + rtol |y|). A run's
-// position error is bounded, as in tests/orbit/orbit.cpp, by the local bounds of the six
+// position error is bounded, as in tests/mechanics/orbit/orbit.cpp, by the local bounds of the six
 // Cartesian (or deviation) components summed over the steps, each mapped 1:1 into position — a
 // derived, not a tight, bound (the Kepler shear grows an along-track error only about linearly
 // over the spans here), and an O(1) mistake in the equations moves the orbit by kilometres.

@@ -94,7 +94,7 @@ void check_equal_up_to_constant(const eomc::model::Model& m, const ex& L, const 
 // The classical cases
 
 BOOST_AUTO_TEST_CASE(conservative_pendulum_is_self_adjoint_as_given) {
-    const Loaded l = load_file("tests/inverse/scenes/pendulum_fundamental.toml");
+    const Loaded l = load_file("tests/mechanics/inverse/scenes/pendulum_fundamental.toml");
     const auto& m = l.model;
     const auto& a = l.analysis;
     BOOST_TEST(a.forms.given_fundamental);
@@ -137,7 +137,7 @@ BOOST_AUTO_TEST_CASE(damped_oscillator_takes_the_caldirola_kanai_multiplier) {
 }
 
 BOOST_AUTO_TEST_CASE(central_force_in_polar_coordinates_takes_the_metric) {
-    const Loaded l = load_file("tests/inverse/scenes/central_force_polar.toml");
+    const Loaded l = load_file("tests/mechanics/inverse/scenes/central_force_polar.toml");
     const auto& m = l.model;
     const auto& a = l.analysis;
     const ex k = S(m, "k"), r = S(m, "r"), rd = S(m, "r_dot"), thd = S(m, "theta_dot");
@@ -166,7 +166,7 @@ BOOST_AUTO_TEST_CASE(central_force_in_polar_coordinates_takes_the_metric) {
 }
 
 BOOST_AUTO_TEST_CASE(douglas_system_admits_no_regular_lagrangian) {
-    const Loaded l = load_file("tests/inverse/scenes/douglas_no_lagrangian.toml");
+    const Loaded l = load_file("tests/mechanics/inverse/scenes/douglas_no_lagrangian.toml");
     const auto& m = l.model;
     const auto& a = l.analysis;
     BOOST_TEST((a.decision.verdict == inv::Verdict::not_self_adjoint));
@@ -203,7 +203,7 @@ BOOST_AUTO_TEST_CASE(douglas_system_admits_no_regular_lagrangian) {
 }
 
 BOOST_AUTO_TEST_CASE(isotropic_oscillator_has_two_inequivalent_lagrangians) {
-    const Loaded l = load_file("tests/inverse/scenes/isotropic_oscillator.toml");
+    const Loaded l = load_file("tests/mechanics/inverse/scenes/isotropic_oscillator.toml");
     const auto& m = l.model;
     const auto& a = l.analysis;
     const ex w = S(m, "w"), x = S(m, "x"), y = S(m, "y"), xd = S(m, "x_dot"), yd = S(m, "y_dot");
@@ -348,7 +348,7 @@ BOOST_AUTO_TEST_CASE(trigonometric_identities_are_decided) {
 }
 
 BOOST_AUTO_TEST_CASE(not_self_adjoint_comes_with_a_point_where_a_residual_is_not_zero) {
-    const Loaded l = load_file("tests/inverse/scenes/central_force_polar.toml");
+    const Loaded l = load_file("tests/mechanics/inverse/scenes/central_force_polar.toml");
     const auto& a = l.analysis;
     BOOST_REQUIRE((a.decision.verdict == inv::Verdict::not_self_adjoint));
     // Re-evaluate the witness residual at the reported point with GiNaC.
@@ -463,7 +463,7 @@ BOOST_AUTO_TEST_CASE(newtonian_scene_errors_name_the_place) {
 }
 
 BOOST_AUTO_TEST_CASE(kernel_carries_santilli_residuals_only_for_newtonian_scenes) {
-    const Loaded n = load_file("tests/inverse/scenes/central_force_polar.toml");
+    const Loaded n = load_file("tests/mechanics/inverse/scenes/central_force_polar.toml");
     const auto ir = eomc::codegen::lower(n.model, n.equations);
     BOOST_TEST(ir.santilli_residual_names.size() == 9u);  // S1 1, S2 2, S3 3, S4 2, S5 1 for n = 2
     BOOST_TEST(ir.santilli_residual_names[4] == "S3(r,theta)");
@@ -496,7 +496,7 @@ BOOST_AUTO_TEST_CASE(inverse_settings_switch_the_steps_off) {
 BOOST_AUTO_TEST_CASE(algebraic_conditions_stop_at_the_first_level_that_adds_nothing) {
     // Polar central force: H1 gives g_rθ = 0, its derivative g_rr = g_θθ/r², the second
     // derivative nothing new, so the chain closes there (Sarlet 1982) at rank 2 of 3.
-    const Loaded l = load_file("tests/inverse/scenes/central_force_polar.toml");
+    const Loaded l = load_file("tests/mechanics/inverse/scenes/central_force_polar.toml");
     BOOST_REQUIRE(l.analysis.multiplier);
     std::string steps;
     std::size_t levels = 0;
@@ -513,7 +513,7 @@ BOOST_AUTO_TEST_CASE(algebraic_conditions_stop_at_the_first_level_that_adds_noth
 BOOST_AUTO_TEST_CASE(search_over_its_node_budget_is_undecided_not_negative) {
     // The same scene with a budget below the size of Φ: every stage is cut, nothing is found,
     // and the verdict says the search is undecided and why, never that no multiplier exists.
-    Loaded l = load_file("tests/inverse/scenes/central_force_polar.toml");
+    Loaded l = load_file("tests/mechanics/inverse/scenes/central_force_polar.toml");
     const inv::Analysis a = inv::analyse(l.model, l.equations, inv::SearchBudget{4});
     BOOST_REQUIRE(a.multiplier);
     const auto& m = *a.multiplier;
