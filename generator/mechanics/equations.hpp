@@ -9,6 +9,7 @@
 
 #include <ginac/ginac.h>
 
+#include "mechanics/constraints/rows.hpp"
 #include "model/model.hpp"
 
 namespace eomc::mechanics {
@@ -57,6 +58,9 @@ struct Equations {
     GiNaC::matrix mass_matrix;         // M_sk = ∂(lhs_s − rhs_s)/∂u̇_k, symmetric
     std::vector<GiNaC::ex> forcing;    // f_s = −(lhs_s − rhs_s)|u̇=0
     std::vector<Invariant> invariants; // only those proven conserved along the equations
+    // Bilateral constraint rows ([[constraint]]): the system is M u̇ − Wᵀλ = f, W u̇ = −bias;
+    // mass_matrix and forcing above hold M and f without the reactions.
+    std::vector<ConstraintRow> constraints;
 };
 
 }  // namespace eomc::mechanics
