@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cctype>
+#include <limits>
+#include <utility>
 #include <numbers>
 
 #include <fmt/format.h>
@@ -405,6 +407,107 @@ void build_orbit(const scene::Scene& scene, SymbolTable& symbols, Model& model) 
 
 }  // namespace
 
+// The value of `e` at the initial state (t = 0, q0, q̇0, the quasi-velocities' initial values)
+// and the parameters' defaults, with the size of its terms (Σ |term| of the expanded sum) so
+// that a residual is judged relative to the magnitudes that cancel in it.
+static std::pair<double, double> at_initial_state(const ex& e, const Model& model) {
+    GiNaC::exmap values = model.parameter_defaults();
+    values[model.t] = 0;
+    for (const auto& c : model.coordinates) {
+        values[c.q] = GiNaC::numeric(c.initial);
+        values[c.q_dot] = GiNaC::numeric(c.rate);
+    }
+    for (const auto& v : model.quasi_velocities) values[v.symbol] = GiNaC::numeric(v.initial);
+    const auto number = [&](const ex& term) {
+        const ex value = term.subs(values, GiNaC::subs_options::no_pattern).evalf();
+        if (!GiNaC::is_a<GiNaC::numeric>(value) || !GiNaC::ex_to<GiNaC::numeric>(value).is_real())
+            return std::numeric_limits<double>::quiet_NaN();
+        return GiNaC::ex_to<GiNaC::numeric>(value).to_double();
+    };
+    const ex expanded = e.expand();
+    double size = 0.0;
+    if (GiNaC::is_a<GiNaC::add>(expanded))
+        for (const ex& term : expanded) size += std::abs(number(term));
+    else
+        size = std::abs(number(expanded));
+    return {number(e), size};
+}
+
+// [[constraint]] rows: parsed with the scene's symbols and checked (Mei, §6.6; Lur'e, ch. 2).
+static void build_constraints(const scene::Scene& scene, const SymbolTable& symbols, Model& model) {
+    if (scene.constraints.empty()) return;
+    const scene::Constraint& first = scene.constraints.front();
+    if (scene.newtonian)
+        throw InputError(first.expression.pos,
+                         "[[constraint]] is not supported in a [newtonian] scene: its equations are given, so there "
+                         "are no energies for the reactions to enter; give the constrained system by [lagrangian] "
+                         "or [[body]]");
+    if (scene.orbit)
+        throw InputError(first.expression.pos,
+                         "[[constraint]] is not supported in an [orbit] scene: an orbit is a free point mass; give "
+                         "a constrained system by [lagrangian] or [[body]]");
+    // The velocities u (the coordinates' rates, then a free carrier's quasi-velocities).
+    std::vector<GiNaC::symbol> rates;
+    for (const auto& c : model.coordinates) rates.push_back(c.q_dot);
+    for (const auto& v : model.quasi_velocities) rates.push_back(v.symbol);
+    for (const auto& given : scene.constraints) {
+        Constraint row;
+        row.name = given.name;
+        row.holonomic = given.holonomic;
+        row.pos = given.expression.pos;
+        row.stabilization = given.stabilize == "baumgarte" ? ConstraintStabilization::baumgarte
+                            : given.stabilize == "none"    ? ConstraintStabilization::none
+                                                           : ConstraintStabilization::project;
+        row.alpha = given.alpha;
+        row.beta = given.beta;
+        const std::string what = fmt::format("the {} constraint '{}'{}", given.holonomic ? "holonomic" : "kinematic",
+                                             given.name,
+                                             given.holonomic ? " (a function of the coordinates and t only; give a "
+                                                               "row in the rates as kinematic = \"...\")"
+                                                             : "");
+        row.expression = symbols.parse(given.expression, given.holonomic ? configuration : phase, what);
+        // The velocity-level row φ: ḟ = ∂_t f + Σ ∂f/∂q_s q̇_s for a holonomic row.
+        ex phi = row.expression;
+        if (row.holonomic) {
+            phi = row.expression.diff(model.t);
+            for (const auto& c : model.coordinates) phi += row.expression.diff(c.q) * c.q_dot;
+        } else {
+            // Linear in the rates: every second derivative in them vanishes identically; at least one rate.
+            bool has_rate = false;
+            for (std::size_t j = 0; j < rates.size(); ++j) {
+                const ex first_derivative = row.expression.diff(rates[j]);
+                if (!GiNaC::normal(first_derivative).is_zero()) has_rate = true;
+                for (std::size_t k = j; k < rates.size(); ++k)
+                    if (!GiNaC::normal(first_derivative.diff(rates[k])).is_zero())
+                        throw InputError(row.pos,
+                                         fmt::format("the kinematic constraint '{}' is not linear in the rates: its "
+                                                     "second derivative in '{}' and '{}' does not vanish (a row must "
+                                                     "read B(q, t) q_dot + b(q, t) = 0)",
+                                                     given.name, rates[j].get_name(), rates[k].get_name()));
+            }
+            if (!has_rate)
+                throw InputError(row.pos, fmt::format("the kinematic constraint '{}' holds no rate (q_dot); a relation "
+                                                      "of the coordinates alone is written holonomic = \"...\"",
+                                                      given.name));
+        }
+        // The initial state must satisfy the row (positions and velocities), at the defaults.
+        const auto check = [&](const ex& e, const char* level) {
+            const auto [value, size] = at_initial_state(e, model);
+            if (!std::isfinite(value))
+                throw InputError(row.pos, fmt::format("the constraint '{}' does not evaluate to a real number at the "
+                                                      "initial state ({})",
+                                                      given.name, level));
+            if (std::abs(value) > 1e-9 * size)
+                throw InputError(row.pos, fmt::format("the initial state violates the constraint '{}': {} = {:.6g} "
+                                                      "(not 0) at the initial values and the default parameters",
+                                                      given.name, level, value));
+        };
+        if (row.holonomic) check(row.expression, "f(q0, 0)");
+        check(phi, row.holonomic ? "df/dt(q0, q0_dot, 0)" : "phi(q0, q0_dot, 0)");
+        model.constraints.push_back(std::move(row));
+    }
+}
+
 Model build_model(const scene::Scene& scene) {
     Model model;
     model.name = scene.name;
@@ -526,6 +629,8 @@ Model build_model(const scene::Scene& scene) {
         model.newtonian = build_newtonian(symbols, *scene.newtonian, model);
         model.kinetic_pos = scene.newtonian->pos;
     }
+
+    build_constraints(scene, symbols, model);
 
     if (scene.effects.given && !scene.orbit) {  // an orbit scene's names are perturbations (build_orbit)
         model.keep.fill(false);

@@ -94,6 +94,20 @@ struct Event {
     SourcePos pos;      // the key in [events]
 };
 
+// A bilateral constraint row (scene [[constraint]]; Mei, §6.6 and ch. 3): holonomic, f(t, q) = 0,
+// or kinematic, φ(t, q, u) = Σ_k B_k(t, q) u_k + b(t, q) = 0 over the velocities u (checked to be
+// linear in them and to hold a rate). The initial state satisfies it at the parameters' defaults.
+enum class ConstraintStabilization { project, baumgarte, none };
+
+struct Constraint {
+    std::string name;
+    bool holonomic = true;
+    GiNaC::ex expression;  // f (holonomic) or φ (kinematic)
+    ConstraintStabilization stabilization = ConstraintStabilization::project;
+    double alpha = 0.0, beta = 0.0;  // Baumgarte's constants
+    SourcePos pos;                   // the expression's text in the scene
+};
+
 // An orbit scene ([orbit]): a point mass about a central body in inertial Cartesian axes,
 // T = |v|²/2, V = −μ/r − R with R the sum of the kept disturbing functions (acceleration =
 // +∇R; Mei, ch. 2), and the non-conservative accelerations as generalized forces.
@@ -153,6 +167,7 @@ struct Model {
     std::vector<GiNaC::ex> reference;
     std::optional<Newtonian> newtonian;  // equations instead of energies (no particles, no T)
     std::vector<Event> events;           // [events], in file order
+    std::vector<Constraint> constraints; // [[constraint]], in file order
     std::optional<Orbit> orbit;          // an orbit scene: coordinates x, y, z, T and V built from [orbit]
     scene::Inverse inverse;
     std::vector<Warning> warnings;       // accepted but doubtful input, printed by the CLI

@@ -112,7 +112,8 @@ public:
     Scene read() {
         Scene s;
         check_keys(root_, {"scene", "parameters", "coordinates", "carrier", "body", "lagrangian", "forces",
-                           "effects", "simulate", "events", "formulation", "reference", "newtonian", "inverse", "orbit"},
+                           "effects", "simulate", "events", "formulation", "reference", "newtonian", "inverse", "orbit",
+                           "constraint"},
                    "at the top level");
         read_scene(s);
         read_parameters(s);
@@ -126,6 +127,7 @@ public:
         read_effects(s);
         read_simulate(s);
         read_events(s);
+        read_constraints(s);
         read_formulation(s);
         read_reference(s);
         read_newtonian(s);
@@ -843,6 +845,95 @@ private:
                 e.when = read_expr(*value, path);
             }
             s.events.push_back(std::move(e));
+        }
+    }
+
+    // [[constraint]]: name = "rod", exactly one of holonomic = "f(q, t)" or kinematic =
+    // "B(q, t) q̇ + b(q, t)", and stabilize = "project" (default) | "none" | { alpha = a, beta = b }
+    // (Baumgarte). The algebra (which symbols, linearity in the rates, the initial state) is the
+    // model's to check.
+    void read_constraints(Scene& s) const {
+        const toml::node* node = root_.get("constraint");
+        if (!node) return;
+        const toml::array* rows = node->as_array();
+        if (!rows)
+            fail(at(*node), fmt::format("'constraint': expected an array of tables ([[constraint]]), got {}",
+                                        type_name(*node)));
+        if (rows->empty())
+            fail(at(*node), "'constraint': expected at least one [[constraint]]; an empty array declares no constraint");
+        std::map<std::string, SourcePos> seen;
+        for (std::size_t i = 0; i < rows->size(); ++i) {
+            const toml::node& element = *rows->get(i);
+            const std::string path = fmt::format("constraint[{}]", i);
+            if (!element.is_table())
+                fail(at(element), fmt::format("'{}': expected a table, got {}", path, type_name(element)));
+            const toml::table& t = *element.as_table();
+            check_keys(t, {"name", "holonomic", "kinematic", "stabilize"}, "in [[constraint]]");
+            Constraint c;
+            c.pos = at(t);
+            const toml::node& name = require(t, "name", "[[constraint]]");
+            c.name = read_string(name, path + ".name");
+            c.name_pos = at(name);
+            if (!is_identifier(c.name))
+                fail(at(name), fmt::format("invalid constraint name '{}': expected a letter followed by letters, "
+                                           "digits or underscores",
+                                           c.name));
+            if (const auto it = seen.find(c.name); it != seen.end())
+                fail(at(name), fmt::format("duplicate constraint name '{}' (first declared at line {})", c.name,
+                                           it->second.line));
+            seen.emplace(c.name, at(name));
+            const toml::node* holonomic = t.get("holonomic");
+            const toml::node* kinematic = t.get("kinematic");
+            if (holonomic && kinematic) {
+                const bool kinematic_later = before(at(*holonomic), at(*kinematic));
+                fail(at(kinematic_later ? *kinematic : *holonomic),
+                     fmt::format("constraint '{}' has both 'holonomic' and 'kinematic'; a row is one or the other "
+                                 "(declare two [[constraint]] tables for two rows)",
+                                 c.name));
+            }
+            if (!holonomic && !kinematic)
+                fail(c.pos, fmt::format("constraint '{}' needs 'holonomic = \"f(q, t)\"' or 'kinematic = \"B(q, t) "
+                                        "q_dot + b(q, t)\"'",
+                                        c.name));
+            c.holonomic = holonomic != nullptr;
+            c.expression = c.holonomic ? read_expr(*holonomic, path + ".holonomic")
+                                       : read_expr(*kinematic, path + ".kinematic");
+            c.stabilize_pos = c.pos;
+            if (const toml::node* st = t.get("stabilize")) {
+                c.stabilize_pos = at(*st);
+                if (const toml::table* spec = st->as_table()) {
+                    check_keys(*spec, {"alpha", "beta"}, "in '" + path + ".stabilize'");
+                    c.stabilize = "baumgarte";
+                    c.alpha = read_number(require(*spec, "alpha", "'" + path + ".stabilize'"), path + ".stabilize.alpha");
+                    if (c.alpha < 0.0)
+                        fail(at(*spec->get("alpha")), fmt::format("'{}.stabilize.alpha' must not be negative, got {}",
+                                                                  path, number_text(*spec->get("alpha"))));
+                    if (const toml::node* b = spec->get("beta")) {
+                        c.beta = read_number(*b, path + ".stabilize.beta");
+                        if (c.beta < 0.0)
+                            fail(at(*b), fmt::format("'{}.stabilize.beta' must not be negative, got {}", path,
+                                                     number_text(*b)));
+                    } else if (c.holonomic) {
+                        fail(at(*spec), fmt::format("missing required key 'beta' in '{}.stabilize': a holonomic row's "
+                                                    "Baumgarte stabilisation needs alpha and beta",
+                                                    path));
+                    }
+                } else if (const auto* str = st->as_string()) {
+                    c.stabilize = str->get();
+                    if (c.stabilize != "project" && c.stabilize != "none") {
+                        const std::string near = nearest_name(c.stabilize, {"project", "none"});
+                        fail(at(*st), fmt::format("unknown stabilize value '{}' in '{}'; {}", c.stabilize, path,
+                                                  near.empty() ? std::string("expected \"project\", \"none\" or "
+                                                                             "{ alpha = ..., beta = ... } (Baumgarte)")
+                                                               : fmt::format("did you mean '{}'?", near)));
+                    }
+                } else {
+                    fail(at(*st), fmt::format("'{}.stabilize': expected \"project\", \"none\" or a table "
+                                              "{{ alpha = ..., beta = ... }}, got {}",
+                                              path, type_name(*st)));
+                }
+            }
+            s.constraints.push_back(std::move(c));
         }
     }
 

@@ -191,6 +191,23 @@ struct Event {
     SourcePos pos;  // the key
 };
 
+// [[constraint]]: a bilateral constraint row (Mei, §6.6 and ch. 3; Lur'e, Analytical Mechanics,
+// ch. 2), either holonomic, f(q, t) = 0, or kinematic, φ = B(q, t) q̇ + b(q, t) = 0 (linear in
+// the rates; the model checks the algebra). The row is kept by the integration as `stabilize`
+// says: "project" (the default), "none", or Baumgarte's { alpha, beta }.
+inline constexpr std::array<std::string_view, 3> stabilization_names{"project", "baumgarte", "none"};
+
+struct Constraint {
+    std::string name;        // an identifier, unique among the constraints
+    bool holonomic = true;   // `holonomic = "f"`; false: `kinematic = "phi"`
+    Expr expression;         // f or φ
+    std::string stabilize = "project";  // one of stabilization_names
+    double alpha = 0.0, beta = 0.0;     // Baumgarte's constants (stabilize = { alpha, beta })
+    SourcePos pos;           // the [[constraint]] table
+    SourcePos name_pos;      // the name's value
+    SourcePos stabilize_pos; // the stabilize value (the table when absent)
+};
+
 // Which equations the kernel integrates: Lagrange's (state q, q̇) or Hamilton's (state q, p).
 inline constexpr std::array<std::string_view, 2> formulation_names{"lagrangian", "hamiltonian"};
 // A closed-form solution, for judging integrators (`eomc bench`): the exact state at time t as
@@ -243,6 +260,7 @@ struct Scene {
     Effects effects;
     Simulate simulate;
     std::vector<Event> events;  // [events], file order
+    std::vector<Constraint> constraints;  // [[constraint]], file order
     std::string formulation = "lagrangian";  // one of formulation_names ([formulation] kind)
     SourcePos formulation_pos;
     std::optional<Reference> reference;
