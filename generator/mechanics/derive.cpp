@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "mechanics/constraints/constraints.hpp"
 #include "mechanics/inverse/given_equations.hpp"
 #include "mechanics/orbit/formulation.hpp"
 #include "mechanics/orbit/invariants.hpp"
@@ -11,7 +12,30 @@ namespace eomc::mechanics {
 
 Equations derive(const model::Model& model) {
     switch (model.kind()) {
-        case model::ModelKind::energies: return derive_lagrange(model);
+        case model::ModelKind::energies: {
+            Equations eqs = derive_lagrange(model);
+            if (model.constraints.empty()) return eqs;
+            // The rows stay beside the equations: lhs/rhs, M and f are those of the free system,
+            // the reactions Σ λ_α W_αs are added by whoever reads eqs.constraints.
+            eqs.constraints = constraint_rows(model);
+            // The energy integral was proven for the free system; the ideal reactions (no virtual
+            // work: Lur'e, ch. 2; Chetaev 1932 for the kinematic rows) still do work at the rate
+            // −Σ λ_α ∂_t f_α or −Σ λ_α b_α along the motion, so the integral survives only when
+            // every row is scleronomic and homogeneous (Mei, §6.6).
+            const bool keeps_energy = reactions_do_no_work(model, eqs.constraints);
+            for (auto it = eqs.invariants.begin(); it != eqs.invariants.end();) {
+                if (it->name != "energy") {
+                    ++it;
+                } else if (keeps_energy) {
+                    it->description += "; the constraints are scleronomic and homogeneous, so their ideal reactions "
+                                       "do no work";
+                    ++it;
+                } else {
+                    it = eqs.invariants.erase(it);
+                }
+            }
+            return eqs;
+        }
         case model::ModelKind::given_equations: return derive_given_equations(model);
         case model::ModelKind::orbit: {
             // Cowell's form: Lagrange's equations in Cartesian coordinates, with the orbit's own

@@ -31,6 +31,14 @@ CanonicalEquations canonical_equations(const model::Model& model, const Equation
     if (model.newtonian)
         throw InputError(where, "the canonical equations need a Lagrangian, and a [newtonian] scene gives equations "
                                 "instead; `eomc inverse --emit-scene FILE` writes one when the equations admit it");
+    // Constrained canonical equations would need the rows in (q, p) and a Dirac bracket; the
+    // constraint rows are carried by Lagrange's form only.
+    if (!model.constraints.empty())
+        throw InputError(model.constraints.front().pos,
+                         fmt::format("[[constraint]] '{}' is not supported with [formulation] kind = \"hamiltonian\": "
+                                     "constraint rows are carried by Lagrange's equations only; use kind = "
+                                     "\"lagrangian\"",
+                                     model.constraints.front().name));
     if (model.free_carrier())
         throw InputError(where, "the canonical equations are not available for a free carrier: its quasi-velocities "
                                 "are not derivatives of coordinates, so they have no conjugate momenta");

@@ -5,6 +5,7 @@
 #include "mechanics/inverse/helmholtz.hpp"
 #include "symbolic/expression_text.hpp"
 #include "symbolic/simplify.hpp"
+#include "support/diagnostic.hpp"
 
 namespace eomc::mechanics::inverse {
 
@@ -61,6 +62,12 @@ std::string verdict_sentence(const model::Model& model, const Analysis& a) {
 }  // namespace
 
 Analysis analyse(const model::Model& model, const Equations& equations, const SearchBudget& budget) {
+    // The inverse problem is posed for the free equations M q̈ = f; constraint reactions are not part of them.
+    if (!model.constraints.empty())
+        throw InputError(model.constraints.front().pos,
+                         fmt::format("`eomc inverse` does not support constrained scenes ([[constraint]] '{}'): the "
+                                     "inverse problem is posed for unconstrained equations of motion",
+                                     model.constraints.front().name));
     Analysis a;
     a.forms = forms(model, equations);
     a.conditions = santilli_conditions(model, a.forms.fundamental);

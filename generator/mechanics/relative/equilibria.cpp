@@ -473,6 +473,13 @@ private:
 
 std::vector<Equilibrium> relative_equilibria(const model::Model& model, const Equations& eqs,
                                              const EquilibriumSearch& search) {
+    // The rest conditions here are those of the free system: a constrained one rests where the
+    // applied forces balance the reactions, which this search does not solve for.
+    if (!model.constraints.empty())
+        throw InputError(model.constraints.front().pos,
+                         fmt::format("`eomc equilibria` does not support constrained scenes ([[constraint]] '{}'): "
+                                     "the rest conditions would need the reactions λ",
+                                     model.constraints.front().name));
     const RestSystem r = rest_system(model, eqs);
     Evaluation at(model);
     const std::size_t n = r.n;

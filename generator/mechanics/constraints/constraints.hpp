@@ -1,0 +1,24 @@
+// The model's [[constraint]] rows brought to the acceleration level (Mei, §6.6 and ch. 3;
+// Lur'e, Analytical Mechanics, ch. 2): for each row its velocity form φ, the row W of the
+// reactions' directions over the velocities of M, and the bias φ̇ − W u̇, so that with ideal
+// reactions (Chetaev 1932 for the kinematic rows) the equations read
+//     M u̇ − Wᵀ λ = f,   W u̇ = −bias.
+#pragma once
+
+#include <vector>
+
+#include "mechanics/constraints/rows.hpp"
+#include "model/model.hpp"
+
+namespace eomc::mechanics {
+
+// One row per model constraint, in scene order. Throws InputError when rows are dependent
+// (W rank deficient at every probe point), naming the rows involved, at the first one's place.
+std::vector<ConstraintRow> constraint_rows(const model::Model& model);
+
+// Whether the energy (Jacobi) integral survives the reactions: their power is
+// Σ_α λ_α (W_α · u) = −Σ_α λ_α ∂_t f_α (holonomic) or −Σ_α λ_α b_α (kinematic), which vanishes
+// for every λ only when each row is scleronomic and homogeneous in the rates.
+bool reactions_do_no_work(const model::Model& model, const std::vector<ConstraintRow>& rows);
+
+}  // namespace eomc::mechanics
