@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "codegen/kernel_ir.hpp"
+#include "mechanics/constraints/constraints.hpp"
 #include "mechanics/first_order.hpp"
 #include "mechanics/kinematics/rotations.hpp"
 #include "mechanics/orbit/encke.hpp"
@@ -167,6 +168,57 @@ void print_orbit_text(const model::Model& model, const mechanics::Equations& eqs
             << "\n";
 }
 
+// Σ_α λ_α W_αs: the reactions' generalized force on velocity s (Mei, §6.6; Lur'e, ch. 2).
+ex reaction_term(const mechanics::Equations& eqs, std::size_t s) {
+    ex sum = 0;
+    for (const auto& row : eqs.constraints) sum += row.lambda * row.W[s];
+    return sum;
+}
+
+const char* stabilization_name(mechanics::Stabilization s) {
+    switch (s) {
+        case mechanics::Stabilization::project: return "projection";
+        case mechanics::Stabilization::baumgarte: return "Baumgarte";
+        case mechanics::Stabilization::none: return "none";
+    }
+    return "?";
+}
+
+// The constraint rows, the equations with their reactions, and λ in closed form when small.
+void print_constraints_text(const model::Model& model, const mechanics::Equations& eqs, std::ostream& out) {
+    if (eqs.constraints.empty()) return;
+    const std::vector<std::string> u = model.velocity_names();
+    out << "\nConstraints (ideal reactions: M u̇ − Wᵀλ = f, W u̇ = −bias, W_αs = ∂φ_α/∂u_s)\n";
+    for (const auto& row : eqs.constraints) {
+        out << "  " << row.name << " (" << (row.holonomic ? "holonomic" : "kinematic") << ", stabilisation "
+            << stabilization_name(row.stabilization);
+        if (row.stabilization == mechanics::Stabilization::baumgarte)
+            out << fmt::format(" α = {}, β = {}", row.alpha, row.beta);
+        out << ")\n";
+        if (row.holonomic) out << "    f = " << text(display_form(row.position)) << " = 0\n";
+        out << "    φ = " << text(display_form(row.velocity)) << (row.holonomic ? "  (= df/dt)" : " = 0") << "\n";
+        out << "    W = [";
+        for (std::size_t k = 0; k < row.W.size(); ++k) out << (k ? ", " : "") << text(display_form(row.W[k]));
+        out << "]\n    bias = " << text(display_form(row.bias)) << "\n";
+    }
+    out << "  Lagrange's equations with the reactions ε_s(T) = Q_s + ε_s(V) + Σ λ_α W_αs\n";
+    for (std::size_t s = 0; s < eqs.equations.size(); ++s) {
+        const auto& eq = eqs.equations[s];
+        out << "    s = " << eq.coordinate << ": " << text(collected_lhs(model, eq.lhs)) << " = "
+            << text(display_form(eq.rhs)) << " + " << text(reaction_term(eqs, s)) << "\n";
+    }
+    for (std::size_t s = eqs.equations.size(); s < u.size(); ++s)
+        out << "    " << u[s] << ": M u̇ = f + " << text(reaction_term(eqs, s)) << "\n";
+    std::string why;
+    if (const auto lambda = mechanics::closed_form_multipliers(eqs, &why)) {
+        out << "  Multipliers λ = −G⁻¹(W M⁻¹ f + bias), G = W M⁻¹ Wᵀ\n";
+        for (std::size_t a = 0; a < lambda->size(); ++a)
+            out << "    " << eqs.constraints[a].lambda.get_name() << " = " << text((*lambda)[a]) << "\n";
+    } else {
+        out << "  Multipliers: no closed form printed (" << why << "); the kernel solves for λ at each step\n";
+    }
+}
+
 void print_text(const model::Model& model, const mechanics::Equations& eqs, std::ostream& out) {
     out << "Scene " << model.name << (model.summary.empty() ? "" : " — " + model.summary) << "\n";
     out << "Coordinates q_s:";
@@ -253,6 +305,8 @@ void print_text(const model::Model& model, const mechanics::Equations& eqs, std:
         out << "]\n";
     }
     for (std::size_t i = 0; i < u.size(); ++i) out << "  f[" << u[i] << "] = " << text(display_form(eqs.forcing[i])) << "\n";
+
+    print_constraints_text(model, eqs, out);
 
     out << "\nInvariants\n";
     if (eqs.invariants.empty()) out << "  none proven (L depends on t explicitly, or forces do work)\n";
@@ -346,6 +400,28 @@ void print_latex(const model::Model& model, const mechanics::Equations& eqs, std
                 << latex(display_form(carrier_rhs(c))) << (&c == &eqs.carrier_equations.back() ? "\n" : "\\\\\n");
         out << "\\end{align*}\n";
     }
+    if (!eqs.constraints.empty()) {
+        out << "\\subsection*{Constraints}\nIdeal reactions: $M\\dot u - W^T\\lambda = f$, $W\\dot u = "
+               "-\\mathrm{bias}$, $W_{\\alpha s} = \\partial\\varphi_\\alpha/\\partial u_s$.\n\\begin{align*}\n";
+        for (const auto& row : eqs.constraints) {
+            const std::string name = "\\text{" + latex_escape(row.name) + "}";
+            if (row.holonomic) out << "f_{" << name << "} &= " << latex(display_form(row.position)) << " = 0\\\\\n";
+            out << "\\varphi_{" << name << "} &= " << latex(display_form(row.velocity)) << "\\\\\n";
+            out << "W_{" << name << "} &= \\left(";
+            for (std::size_t k = 0; k < row.W.size(); ++k) out << (k ? ",\\ " : "") << latex(display_form(row.W[k]));
+            out << "\\right)\\\\\n\\mathrm{bias}_{" << name << "} &= " << latex(display_form(row.bias)) << "\\\\\n";
+        }
+        for (std::size_t s = 0; s < eqs.equations.size(); ++s)
+            out << latex(collected_lhs(model, eqs.equations[s].lhs)) << " &= " << latex(display_form(eqs.equations[s].rhs))
+                << " + " << latex(reaction_term(eqs, s)) << "\\\\\n";
+        std::string why;
+        const auto lambda = mechanics::closed_form_multipliers(eqs, &why);
+        if (lambda)
+            for (std::size_t a = 0; a < lambda->size(); ++a)
+                out << latex(eqs.constraints[a].lambda) << " &= " << latex((*lambda)[a]) << "\\\\\n";
+        out << "\\end{align*}\n";
+        if (!lambda) out << "No closed form of $\\lambda$ printed (" << latex_escape(why) << ").\n";
+    }
     out << "\\subsection*{Invariants}\n";
     if (eqs.invariants.empty()) out << "None proven.\n";
     for (const auto& inv : eqs.invariants)
@@ -430,6 +506,21 @@ void print_json(const model::Model& model, const mechanics::Equations& eqs, std:
     }
     out << "],\n  \"forcing\": [";
     for (std::size_t i = 0; i < u.size(); ++i) out << (i ? ", " : "") << json_ex(eqs.forcing[i]);
+    if (!eqs.constraints.empty()) {
+        const auto lambda = mechanics::closed_form_multipliers(eqs);
+        out << "],\n  \"constraints\": [";
+        for (std::size_t a = 0; a < eqs.constraints.size(); ++a) {
+            const auto& row = eqs.constraints[a];
+            out << (a ? ",\n    " : "\n    ") << "{\"name\": " << json_string(row.name) << ", \"kind\": "
+                << json_string(row.holonomic ? "holonomic" : "kinematic") << ", \"expression\": "
+                << json_ex(row.holonomic ? row.position : row.velocity) << ", \"W\": [";
+            for (std::size_t k = 0; k < row.W.size(); ++k) out << (k ? ", " : "") << json_ex(row.W[k]);
+            out << "], \"bias\": " << json_ex(row.bias);
+            if (lambda) out << ", \"lambda\": " << json_ex((*lambda)[a]);
+            out << "}";
+        }
+        out << "\n  ";
+    }
     out << "],\n  \"invariants\": {";
     for (std::size_t k = 0; k < eqs.invariants.size(); ++k)
         out << (k ? ", " : "") << json_string(eqs.invariants[k].name) << ": " << json_ex(eqs.invariants[k].value);

@@ -10,6 +10,7 @@
 #include "mechanics/kinematics/operators.hpp"
 #include "symbolic/differentiation.hpp"
 #include "symbolic/numeric_probe.hpp"
+#include "symbolic/simplify.hpp"
 #include "support/diagnostic.hpp"
 
 namespace eomc::mechanics {
@@ -171,6 +172,46 @@ bool reactions_do_no_work(const model::Model& model, const std::vector<Constrain
         }
     }
     return true;
+}
+
+std::optional<std::vector<ex>> closed_form_multipliers(const Equations& eqs, std::string* why) {
+    const auto refuse = [&](const std::string& reason) -> std::optional<std::vector<ex>> {
+        if (why) *why = reason;
+        return std::nullopt;
+    };
+    const std::size_t m = eqs.constraints.size(), n = eqs.mass_matrix.rows();
+    if (m == 0) return refuse("no constraint rows");
+    if (m > 2) return refuse(fmt::format("{} rows (the closed form is printed for at most two)", m));
+    if (n > 3) return refuse(fmt::format("M is {}×{} (the closed form is printed up to 3×3)", n, n));
+    // Past this many nodes an expression is no longer something to read.
+    constexpr std::size_t max_nodes = 4000;
+    try {
+        GiNaC::matrix W(unsigned(m), unsigned(n)), f(unsigned(n), 1), bias(unsigned(m), 1);
+        for (std::size_t a = 0; a < m; ++a) {
+            for (std::size_t k = 0; k < n; ++k) W(unsigned(a), unsigned(k)) = eqs.constraints[a].W[k];
+            bias(unsigned(a), 0) = eqs.constraints[a].bias;
+        }
+        for (std::size_t k = 0; k < n; ++k) f(unsigned(k), 0) = eqs.forcing[k];
+        const GiNaC::matrix M_inv = eqs.mass_matrix.inverse();
+        const GiNaC::matrix WMi = W.mul(M_inv);
+        const GiNaC::matrix G = WMi.mul(W.transpose());
+        GiNaC::matrix G_normal(unsigned(m), unsigned(m));
+        for (unsigned i = 0; i < m; ++i)
+            for (unsigned j = 0; j < m; ++j) G_normal(i, j) = symbolic::normalized(G(i, j));
+        const GiNaC::matrix rhs = WMi.mul(f).add(bias);
+        const GiNaC::matrix lambda = G_normal.inverse().mul(rhs).mul_scalar(-1);
+        std::vector<ex> out;
+        for (unsigned a = 0; a < m; ++a) {
+            if (symbolic::node_count(lambda(a, 0)) > 20 * max_nodes)
+                return refuse("the expression is too large to print");
+            const ex value = symbolic::normalized(lambda(a, 0));
+            if (symbolic::node_count(value) > max_nodes) return refuse("the expression is too large to print");
+            out.push_back(value);
+        }
+        return out;
+    } catch (const std::exception& e) {
+        return refuse(std::string("GiNaC could not form it: ") + e.what());
+    }
 }
 
 }  // namespace eomc::mechanics

@@ -5,9 +5,12 @@
 //     M u̇ − Wᵀ λ = f,   W u̇ = −bias.
 #pragma once
 
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "mechanics/constraints/rows.hpp"
+#include "mechanics/equations.hpp"
 #include "model/model.hpp"
 
 namespace eomc::mechanics {
@@ -20,5 +23,11 @@ std::vector<ConstraintRow> constraint_rows(const model::Model& model);
 // Σ_α λ_α (W_α · u) = −Σ_α λ_α ∂_t f_α (holonomic) or −Σ_α λ_α b_α (kinematic), which vanishes
 // for every λ only when each row is scleronomic and homogeneous in the rates.
 bool reactions_do_no_work(const model::Model& model, const std::vector<ConstraintRow>& rows);
+
+// The multipliers in closed form: from M u̇ − Wᵀλ = f and W u̇ = −bias,
+//     λ = −G⁻¹ (W M⁻¹ f + bias),   G = W M⁻¹ Wᵀ,
+// by GiNaC's exact matrix inverse, normalised. Only for small systems (at most two rows and M at
+// most 3×3) and results of moderate size; otherwise nullopt with the reason in `why`.
+std::optional<std::vector<GiNaC::ex>> closed_form_multipliers(const Equations& eqs, std::string* why = nullptr);
 
 }  // namespace eomc::mechanics
