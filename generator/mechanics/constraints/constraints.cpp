@@ -186,7 +186,8 @@ std::optional<std::vector<ex>> closed_form_multipliers(const Equations& eqs, std
     // Past this many nodes an expression is no longer something to read.
     constexpr std::size_t max_nodes = 4000;
     try {
-        GiNaC::matrix W(unsigned(m), unsigned(n)), f(unsigned(n), 1), bias(unsigned(m), 1);
+        const unsigned rows = static_cast<unsigned>(m), cols = static_cast<unsigned>(n);
+        GiNaC::matrix W(rows, cols), f(cols, 1), bias(rows, 1);
         for (std::size_t a = 0; a < m; ++a) {
             for (std::size_t k = 0; k < n; ++k) W(unsigned(a), unsigned(k)) = eqs.constraints[a].W[k];
             bias(unsigned(a), 0) = eqs.constraints[a].bias;
@@ -195,7 +196,7 @@ std::optional<std::vector<ex>> closed_form_multipliers(const Equations& eqs, std
         const GiNaC::matrix M_inv = eqs.mass_matrix.inverse();
         const GiNaC::matrix WMi = W.mul(M_inv);
         const GiNaC::matrix G = WMi.mul(W.transpose());
-        GiNaC::matrix G_normal(unsigned(m), unsigned(m));
+        GiNaC::matrix G_normal(rows, rows);
         for (unsigned i = 0; i < m; ++i)
             for (unsigned j = 0; j < m; ++j) G_normal(i, j) = symbolic::normalized(G(i, j));
         const GiNaC::matrix rhs = WMi.mul(f).add(bias);

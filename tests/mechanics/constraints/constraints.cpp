@@ -123,7 +123,7 @@ BOOST_AUTO_TEST_CASE(cartesian_pendulum_rows_and_multiplier) {
     const ex m = symbol_named(model, "m"), l = symbol_named(model, "l"), g = symbol_named(model, "g");
     BOOST_TEST(row.name == "rod");
     BOOST_TEST(row.holonomic);
-    BOOST_TEST(row.stabilization == eomc::mechanics::Stabilization::project);
+    BOOST_TEST((row.stabilization == eomc::mechanics::Stabilization::project));
     BOOST_TEST(row.lambda.get_name() == "lambda_rod");
     BOOST_REQUIRE_EQUAL(row.W.size(), 2u);
     BOOST_TEST(same(row.W[0], 2 * x));
@@ -166,7 +166,7 @@ BOOST_AUTO_TEST_CASE(knife_edge_kinematic_row) {
     BOOST_TEST(row.W[2].is_zero());
     // φ̇ − W q̈ = −cos φ φ̇ ẋ − sin φ φ̇ ẏ.
     BOOST_TEST(same(row.bias, -cos(phi) * phid * xd - sin(phi) * phid * yd));
-    BOOST_TEST(row.stabilization == eomc::mechanics::Stabilization::baumgarte);
+    BOOST_TEST((row.stabilization == eomc::mechanics::Stabilization::baumgarte));
     BOOST_TEST(row.alpha == 10.0);
     BOOST_TEST(row.beta == 10.0);
     // Chetaev's ideal reactions of a homogeneous scleronomic row do no work: energy kept.
