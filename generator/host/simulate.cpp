@@ -415,6 +415,7 @@ SimulationResult simulate(const SimulationRequest& request) {
     std::vector<double> inv(n_inv), inv0(n_inv), max_drift(n_inv, 0.0);
     const std::size_t n_con = lib.constraint_names().size();
     std::vector<double> residual(n_con), max_residual(n_con, 0.0);
+    State<double> projected;
     bool first = true;
     double t_last = 0.0;
     State<double> x_last = x;
@@ -424,7 +425,13 @@ SimulationResult simulate(const SimulationRequest& request) {
         if (first) inv0 = inv, first = false;
         for (std::size_t i = 0; i < n_inv; ++i) max_drift[i] = track_max(max_drift[i], std::abs(inv[i] - inv0[i]));
         if (n_con > 0) {
-            lib.constraint_residuals(t, xs.data(), residual.data(), parameters);
+            // The drivers project after the observer has seen the step: the residuals are those of
+            // the state the integration carries on from (project() of the same x at the same t).
+            if (lib.projects()) {
+                projected = xs;
+                lib.project(t, projected.data(), parameters);
+            }
+            lib.constraint_residuals(t, (lib.projects() ? projected : xs).data(), residual.data(), parameters);
             for (std::size_t i = 0; i < n_con; ++i) max_residual[i] = track_max(max_residual[i], std::abs(residual[i]));
         }
         if (!outputs.empty() && !request.csv_path.empty()) lib.outputs(t, xs.data(), outputs.data(), parameters);
