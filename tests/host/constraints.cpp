@@ -149,7 +149,8 @@ double check() { return exercise<double>() + double(exercise<long double>()); }
 // (a) θ = atan2(x, −y) of the constrained Cartesian run against the polar pendulum over ten
 // periods, and (b) λ_rod = −m (l θ̇² + g cos θ)/(2l) (the rod's tension over 2l) along the run.
 BOOST_AUTO_TEST_CASE(cartesian_rod_agrees_with_the_polar_pendulum) {
-    const double rtol = 1e-10, t_end = 10 * period();
+    // A quarter period past the tenth: θ near 0, θ̇ at its largest (a phase error shows in θ there).
+    const double rtol = 1e-10, t_end = 10.25 * period();
     auto rc = request(rod_kernel(Stabilization::project), t_end, rtol);
     const fs::path csv = fs::path(EOMC_BINARY_DIR) / "test-output" / "constraints_rod.csv";
     fs::create_directories(csv.parent_path());
@@ -164,7 +165,8 @@ BOOST_AUTO_TEST_CASE(cartesian_rod_agrees_with_the_polar_pendulum) {
     // (the pendulum's phase error grows linearly): |Δθ| ≤ rtol · 3 · (N_cart + N_polar), with a
     // factor 10 for the controller's safety margin.
     const double bound = 10 * rtol * 3 * double(cart.steps + pol.steps);
-    BOOST_TEST_MESSAGE("theta: cartesian " << theta << ", polar " << pol.value("theta") << ", bound " << bound);
+    BOOST_TEST_MESSAGE("theta: cartesian " << theta << ", polar " << pol.value("theta") << ", |difference| "
+                                       << std::abs(theta - pol.value("theta")) << ", bound " << bound);
     BOOST_TEST(std::abs(theta - pol.value("theta")) <= bound);
     BOOST_TEST(std::abs(theta_dot - pol.value("theta_dot")) <= bound * std::sqrt(g / l));
 
