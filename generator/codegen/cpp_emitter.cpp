@@ -190,7 +190,7 @@ namespace {
 const std::set<std::string>& reserved_words() {
     static const std::set<std::string> words{
         // what the emitted functions call their arguments and helpers
-        "t", "x", "p", "out", "out_M", "out_f", "out_G", "dxdt", "acc", "rate", "S", "std", "Eigen", "Parameters", "eomc",
+        "t", "x", "p", "out", "out_M", "out_f", "out_G", "out_W", "out_r", "out_phi", "dxdt", "acc", "rate", "S", "std", "Eigen", "Parameters", "eomc",
         // math functions reached through `using std::…`
         "sin", "cos", "tan", "exp", "log", "sqrt", "asin", "acos", "atan", "sinh", "cosh", "tanh", "pow", "abs",
         // C++ keywords a scene name could plausibly be
@@ -332,7 +332,8 @@ std::string number_list(const std::vector<double>& values, std::string_view what
 bool uses_kepler_solver(const KernelIR& ir) {
     for (const Block* b : {&ir.mass_matrix, &ir.forcing, &ir.rhs_explicit, &ir.jacobian_explicit, &ir.mass_and_forcing,
                            &ir.explicit_rates, &ir.explicit_rates_jacobian, &ir.mass_and_jacobian_terms, &ir.invariants,
-                           &ir.outputs, &ir.events, &ir.santilli_residuals}) {
+                           &ir.outputs, &ir.events, &ir.santilli_residuals,
+                           &ir.mass_forcing_and_constraints, &ir.constraint_residuals, &ir.constraint_jacobian}) {
         for (const auto& t : b->temporaries)
             if (model::has_kepler_E(t.value)) return true;
         for (const auto& o : b->outputs)
@@ -391,9 +392,74 @@ struct Rates {
     std::string rhs, jacobian, private_part, includes, table;
 };
 
+// rhs() and jacobian() of a kernel with constraint rows: u̇ and λ from the Schur complement
+// (runtime/constraints.hpp), ∂ẋ/∂x by central differences of rhs.
+Rates emit_constrained_rates(const KernelIR& ir, const LocalNames& names) {
+    const std::size_t nu = ir.n_velocities, m = ir.constraint_names.size();
+    Rates r;
+    r.includes = "#include <Eigen/Core>\n#include <Eigen/Cholesky>\n#include <eomc/runtime/constraints.hpp>\n";
+    r.rhs = "constrained_rates_(t, x, dxdt, static_cast<S*>(nullptr), static_cast<S*>(nullptr), p);";
+    r.jacobian = "// The rates go through the Schur complement: differenced, not derived.\n"
+                 "eomc::runtime::central_difference_jacobian(t, x, out, n_state,\n"
+                 "                                           [&p](S tau, const S* y, S* dydt) { rhs(tau, y, dydt, p); });";
+    std::vector<std::string> targets = indexed("out_M", nu * nu);
+    for (const auto& s : indexed("out_f", nu)) targets.push_back(s);
+    for (const auto& s : indexed("out_W", m * nu)) targets.push_back(s);
+    for (const auto& s : indexed("out_r", m)) targets.push_back(s);
+    std::vector<std::string> rates;
+    for (std::size_t i : ir.explicit_index) rates.push_back(fmt::format("dxdt[{}]", i));
+    std::vector<std::string> residuals = indexed("out", m);
+    for (const auto& s : indexed("out_phi", m)) residuals.push_back(s);
+    r.private_part = fmt::format(
+        "\n private:\n"
+        "    // M, f, the constraint rows' W (m × n_velocities, row-major) and r = −bias − stabilisation,\n"
+        "    // together: they share most of their subexpressions.\n"
+        "    template <class S>\n"
+        "    static void mass_forcing_and_constraints_(S t, const S* x, S* out_M, S* out_f, S* out_W, S* out_r,\n"
+        "                                              const Parameters& p) {{\n{}\n    }}\n\n"
+        "    // The rates given in closed form (everything outside the velocity block).\n"
+        "    template <class S>\n"
+        "    static void explicit_rates_(S t, const S* x, S* dxdt, const Parameters& p) {{\n{}\n    }}\n\n"
+        "    // ẋ from M u̇ − Wᵀλ = f, W u̇ = r (runtime/constraints.hpp: the Schur complement on the LDLT of\n"
+        "    // M); λ and the generalized reactions Wᵀλ too where lambda and reaction are not null.\n"
+        "    template <class S>\n"
+        "    static void constrained_rates_(S t, const S* x, S* dxdt, S* lambda, S* reaction, const Parameters& p) {{\n"
+        "        using Matrix = eomc::runtime::ConstraintMatrix<S>;\n"
+        "        using Vector = eomc::runtime::ConstraintVector<S>;\n"
+        "        Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> M(n_velocities, n_velocities),\n"
+        "            W(n_constraints, n_velocities);\n"
+        "        Vector f(n_velocities), r(n_constraints), udot, multipliers;\n"
+        "        mass_forcing_and_constraints_(t, x, M.data(), f.data(), W.data(), r.data(), p);\n"
+        "        explicit_rates_(t, x, dxdt, p);\n"
+        "        eomc::runtime::schur_solve<S>(Matrix(M), f, Matrix(W), r, udot, multipliers);\n"
+        "        for (int k = 0; k < n_velocities; ++k) dxdt[velocity_offset + k] = udot[k];\n"
+        "        if (lambda)\n"
+        "            for (int a = 0; a < n_constraints; ++a) lambda[a] = multipliers[a];\n"
+        "        if (reaction) {{\n"
+        "            const Vector generalized = W.transpose() * multipliers;\n"
+        "            for (int k = 0; k < n_velocities; ++k) reaction[k] = generalized[k];\n"
+        "        }}\n"
+        "    }}\n\n"
+        "    // The rows' residuals: f (holonomic) or φ (kinematic) to out, φ to out_phi.\n"
+        "    template <class S>\n"
+        "    static void constraint_residuals_(S t, const S* x, S* out, S* out_phi, const Parameters& p) {{\n{}\n    }}\n\n"
+        "    // W alone, m × n_velocities row-major: what the projection needs.\n"
+        "    template <class S>\n"
+        "    static void constraint_jacobian_(S t, const S* x, S* out_W, const Parameters& p) {{\n{}\n    }}\n",
+        indent(function_body(ir, names, ir.mass_forcing_and_constraints, targets), 8),
+        indent((rates.empty() ? "(void)dxdt;\n" : std::string()) + function_body(ir, names, ir.explicit_rates, rates), 8),
+        indent(function_body(ir, names, ir.constraint_residuals, residuals), 8),
+        indent(function_body(ir, names, ir.constraint_jacobian, indexed("out_W", m * nu)), 8));
+    r.table = table_row("mass_matrix + forcing + rows", ir.mass_forcing_and_constraints) +
+              table_row("explicit rates", ir.explicit_rates) + table_row("constraint residuals", ir.constraint_residuals) +
+              table_row("constraint jacobian", ir.constraint_jacobian);
+    return r;
+}
+
 Rates emit_rates(const KernelIR& ir, const LocalNames& names) {
     const std::size_t N = ir.state.size(), nu = ir.n_velocities;
     Rates r;
+    if (!ir.constraint_names.empty()) return emit_constrained_rates(ir, names);
     if (ir.explicit_solution) {
         r.rhs = function_body(ir, names, ir.rhs_explicit, indexed("dxdt", N));
         r.jacobian = function_body(ir, names, ir.jacobian_explicit, indexed("out", N * N));
@@ -462,6 +528,20 @@ Rates emit_rates(const KernelIR& ir, const LocalNames& names) {
 
 // The body of outputs(). They may read u̇: computed once by rhs and handed over as `acc`.
 std::string outputs_body(const KernelIR& ir, const LocalNames& names) {
+    if (!ir.constraint_names.empty()) {
+        // λ (lambda_<row>) and the generalized reactions Wᵀλ (reaction_<coordinate>) after the scene's own.
+        std::string body = fmt::format(
+            "std::array<S, n_state> rate;\n"
+            "std::array<S, n_constraints> constraint_lambda_;\n"
+            "std::array<S, n_velocities> constraint_reaction_;\n"
+            "constrained_rates_(t, x, rate.data(), constraint_lambda_.data(), constraint_reaction_.data(), p);\n"
+            "for (int a = 0; a < n_constraints; ++a) out[{0} + a] = constraint_lambda_[std::size_t(a)];\n"
+            "for (int k = 0; k < n_velocities; ++k) out[{0} + n_constraints + k] = constraint_reaction_[std::size_t(k)];\n",
+            ir.n_user_outputs);
+        if (ir.n_user_outputs == 0) return body;
+        return body + "const S* acc = rate.data() + velocity_offset;\n" +
+               function_body(ir, names, ir.outputs, indexed("out", ir.n_user_outputs), {true});
+    }
     if (ir.output_names.empty()) return "(void)t;\n(void)x;\n(void)out;\n(void)p;";
     return "std::array<S, n_state> rate;\nrhs(t, x, rate.data(), p);\nconst S* acc = rate.data() + velocity_offset;\n" +
            function_body(ir, names, ir.outputs, indexed("out", ir.output_names.size()), {true});
@@ -484,15 +564,20 @@ std::string acceleration_function(const KernelIR& ir) {
 // call project(t, x) after every accepted step when a kernel has one. The body is
 // runtime::renormalise_quaternion (runtime/quaternion.hpp) written out: the bundled
 // free_disk_tube_ball kernel prints it so, and tests/runtime_routines checks that the two agree.
-std::string quaternion_projection(const KernelIR& ir) {
-    if (ir.unit_quaternions.empty()) return "";
-    std::string body = "        (void)t;\n        (void)p;\n        using std::sqrt;\n";
+std::string quaternion_renormalisation(const KernelIR& ir) {
+    std::string body;
     for (std::size_t k : ir.unit_quaternions) {
         body += fmt::format("        {{\n            const S norm = sqrt(x[{0}] * x[{0}] + x[{1}] * x[{1}] + x[{2}] * x[{2}] + "
                             "x[{3}] * x[{3}]);\n",
                             k, k + 1, k + 2, k + 3);
         body += fmt::format("            for (int i = {}; i < {}; ++i) x[i] /= norm;\n        }}\n", k, k + 4);
     }
+    return body;
+}
+
+std::string quaternion_projection(const KernelIR& ir) {
+    if (ir.unit_quaternions.empty()) return "";
+    const std::string body = "        (void)t;\n        (void)p;\n        using std::sqrt;\n" + quaternion_renormalisation(ir);
     return "\n    // Puts the attitude quaternion back on |e| = 1 (the runtime calls it after every accepted\n"
            "    // step). R(e)/|e|² is orthogonal for any |e|, so this only keeps e well scaled.\n"
            "    template <class S>\n    static void project(S t, S* x, const Parameters& p) {\n" +
@@ -541,6 +626,56 @@ std::string variational_function(const KernelIR& ir) {
         "        eomc::runtime::variational_rhs<{}>(t, y, dydt, p);\n"
         "    }}\n",
         checked_identifier(ir.struct_name, "the kernel's name"));
+}
+
+// Only kernels with constraint rows carry them, so that no other kernel changes: the rows'
+// names, their residuals and the projection after every accepted step (runtime/constraints.hpp),
+// which also renormalises a unit quaternion first when the kernel has one.
+std::string constraints_part(const KernelIR& ir) {
+    if (ir.constraint_names.empty()) return "";
+    const std::size_t m = ir.constraint_names.size();
+    std::string holonomic, projected;
+    bool projects = false;
+    for (std::size_t a = 0; a < m; ++a) {
+        holonomic += fmt::format("{}{}", a ? ", " : "", ir.constraint_holonomic[a] ? "true" : "false");
+        projected += fmt::format("{}{}", a ? ", " : "", ir.constraint_projected[a] ? "true" : "false");
+        projects = projects || ir.constraint_projected[a];
+    }
+    std::string out = fmt::format(
+        "\n    // Bilateral constraint rows: M u̇ − Wᵀλ = f, W u̇ = −bias − stabilisation; λ is output as\n"
+        "    // lambda_<row>, the generalized reactions Wᵀλ as reaction_<coordinate>.\n"
+        "    static constexpr int n_constraints = {};\n"
+        "    static constexpr std::array<const char*, n_constraints> constraint_names{{ {} }};\n"
+        "    // Holonomic rows f(q, t) = 0; the others are kinematic, φ(q, u, t) = 0.\n"
+        "    static constexpr std::array<bool, n_constraints> constraint_holonomic{{ {} }};\n"
+        "    // Rows that project() puts back on the manifold after every accepted step.\n"
+        "    static constexpr std::array<bool, n_constraints> constraint_projected{{ {} }};\n\n"
+        "    // One residual per row: f (holonomic) or φ (kinematic).\n"
+        "    template <class S>\n"
+        "    static void constraint_residuals(S t, const S* x, S* out, const Parameters& p) {{\n"
+        "        std::array<S, n_constraints> phi;\n"
+        "        constraint_residuals_(t, x, out, phi.data(), p);\n"
+        "    }}\n",
+        m, quoted_list(ir.constraint_names, "a constraint name"), holonomic, projected);
+    if (!projects && ir.unit_quaternions.empty()) return out;
+    std::string body;
+    if (!ir.unit_quaternions.empty()) body += "        using std::sqrt;\n" + quaternion_renormalisation(ir);
+    if (projects)
+        body +=
+            "        eomc::runtime::project_onto_constraints(\n"
+            "            t, x, eomc::runtime::ConstraintLayout{n_coordinates, velocity_offset, n_velocities, n_constraints},\n"
+            "            constraint_projected.data(), constraint_holonomic.data(),\n"
+            "            [&p](S tau, const S* y, S* f, S* phi) { constraint_residuals_(tau, y, f, phi, p); },\n"
+            "            [&p](S tau, const S* y, S* W) { constraint_jacobian_(tau, y, W, p); },\n"
+            "            [&p](S tau, const S* y, S* M) { mass_matrix(tau, y, M, p); });\n";
+    else
+        body = "        (void)t;\n        (void)p;\n" + body;
+    out += "\n    // After every accepted step (the runtime calls it): the M-metric projection onto the projected\n"
+           "    // rows, positions then velocities (Hairer, Lubich, Wanner, Geometric Numerical Integration,\n"
+           "    // 2nd ed., IV.4, Algorithm 4.2).\n"
+           "    template <class S>\n    static void project(S t, S* x, const Parameters& p) {\n" +
+           body + "    }\n";
+    return out;
 }
 
 // Only kernels of scenes with [events] carry them, so that no other kernel changes.
@@ -617,7 +752,11 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
 
     // What the runtime's drivers call after every accepted step: a quaternion renormalised, or
     // Encke's rectification.
-    std::string projection = quaternion_projection(ir), private_part = rates.private_part;
+    // A kernel with constraint rows prints its project() with them (constraints_part).
+    std::string projection = ir.constraint_names.empty() ? quaternion_projection(ir) : std::string(),
+                private_part = rates.private_part;
+    if (ir.rectification && !ir.constraint_names.empty())
+        throw std::runtime_error("a kernel with both constraint rows and a rectification");
     if (ir.rectification) {
         if (!projection.empty()) throw std::runtime_error("a kernel with both a unit quaternion and a rectification");
         const Rectification r = rectification(ir, names);
@@ -632,6 +771,8 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
     }
 
     const std::string solve_note = nu == 0 ? "Every rate is explicit."
+                                   : !ir.constraint_names.empty()
+                                       ? "M u̇ − Wᵀλ = f, W u̇ = r is solved at run time (the Schur complement on Eigen's LDLT)."
                                    : ir.explicit_solution ? "u̇ is solved in closed form (n_velocities ≤ 2)."
                                                         : "M u̇ = f is solved at run time (Eigen LDLT).";
     const std::vector<std::pair<std::string, std::string>> fields{
@@ -667,6 +808,7 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
         {"outputs_body", indent(outputs_body(ir, names), 8)},
         {"acceleration", acceleration_function(ir)},
         {"events", events_part(ir, names)},
+        {"constraints", constraints_part(ir)},
         {"variational", projection + variational},
         {"invariant_accessors", invariant_accessors(ir) + santilli_residuals(ir, names)},
         {"private_part", private_part},

@@ -86,6 +86,15 @@ struct KernelIR {
     // conditions S1–S5 of the fundamental form as residuals, one output per name.
     std::vector<std::string> santilli_residual_names;
     Block santilli_residuals;
+
+    // Bilateral constraint rows (mechanics/constraints/rows.hpp; empty: nothing is emitted and
+    // the kernel keeps its bytes). M u̇ − Wᵀλ = f, W u̇ = r with r = −bias − stabilisation.
+    std::vector<std::string> constraint_names;
+    std::vector<bool> constraint_holonomic, constraint_projected;
+    std::size_t n_user_outputs = 0;   // output_names then has lambda_<row> …, reaction_<coordinate> …
+    Block mass_forcing_and_constraints;  // M (n_velocities², row-major), f, W (m × n_velocities), r (m)
+    Block constraint_residuals;          // 2m: f_α (holonomic) or φ_α (kinematic), then φ_α
+    Block constraint_jacobian;           // W alone, m × n_velocities row-major (the projection)
 };
 
 // Common-subexpression elimination over all outputs of one function.

@@ -4,6 +4,8 @@
 #include <filesystem>
 #include <regex>
 #include <set>
+#include <stdexcept>
+#include <string>
 
 #include "codegen/kernel_ir.hpp"
 #include "symbolic/differentiation.hpp"
@@ -40,6 +42,54 @@ std::vector<ex> solve_explicitly(const GiNaC::matrix& M, const std::vector<ex>& 
 }
 
 const GiNaC::symbol& as_symbol(const ex& e) { return GiNaC::ex_to<GiNaC::symbol>(e); }
+
+// The constraint rows' blocks: M, f, W and r = −bias − stabilisation CSE'd together (what rhs
+// evaluates), the residuals f and φ, and W alone (what project() evaluates). Baumgarte's
+// stabilisation (J. Baumgarte, Comput. Methods Appl. Mech. Eng. 1 (1972) 1–16) replaces φ̇ = 0 by
+// φ̇ + 2α φ + β² f = 0 for a holonomic row and by φ̇ + α φ = 0 for a kinematic one.
+void lower_constraints(KernelIR& ir, const mechanics::FirstOrderForm& form, const std::vector<ex>& M,
+                       const std::string& prefix) {
+    const std::size_t nu = form.n_velocities(), m = form.constraints.size();
+    if (m > nu)
+        throw std::runtime_error("more constraint rows (" + std::to_string(m) + ") than velocities (" +
+                                 std::to_string(nu) + ")");
+    std::vector<ex> W, r, residuals(2 * m);
+    bool position_projection = false;
+    for (std::size_t a = 0; a < m; ++a) {
+        const auto& row = form.constraints[a];
+        if (row.W.size() != nu)
+            throw std::runtime_error("constraint row '" + row.name + "' has " + std::to_string(row.W.size()) +
+                                     " entries of W for " + std::to_string(nu) + " velocities");
+        ir.constraint_names.push_back(row.name);
+        ir.constraint_holonomic.push_back(row.holonomic);
+        ir.constraint_projected.push_back(row.stabilization == mechanics::Stabilization::project);
+        position_projection = position_projection || (row.holonomic && ir.constraint_projected.back());
+        W.insert(W.end(), row.W.begin(), row.W.end());
+        ex stabilisation = 0;
+        if (row.stabilization == mechanics::Stabilization::baumgarte)
+            stabilisation = row.holonomic ? 2 * ex(row.alpha) * row.velocity + ex(row.beta * row.beta) * row.position
+                                          : ex(row.alpha) * row.velocity;
+        r.push_back(-row.bias - stabilisation);
+        residuals[a] = row.holonomic ? row.position : row.velocity;
+        residuals[m + a] = row.velocity;
+        ir.output_names.push_back("lambda_" + row.name);
+    }
+    // The position step moves q along M⁻¹Wᵀ: W's holonomic rows are ∂f/∂q only when u = q̇.
+    if (position_projection && form.n_coordinates != nu)
+        throw std::runtime_error("projecting holonomic constraint rows needs the velocity block to be q̇ (" +
+                                 std::to_string(form.n_coordinates) + " coordinates, " + std::to_string(nu) +
+                                 " velocities)");
+    for (std::size_t k = 0; k < nu; ++k)
+        ir.output_names.push_back(
+            "reaction_" + (nu == form.n_coordinates ? form.state[k].name : form.state[form.velocity_offset + k].name));
+    std::vector<ex> all = M;
+    all.insert(all.end(), form.forcing.begin(), form.forcing.end());
+    all.insert(all.end(), W.begin(), W.end());
+    all.insert(all.end(), r.begin(), r.end());
+    ir.mass_forcing_and_constraints = eliminate_common_subexpressions(all, prefix);
+    ir.constraint_residuals = eliminate_common_subexpressions(residuals, prefix);
+    ir.constraint_jacobian = eliminate_common_subexpressions(W, prefix);
+}
 
 }  // namespace
 
@@ -87,7 +137,8 @@ KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form,
 
     ir.mass_matrix = eliminate_common_subexpressions(M, prefix);
     ir.forcing = eliminate_common_subexpressions(form.forcing, prefix);
-    ir.explicit_solution = nu <= 2;
+    // With constraint rows u̇ comes from the Schur complement at run time, never in closed form.
+    ir.explicit_solution = nu <= 2 && form.constraints.empty();
     if (!ir.explicit_solution) {
         ir.mass_and_forcing = eliminate_common_subexpressions(M_and_f, prefix);
         std::vector<ex> rates;
@@ -109,7 +160,7 @@ KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form,
         for (std::size_t i = 0; i < N; ++i)
             for (std::size_t j = 0; j < N; ++j) J.push_back(d(rates[i], j));
         ir.jacobian_explicit = eliminate_common_subexpressions(J, prefix);
-    } else {
+    } else if (form.constraints.empty()) {
         std::vector<ex> rows;
         for (const auto& [index, rate] : form.explicit_rates)
             for (std::size_t j = 0; j < N; ++j) rows.push_back(d(rate, j));
@@ -139,6 +190,8 @@ KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form,
         outputs.push_back(out.value);
     }
     ir.outputs = eliminate_common_subexpressions(outputs, prefix);
+    ir.n_user_outputs = outputs.size();
+    if (!form.constraints.empty()) lower_constraints(ir, form, M, prefix);
     std::vector<ex> events;
     for (const auto& e : form.events) {
         ir.event_names.push_back(e.name);

@@ -21,8 +21,8 @@ namespace {
 
 // Bumped whenever the C interface below changes; the loader refuses a library that reports
 // another value (a cache written by an older eomc).
-constexpr int adapter_abi = 7;  // 3: acceleration and events; 4: project; 5: variational_rhs; 6: project(t, x, p);
-                                // 7: eomc_kernel_identity
+constexpr int adapter_abi = 8;  // 3: acceleration and events; 4: project; 5: variational_rhs; 6: project(t, x, p);
+                                // 7: eomc_kernel_identity; 8: constraint rows
 
 // The adapter: C functions over double, so that the host needs no knowledge of the kernel's
 // C++ types. Parameters travel by position in parameter_names order, never by member name
@@ -93,6 +93,21 @@ int event_terminal(int i) {
     else return (void)i, 0;
 }
 template <class M>
+constexpr int n_constraints() {
+    if constexpr (rt::ConstrainedKernel<M>) return M::n_constraints;
+    else return 0;
+}
+template <class M>
+const char* constraint_name(int i) {
+    if constexpr (rt::ConstrainedKernel<M>) return M::constraint_names[std::size_t(i)];
+    else return (void)i, nullptr;
+}
+template <class M>
+void constraint_residuals(double t, const double* x, double* out, const void* p) {
+    if constexpr (rt::ConstrainedKernel<M>) M::template constraint_residuals<double>(t, x, out, *static_cast<const typename M::Parameters*>(p));
+    else (void)t, (void)x, (void)out, (void)p;
+}
+template <class M>
 void events(double t, const double* x, double* out, const void* p) {
     if constexpr (rt::EventKernel<M>) M::template events<double>(t, x, out, *static_cast<const typename M::Parameters*>(p));
     else (void)t, (void)x, (void)out, (void)p;
@@ -151,6 +166,11 @@ EOMC_EXPORT const char* eomc_event_name(int i) { return event_name<K>(i); }
 EOMC_EXPORT int eomc_event_direction(int i) { return event_direction<K>(i); }
 EOMC_EXPORT int eomc_event_terminal(int i) { return event_terminal<K>(i); }
 EOMC_EXPORT void eomc_events(double t, const double* x, double* out, const void* p) { events<K>(t, x, out, p); }
+EOMC_EXPORT int eomc_n_constraints() { return n_constraints<K>(); }
+EOMC_EXPORT const char* eomc_constraint_name(int i) { return constraint_name<K>(i); }
+EOMC_EXPORT void eomc_constraint_residuals(double t, const double* x, double* out, const void* p) {
+    constraint_residuals<K>(t, x, out, p);
+}
 )";
 
 std::string replace_all(std::string text, const std::string& from, const std::string& to) {
@@ -277,6 +297,11 @@ KernelLibrary KernelLibrary::load(const std::string& header_text, const std::str
         lib.event_terminal_.push_back(event_terminal(i) != 0);
     }
     lib.events_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_events", p);
+    const int n_con = symbol<int (*)()>(h, "eomc_n_constraints", p)();
+    const auto constraint_name = symbol<const char* (*)(int)>(h, "eomc_constraint_name", p);
+    for (int i = 0; i < n_con; ++i) lib.constraint_names_.emplace_back(constraint_name(i));
+    lib.constraint_residuals_ =
+        symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_constraint_residuals", p);
     lib.seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return lib;
 }
@@ -319,6 +344,8 @@ KernelLibrary& KernelLibrary::operator=(KernelLibrary&& other) noexcept {
         event_directions_ = std::move(other.event_directions_);
         event_terminal_ = std::move(other.event_terminal_);
         events_ = other.events_;
+        constraint_names_ = std::move(other.constraint_names_);
+        constraint_residuals_ = other.constraint_residuals_;
     }
     return *this;
 }

@@ -78,6 +78,13 @@ public:
     const std::vector<bool>& event_terminal() const { return event_terminal_; }
     void events(double t, const double* x, double* out, const Parameters& p) const { events_(t, x, out, p.get()); }
 
+    // Bilateral constraint rows (none for most kernels): one residual per row, f(q, t) for a
+    // holonomic row and φ(q, u, t) for a kinematic one, written to out[0 .. constraint_names().size()).
+    const std::vector<std::string>& constraint_names() const { return constraint_names_; }
+    void constraint_residuals(double t, const double* x, double* out, const Parameters& p) const {
+        constraint_residuals_(t, x, out, p.get());
+    }
+
     // How the library was obtained.
     const std::string& library_path() const { return path_; }
     bool cache_hit() const { return cache_hit_; }
@@ -110,6 +117,8 @@ private:
     std::vector<int> event_directions_;
     std::vector<bool> event_terminal_;
     void (*events_)(double, const double*, double*, const void*) = nullptr;
+    std::vector<std::string> constraint_names_;
+    void (*constraint_residuals_)(double, const double*, double*, const void*) = nullptr;
 };
 
 // Exposed for tests: the adapter source for a struct and its header (it exports the kernel's

@@ -413,6 +413,9 @@ SimulationResult simulate(const SimulationRequest& request) {
 
     // One CSV row (and one look at the invariants) at t0, after every step and at every event.
     std::vector<double> inv(n_inv), inv0(n_inv), max_drift(n_inv, 0.0);
+    const std::size_t n_con = lib.constraint_names().size();
+    std::vector<double> residual(n_con), max_residual(n_con, 0.0);
+    State<double> projected;
     bool first = true;
     double t_last = 0.0;
     State<double> x_last = x;
@@ -421,6 +424,16 @@ SimulationResult simulate(const SimulationRequest& request) {
         lib.invariants(t, xs.data(), inv.data(), parameters);
         if (first) inv0 = inv, first = false;
         for (std::size_t i = 0; i < n_inv; ++i) max_drift[i] = track_max(max_drift[i], std::abs(inv[i] - inv0[i]));
+        if (n_con > 0) {
+            // The drivers project after the observer has seen the step: the residuals are those of
+            // the state the integration carries on from (project() of the same x at the same t).
+            if (lib.projects()) {
+                projected = xs;
+                lib.project(t, projected.data(), parameters);
+            }
+            lib.constraint_residuals(t, (lib.projects() ? projected : xs).data(), residual.data(), parameters);
+            for (std::size_t i = 0; i < n_con; ++i) max_residual[i] = track_max(max_residual[i], std::abs(residual[i]));
+        }
         if (!outputs.empty() && !request.csv_path.empty()) lib.outputs(t, xs.data(), outputs.data(), parameters);
         csv.row(t, xs, inv, outputs, n_ev > 0 ? event : nullptr, n_ev > 0);
         t_last = t;
@@ -461,6 +474,7 @@ SimulationResult simulate(const SimulationRequest& request) {
     }
     for (std::size_t i = 0; i < n_inv; ++i)
         result.invariants.push_back({lib.invariant_names()[i], inv0[i], inv[i], max_drift[i]});
+    for (std::size_t i = 0; i < n_con; ++i) result.constraints.push_back({lib.constraint_names()[i], max_residual[i]});
     result.steps = outcome.stats.accepted;
     result.rejected = outcome.stats.rejected;
     result.rhs_evals = outcome.stats.rhs_evals;
@@ -495,7 +509,15 @@ void print_summary(const SimulationResult& r, const std::string& format, std::os
                 s += fmt::format("{}{}: {}", k ? ", " : "", json_string(r.state[k].first), json_number(e.state[k]));
             s += "}}";
         }
-        s += fmt::format("], \"stopped_by\": {}, \"compensated\": {}",
+        s += "]";
+        if (!r.constraints.empty()) {  // only kernels with constraint rows: other summaries keep their shape
+            s += ", \"constraints\": {";
+            for (std::size_t i = 0; i < r.constraints.size(); ++i)
+                s += fmt::format("{}{}: {{\"max_abs_residual\": {}}}", i ? ", " : "", json_string(r.constraints[i].name),
+                                 json_number(r.constraints[i].max_abs_residual));
+            s += "}";
+        }
+        s += fmt::format(", \"stopped_by\": {}, \"compensated\": {}",
                          r.stopped_by.empty() ? "null" : json_string(r.stopped_by), r.compensated ? "true" : "false");
         s += fmt::format(", \"steps\": {}, \"rejected\": {}, \"rhs_evals\": {}, \"wall_s\": {}, \"compile_s\": {}, "
                          "\"cache_hit\": {}}}\n",
@@ -512,6 +534,7 @@ void print_summary(const SimulationResult& r, const std::string& format, std::os
     for (const auto& [n, v] : r.outputs) width = std::max(width, n.size());
     for (const auto& v : r.invariants) width = std::max(width, v.name.size());
     for (const auto& e : r.events) width = std::max(width, e.name.size());
+    for (const auto& c : r.constraints) width = std::max(width, c.name.size());
 
     std::string s = fmt::format("{}: {} to t = {}{}\n", r.scene_name, r.integrator, number(r.t),
                                 r.stopped_by.empty() ? "" : fmt::format(", stopped by the terminal event '{}'", r.stopped_by));
@@ -537,6 +560,10 @@ void print_summary(const SimulationResult& r, const std::string& format, std::os
                              e.terminal ? ", terminal" : "");
         }
         if (r.events.size() > shown) s += fmt::format("  ... {} more\n", r.events.size() - shown);
+    }
+    if (!r.constraints.empty()) {
+        s += fmt::format("constraints\n  {:<{}}  {:>24}\n", "", width, "max |residual|");
+        for (const auto& c : r.constraints) s += fmt::format("  {:<{}}  {:>24.3g}\n", c.name, width, c.max_abs_residual);
     }
     s += fmt::format("steps       {} accepted, {} rejected, {} rhs evaluations\n", r.steps, r.rejected, r.rhs_evals);
     s += fmt::format("time        integration {:.3g} s; kernel {:.3g} s ({})\n", r.wall_s, r.compile_s,

@@ -54,6 +54,13 @@ struct InvariantReport {
     double relative_drift() const;
 };
 
+// One constraint row of the kernel: the largest |residual| (f for a holonomic row, φ for a
+// kinematic one) seen at the observed points of the run.
+struct ConstraintReport {
+    std::string name;
+    double max_abs_residual = 0.0;
+};
+
 // One located event (a zero crossing of the scene's g), with the state there.
 struct EventReport {
     std::string name;
@@ -75,6 +82,7 @@ struct SimulationResult {
     std::vector<std::pair<std::string, double>> parameters;  // the values used, in parameter_names order
     std::vector<InvariantReport> invariants;
     std::vector<EventReport> events;                      // every located event, in time order
+    std::vector<ConstraintReport> constraints;            // the kernel's constraint rows (none for most)
     std::string stopped_by;                               // the terminal event that ended the run, "" if none
     std::size_t steps = 0, rejected = 0, rhs_evals = 0;   // accepted steps, rejected attempts, system calls
     double wall_s = 0.0;     // integration, including the observer (invariants, CSV)

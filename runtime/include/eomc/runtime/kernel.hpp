@@ -126,6 +126,16 @@ concept EventKernel = Kernel<K, S> && requires(S t, const S* x, S* out, const ty
   K::template events<S>(t, x, out, p);
 };
 
+// Bilateral constraint rows (generator/mechanics/constraints/rows.hpp): their names and one
+// residual per row, f(q, t) for a holonomic row, φ(q, u, t) for a kinematic one. The multipliers
+// are outputs (lambda_<row>); the projection, when a row asks for it, is the kernel's project().
+template <class K, class S = double>
+concept ConstrainedKernel = Kernel<K, S> && requires(S t, const S* x, S* out, const typename K::Parameters& p) {
+  { K::n_constraints } -> std::convertible_to<int>;
+  requires kernel_detail::array_of<decltype(K::constraint_names), const char*, std::size_t(K::n_constraints)>;
+  K::template constraint_residuals<S>(t, x, out, p);
+};
+
 // Kernels generated with --variational: the rates of y = (x, Φ), n_variational = n_state +
 // n_state², Φ row-major (runtime/variational.hpp).
 template <class K, class S = double>
