@@ -205,7 +205,7 @@ void print_constraints_text(const model::Model& model, const mechanics::Equation
     for (std::size_t s = 0; s < eqs.equations.size(); ++s) {
         const auto& eq = eqs.equations[s];
         out << "    s = " << eq.coordinate << ": " << text(collected_lhs(model, eq.lhs)) << " = "
-            << text(display_form(eq.rhs)) << " + " << text(reaction_term(eqs, s)) << "\n";
+            << (eq.rhs.is_zero() ? "" : text(display_form(eq.rhs)) + " + ") << text(reaction_term(eqs, s)) << "\n";
     }
     for (std::size_t s = eqs.equations.size(); s < u.size(); ++s)
         out << "    " << u[s] << ": M u̇ = f + " << text(reaction_term(eqs, s)) << "\n";
@@ -412,8 +412,9 @@ void print_latex(const model::Model& model, const mechanics::Equations& eqs, std
             out << "\\right)\\\\\n\\mathrm{bias}_{" << name << "} &= " << latex(display_form(row.bias)) << "\\\\\n";
         }
         for (std::size_t s = 0; s < eqs.equations.size(); ++s)
-            out << latex(collected_lhs(model, eqs.equations[s].lhs)) << " &= " << latex(display_form(eqs.equations[s].rhs))
-                << " + " << latex(reaction_term(eqs, s)) << "\\\\\n";
+            out << latex(collected_lhs(model, eqs.equations[s].lhs)) << " &= "
+                << (eqs.equations[s].rhs.is_zero() ? "" : latex(display_form(eqs.equations[s].rhs)) + " + ")
+                << latex(reaction_term(eqs, s)) << "\\\\\n";
         std::string why;
         const auto lambda = mechanics::closed_form_multipliers(eqs, &why);
         if (lambda)
