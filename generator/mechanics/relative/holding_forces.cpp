@@ -9,6 +9,10 @@ namespace eomc::mechanics {
 std::vector<HoldingOutput> holding_forces(const model::Model& model) {
     std::vector<HoldingOutput> out;
     if (!model.carrier || model.carrier->free) return out;
+    // With [effects] dropping terms the equations are a deliberate approximation that the
+    // balance of the whole motion would contradict (and dropped effects leave no code).
+    for (const auto effect : model::all_effects)
+        if (!model.keeps(effect)) return out;
     const auto& c = *model.carrier;
     // The balance equations (1.1.14)–(1.1.15) with v_o, ω prescribed: the inertial sides are the
     // external resultant V (1.1.17) and moment m⁰ (1.1.24); less the given loads, the drive's.

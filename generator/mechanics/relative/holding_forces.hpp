@@ -28,7 +28,7 @@ struct HoldingOutput {
 // carrier must apply to the system (carrier + carried bodies) for the prescribed motion; the
 // loads of [forces] potential and generalized, which act along the coordinates only, are not
 // resolved into vectors and so are part of it (e.g. the support of the bodies' weight).
-// Empty for a model without a carrier or with a free one.
+// Empty for a model without a carrier, with a free one, or whose [effects] drop any term.
 std::vector<HoldingOutput> holding_forces(const model::Model& model);
 
 }  // namespace eomc::mechanics

@@ -157,8 +157,12 @@ BOOST_AUTO_TEST_CASE(a_driven_cart_holds_its_pendulum) {
                lagrange);
 }
 
-// A free carrier keeps its reactions and has no holding forces; no carrier, no outputs.
+// A free carrier keeps its reactions and has no holding forces; no carrier, no outputs; nor
+// a prescribed carrier whose [effects] drop terms.
 BOOST_AUTO_TEST_CASE(only_a_prescribed_carrier_has_holding_forces) {
+    const auto truncated =
+        test_support::model_of(std::string(spinning_up) + "[effects]\nkeep = [\"relative\", \"coriolis\"]\n", "t.toml");
+    BOOST_TEST(outputs_of(truncated).empty());
     for (const char* name : {"free_disk_tube_ball", "double_pendulum"}) {
         const auto model = test_support::bundled_model(name);
         if (model.carrier && !model.carrier->free) continue;
