@@ -47,7 +47,11 @@ std::map<std::string, ex> outputs_of(const eomc::model::Model& model) {
 void check_equal(const std::map<std::string, ex>& outputs, const std::string& name, const ex& expected) {
     BOOST_TEST_CONTEXT(name) {
         BOOST_REQUIRE(outputs.count(name) == 1u);
-        const ex difference = (outputs.at(name) - expected).expand();
+        // sin² θ + cos² θ = 1 is the only identity GiNaC does not apply itself.
+        const ex difference = (outputs.at(name) - expected)
+                                  .expand()
+                                  .subs(GiNaC::pow(GiNaC::sin(GiNaC::wild()), 2) == 1 - GiNaC::pow(GiNaC::cos(GiNaC::wild()), 2))
+                                  .expand();
         BOOST_TEST(difference.is_zero(), name << " − expected = " << difference);
     }
 }
@@ -153,8 +157,11 @@ BOOST_AUTO_TEST_CASE(a_driven_cart_holds_its_pendulum) {
     // m l² θ̈ + m l ẍ_o cos θ + m g l sin θ = 0.
     const auto eqs = eomc::mechanics::derive(model);
     const ex lagrange = eqs.mass_matrix(0, 0) * th_ddot - eqs.forcing[0];
-    BOOST_TEST((lagrange - (m * l * l * th_ddot + m * l * a * GiNaC::cos(th) + m * g * l * GiNaC::sin(th))).expand().is_zero(),
-               lagrange);
+    const ex residual = (lagrange - (m * l * l * th_ddot + m * l * a * GiNaC::cos(th) + m * g * l * GiNaC::sin(th)))
+                            .expand()
+                            .subs(GiNaC::pow(GiNaC::sin(th), 2) == 1 - GiNaC::pow(GiNaC::cos(th), 2))
+                            .expand();
+    BOOST_TEST(residual.is_zero(), lagrange);
 }
 
 // A free carrier keeps its reactions and has no holding forces; no carrier, no outputs; nor
