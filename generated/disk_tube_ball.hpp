@@ -9,6 +9,7 @@
 //   rhs (u̇ in closed form)           2 ->       2 (0 temporaries)
 //   jacobian                          1 ->       1 (0 temporaries)
 //   invariants                        7 ->       7 (0 temporaries)
+//   outputs                          11 ->      11 (0 temporaries)
 #pragma once
 
 #include <array>
@@ -29,14 +30,14 @@ struct DiskTubeBall {
     static constexpr int n_velocities = 1;
     static constexpr int n_parameters = 4;
     static constexpr int n_invariants = 1;
-    static constexpr int n_outputs = 0;
+    static constexpr int n_outputs = 6;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = true;
     static constexpr const char* scene_name = "disk_tube_ball";
     static constexpr std::array<const char*, n_state> state_names{ "q", "q_dot" };
     static constexpr std::array<const char*, n_parameters> parameter_names{ "M", "m", "r", "Omega" };
     static constexpr std::array<const char*, n_invariants> invariant_names{ "energy" };
-    static constexpr std::array<const char*, n_outputs> output_names{  };
+    static constexpr std::array<const char*, n_outputs> output_names{ "holding_force_1", "holding_force_2", "holding_force_3", "holding_moment_1", "holding_moment_2", "holding_moment_3" };
     static constexpr std::array<double, n_state> initial_state{ 0.1, 0 };
 
     // Defaults from the scene; every function reads them at run time.
@@ -100,13 +101,24 @@ struct DiskTubeBall {
         out[0] = -S(1)/S(2)*m*(-q_dot*q_dot + Omega*Omega*q*q);
     }
 
-    // Quantities written beside the state (none for this model), in output_names order.
+    // Quantities written beside the state (functions of t, x and u̇), in output_names order.
     template <class S>
     static void outputs(S t, const S* x, S* out, const Parameters& p) {
+        std::array<S, n_state> rate;
+        rhs(t, x, rate.data(), p);
+        const S* acc = rate.data() + velocity_offset;
         (void)t;
-        (void)x;
-        (void)out;
-        (void)p;
+        const S q = x[0];
+        const S q_dot = x[1];
+        const S q_ddot = acc[0];
+        const S m = S(p.m);
+        const S Omega = S(p.Omega);
+        out[0] = -m*(q*Omega*Omega - q_ddot);
+        out[1] = S(0);
+        out[2] = -S(2)*Omega*m*q_dot;
+        out[3] = S(0);
+        out[4] = S(2)*Omega*m*q*q_dot;
+        out[5] = S(0);
     }
 
     // q̈ = a(t, q): the velocities do not enter the forces, so they are left at zero.

@@ -11,6 +11,7 @@
 //   mass_matrix + jacobian terms       46 ->      23 (8 temporaries)
 //   explicit rates jacobian           0 ->       0 (0 temporaries)
 //   invariants                       81 ->      62 (4 temporaries)
+//   outputs                         237 ->     137 (14 temporaries)
 #pragma once
 
 #include <array>
@@ -33,14 +34,14 @@ struct ProjectileRotatingEarth {
     static constexpr int n_velocities = 3;
     static constexpr int n_parameters = 5;
     static constexpr int n_invariants = 1;
-    static constexpr int n_outputs = 0;
+    static constexpr int n_outputs = 6;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = false;
     static constexpr const char* scene_name = "projectile_rotating_earth";
     static constexpr std::array<const char*, n_state> state_names{ "x", "y", "z", "x_dot", "y_dot", "z_dot" };
     static constexpr std::array<const char*, n_parameters> parameter_names{ "m", "g", "Omega", "phi", "Re" };
     static constexpr std::array<const char*, n_invariants> invariant_names{ "energy" };
-    static constexpr std::array<const char*, n_outputs> output_names{  };
+    static constexpr std::array<const char*, n_outputs> output_names{ "holding_force_1", "holding_force_2", "holding_force_3", "holding_moment_1", "holding_moment_2", "holding_moment_3" };
     static constexpr std::array<double, n_state> initial_state{ 0, 0, 0, 0, 300, 300 };
 
     // Defaults from the scene; every function reads them at run time.
@@ -92,7 +93,7 @@ struct ProjectileRotatingEarth {
         const S w3 = -w0*z + w1*y;
         const S w4 = Omega*Omega;
         out[0] = Omega*m*(-S(2)*w0*z_dot + Omega*x_*(w2 + w1*w1) + S(2)*w1*y_dot);
-        out[1] = Omega*m*w1*(Omega*w3 - Omega*Re*w0 - S(2)*x_dot);
+        out[1] = -Omega*m*w1*(Omega*Re*w0 + S(2)*x_dot - Omega*w3);
         out[2] = m*(-g + Re*w2*w4 - w0*w3*w4 + S(2)*Omega*w0*x_dot);
     }
 
@@ -143,16 +144,51 @@ struct ProjectileRotatingEarth {
         const S w1 = sin(phi);
         const S w2 = x_*x_;
         const S w3 = -Re*w0 - w0*z + w1*y;
-        out[0] = -S(1)/S(2)*m*(x_dot*x_dot + y_dot*y_dot + z_dot*z_dot + Omega*Omega*(w3*w3 + w2*w1*w1 + w2*w0*w0) - S(2)*z_dot*(z_dot - Omega*w0*x_) - S(2)*g*z + S(2)*x_dot*(-Omega*w0*z + Omega*w1*y - x_dot - Omega*Re*w0) + S(2)*Omega*(-w0*x_*z_dot - w3*x_dot + w1*x_*y_dot) - S(2)*y_dot*(y_dot + Omega*w1*x_));
+        out[0] = S(1)/S(2)*m*(-z_dot*z_dot + S(2)*z_dot*(z_dot - Omega*w0*x_) + S(2)*y_dot*(y_dot + Omega*w1*x_) + S(2)*x_dot*(x_dot + Omega*Re*w0 + Omega*w0*z - Omega*w1*y) + S(2)*g*z - S(2)*Omega*(-w0*x_*z_dot - w3*x_dot + w1*x_*y_dot) - x_dot*x_dot - y_dot*y_dot - Omega*Omega*(w3*w3 + w2*w1*w1 + w2*w0*w0));
     }
 
-    // Quantities written beside the state (none for this model), in output_names order.
+    // Quantities written beside the state (functions of t, x and u̇), in output_names order.
     template <class S>
     static void outputs(S t, const S* x, S* out, const Parameters& p) {
+        std::array<S, n_state> rate;
+        rhs(t, x, rate.data(), p);
+        const S* acc = rate.data() + velocity_offset;
         (void)t;
-        (void)x;
-        (void)out;
-        (void)p;
+        using std::cos;
+        using std::sin;
+        const S x_ = x[0];
+        const S y = x[1];
+        const S z = x[2];
+        const S x_dot = x[3];
+        const S y_dot = x[4];
+        const S z_dot = x[5];
+        const S x_ddot = acc[0];
+        const S y_ddot = acc[1];
+        const S z_ddot = acc[2];
+        const S m = S(p.m);
+        const S Omega = S(p.Omega);
+        const S phi = S(p.phi);
+        const S Re = S(p.Re);
+        const S w0 = cos(phi);
+        const S w1 = Omega*w0*x_;
+        const S w2 = z_dot - w1;
+        const S w3 = sin(phi);
+        const S w4 = Omega*w3*x_;
+        const S w5 = w4 + y_dot;
+        const S w6 = w3*y;
+        const S w7 = w0*z;
+        const S w8 = Re*w0;
+        const S w9 = w6 - w7 - w8;
+        const S w10 = x_dot - Omega*w9;
+        const S w11 = w3*z + w0*y;
+        const S w12 = x_*x_;
+        const S w13 = y*z_dot - y_dot*z - Omega*w11*x_;
+        out[0] = m*(x_ddot + Omega*w0*z_dot + Omega*w0*w2 - Omega*w3*w5 - Omega*w3*y_dot);
+        out[1] = m*(y_ddot + Omega*w3*x_dot + Omega*w10*w3);
+        out[2] = -m*(Omega*w0*x_dot + Omega*w0*w10 - z_ddot);
+        out[3] = -m*(w5*z_dot - Omega*w3*(-Omega*(-w9*z + w0*w12) - x_dot*z + x_*z_dot) - w2*y_dot - Omega*w0*(x_*y_dot - x_dot*y + Omega*(w12*w3 + w9*y)) - y*z_ddot + y_ddot*z + Omega*w11*x_dot);
+        out[4] = -m*(-z_dot*(x_dot + Omega*(w8 - w6 + S(2)*w7)) - Omega*w13*w3 + Omega*w3*y_dot*z + Omega*Re*w0*w2 - x_ddot*z - x_dot*(-z_dot + S(2)*w1) + x_*z_ddot);
+        out[5] = -m*(-x_dot*(y_dot + S(2)*w4) + Omega*w0*w13 - x_*y_ddot - Omega*Re*w0*w5 + Omega*w0*y*z_dot + x_ddot*y + y_dot*(x_dot + Omega*(w7 + w8 - S(2)*w6)));
     }
 
     template <class S>
@@ -195,8 +231,8 @@ struct ProjectileRotatingEarth {
         out_M[6] = S(0);
         out_M[7] = S(0);
         out_M[8] = m;
-        out_f[0] = Omega*m*(-S(2)*w0*z_dot + Omega*x_*(w2 + w1*w1) + S(2)*w1*y_dot);
-        out_f[1] = -Omega*m*w1*(Omega*Re*w0 + S(2)*x_dot - Omega*w3);
+        out_f[0] = -Omega*m*(-S(2)*w1*y_dot - Omega*x_*(w2 + w1*w1) + S(2)*w0*z_dot);
+        out_f[1] = Omega*m*w1*(Omega*w3 - Omega*Re*w0 - S(2)*x_dot);
         out_f[2] = m*(-g + Re*w2*w4 - w0*w3*w4 + S(2)*Omega*w0*x_dot);
     }
 

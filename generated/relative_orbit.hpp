@@ -11,6 +11,7 @@
 //   mass_matrix + jacobian terms      159 ->      51 (12 temporaries)
 //   explicit rates jacobian           0 ->       0 (0 temporaries)
 //   invariants                       82 ->      49 (7 temporaries)
+//   outputs                         184 ->      79 (6 temporaries)
 #pragma once
 
 #include <array>
@@ -33,14 +34,14 @@ struct RelativeOrbit {
     static constexpr int n_velocities = 3;
     static constexpr int n_parameters = 3;
     static constexpr int n_invariants = 1;
-    static constexpr int n_outputs = 0;
+    static constexpr int n_outputs = 6;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = false;
     static constexpr const char* scene_name = "relative_orbit";
     static constexpr std::array<const char*, n_state> state_names{ "x", "y", "z", "x_dot", "y_dot", "z_dot" };
     static constexpr std::array<const char*, n_parameters> parameter_names{ "m", "mu", "a" };
     static constexpr std::array<const char*, n_invariants> invariant_names{ "energy" };
-    static constexpr std::array<const char*, n_outputs> output_names{  };
+    static constexpr std::array<const char*, n_outputs> output_names{ "holding_force_1", "holding_force_2", "holding_force_3", "holding_moment_1", "holding_moment_2", "holding_moment_3" };
     static constexpr std::array<double, n_state> initial_state{ 0.1, 0, 0.05, 0, -0.00022627333, 0 };
 
     // Defaults from the scene; every function reads them at run time.
@@ -84,8 +85,8 @@ struct RelativeOrbit {
         const S w1 = S(1)/((w0*w0 + y*y + z*z)*sqrt(w0*w0 + y*y + z*z));
         const S w2 = S(1)/(a*a*a);
         const S w3 = sqrt(mu*w2);
-        out[0] = -m*(-w3*sqrt(mu/a) + mu*w0*w1 - mu*w2*x_ - S(2)*w3*y_dot);
-        out[1] = m*(mu*w2*y - S(2)*w3*x_dot - mu*w1*y);
+        out[0] = m*(-mu*w0*w1 + S(2)*w3*y_dot + w3*sqrt(mu/a) + mu*w2*x_);
+        out[1] = -m*(mu*w1*y - mu*w2*y + S(2)*w3*x_dot);
         out[2] = -m*mu*w1*z;
     }
 
@@ -136,16 +137,41 @@ struct RelativeOrbit {
         const S w4 = sqrt(mu/a);
         const S w5 = w1*x_;
         const S w6 = w4 + w5;
-        out[0] = -S(1)/S(2)*m*(w6*w6 + x_dot*x_dot + y_dot*y_dot - z_dot*z_dot + S(2)*w6*y_dot - S(2)*x_dot*(x_dot - w1*y) + mu*w0*w2 - S(2)*w1*x_dot*y + S(2)*mu/(sqrt(w2 + w3*w3 + z*z)) - S(2)*y_dot*(w4 + w5 + y_dot));
+        out[0] = -S(1)/S(2)*m*(w6*w6 + x_dot*x_dot + y_dot*y_dot - z_dot*z_dot + S(2)*x_dot*(-x_dot + w1*y) + S(2)*w6*y_dot + mu*w0*w2 - S(2)*w1*x_dot*y + S(2)*mu/(sqrt(w2 + w3*w3 + z*z)) - S(2)*y_dot*(w4 + w5 + y_dot));
     }
 
-    // Quantities written beside the state (none for this model), in output_names order.
+    // Quantities written beside the state (functions of t, x and u̇), in output_names order.
     template <class S>
     static void outputs(S t, const S* x, S* out, const Parameters& p) {
+        std::array<S, n_state> rate;
+        rhs(t, x, rate.data(), p);
+        const S* acc = rate.data() + velocity_offset;
         (void)t;
-        (void)x;
-        (void)out;
-        (void)p;
+        using std::sqrt;
+        const S x_ = x[0];
+        const S y = x[1];
+        const S z = x[2];
+        const S x_dot = x[3];
+        const S y_dot = x[4];
+        const S z_dot = x[5];
+        const S x_ddot = acc[0];
+        const S y_ddot = acc[1];
+        const S z_ddot = acc[2];
+        const S m = S(p.m);
+        const S mu = S(p.mu);
+        const S a = S(p.a);
+        const S w0 = sqrt(mu/(a*a*a));
+        const S w1 = sqrt(mu/a);
+        const S w2 = w0*x_;
+        const S w3 = w1 + w2 + y_dot;
+        const S w4 = w0*y;
+        const S w5 = w4 - x_dot;
+        out[0] = m*(x_ddot - w0*w3 - w0*y_dot);
+        out[1] = m*(y_ddot + w0*x_dot - w0*w5);
+        out[2] = m*z_ddot;
+        out[3] = -m*(-y_dot*z_dot + w0*(-w0*y*z + x_dot*z - x_*z_dot) + w0*x_dot*z + w3*z_dot - y*z_ddot + y_ddot*z - w1*z_dot);
+        out[4] = -m*(w5*z_dot + w0*(z*(w1 + w2) - y*z_dot + y_dot*z) + w0*y_dot*z - x_ddot*z + x_*z_ddot + x_dot*z_dot);
+        out[5] = m*(x_dot*(w1 + y_dot + S(2)*w2) + y_dot*(S(2)*w4 - x_dot) + w1*w5 - x_ddot*y + x_*y_ddot);
     }
 
     template <class S>
@@ -183,8 +209,8 @@ struct RelativeOrbit {
         out_M[6] = S(0);
         out_M[7] = S(0);
         out_M[8] = m;
-        out_f[0] = -m*(-w3*sqrt(mu/a) + mu*w0*w1 - mu*w2*x_ - S(2)*w3*y_dot);
-        out_f[1] = m*(mu*w2*y - S(2)*w3*x_dot - mu*w1*y);
+        out_f[0] = m*(-mu*w0*w1 + S(2)*w3*y_dot + w3*sqrt(mu/a) + mu*w2*x_);
+        out_f[1] = -m*(mu*w1*y - mu*w2*y + S(2)*w3*x_dot);
         out_f[2] = -m*mu*w1*z;
     }
 

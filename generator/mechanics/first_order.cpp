@@ -7,6 +7,7 @@
 
 #include "mechanics/inverse/inverse_problem.hpp"
 #include "mechanics/orbit/formulation.hpp"
+#include "mechanics/relative/holding_forces.hpp"
 #include "support/diagnostic.hpp"
 
 namespace eomc::mechanics {
@@ -111,6 +112,9 @@ FirstOrderForm lagrange_form(const model::Model& model, const Equations& eqs) {
         for (const auto& c : eqs.carrier_equations)
             if (c.held) form.outputs.push_back({"reaction_" + c.name, c.lhs - c.applied});
     }
+    // A prescribed carrier: the force and moment about o that hold it on its motion (Mei,
+    // (1.1.14)–(1.1.15) read for V (1.1.17) and m⁰ (1.1.24)), carrier axes.
+    for (auto& h : holding_forces(model)) form.outputs.push_back({std::move(h.name), std::move(h.value)});
     form.mass_matrix = eqs.mass_matrix;
     form.forcing = eqs.forcing;
     form.invariants = eqs.invariants;

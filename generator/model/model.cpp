@@ -92,6 +92,22 @@ GiNaC::matrix parse_inertia(const SymbolTable& symbols, const std::vector<scene:
     return I;
 }
 
+// The carrier's own mass distribution (required for a free carrier, optional for a prescribed
+// one) and the loads [forces] resultant and moment on its system.
+void add_carrier_mass_and_loads(const scene::Carrier& c, const scene::Forces& forces, const SymbolTable& symbols,
+                                const Model& model, Carrier& carrier) {
+    if (c.mass) {
+        scene::Body as_body{"carrier", *c.mass, {}, {}, {}, c.pos, {}, {}};
+        carrier.mass = parse_mass(symbols, as_body, model);
+    }
+    carrier.inertia = parse_inertia(symbols, c.inertia, c.pos, "the carrier's inertia");
+    carrier.center = parse_vector(symbols, c.center, unsigned(SymbolKind::parameter), "the carrier's mass centre");
+    // The applied loads may depend on the whole motion (a damper, a motor law).
+    const unsigned loads = phase;
+    if (forces.resultant) carrier.resultant = parse_vector(symbols, *forces.resultant, loads, "the resultant force");
+    if (forces.moment) carrier.moment = parse_vector(symbols, *forces.moment, loads, "the resultant moment");
+}
+
 // A free carrier: each component of v_o and ω is a new name (an unknown quasi-velocity) or
 // "0" (held by the constraints); anything else is an error at that component.
 void build_free_carrier(const scene::Carrier& c, const scene::Forces& forces, SymbolTable& symbols, Model& model) {
@@ -139,14 +155,7 @@ void build_free_carrier(const scene::Carrier& c, const scene::Forces& forces, Sy
         }
         it->initial = init.value;
     }
-    scene::Body as_body{"carrier", *c.mass, {}, {}, {}, c.pos, {}, {}};
-    carrier.mass = parse_mass(symbols, as_body, model);
-    carrier.inertia = parse_inertia(symbols, c.inertia, c.pos, "the carrier's inertia");
-    carrier.center = parse_vector(symbols, c.center, unsigned(SymbolKind::parameter), "the carrier's mass centre");
-    // The applied loads may depend on the whole motion (a damper, a motor law).
-    const unsigned loads = phase;
-    if (forces.resultant) carrier.resultant = parse_vector(symbols, *forces.resultant, loads, "the resultant force");
-    if (forces.moment) carrier.moment = parse_vector(symbols, *forces.moment, loads, "the resultant moment");
+    add_carrier_mass_and_loads(c, forces, symbols, model, carrier);
     model.carrier = std::move(carrier);
 }
 
@@ -543,6 +552,7 @@ Model build_model(const scene::Scene& scene) {
             carrier.angular_velocity =
                 parse_vector(symbols, c.angular_velocity, time_and_parameters, "the carrier's angular velocity");
             carrier.pole_velocity = parse_vector(symbols, c.pole_velocity, time_and_parameters, "the carrier's pole velocity");
+            add_carrier_mass_and_loads(c, scene.forces, symbols, model, carrier);
             model.carrier = std::move(carrier);
         }
     }

@@ -68,10 +68,10 @@ struct Carrier {
     Vec3 angular_velocity;
     Vec3 pole_velocity;
     bool free = false;
-    GiNaC::ex mass = 0;                             // a free carrier's own mass,
+    GiNaC::ex mass = 0;                             // the carrier's own mass (0: none given),
     GiNaC::matrix inertia = GiNaC::matrix(3, 3);    // its inertia about o,
     Vec3 center{0, 0, 0};                           // its mass centre (carrier axes)
-    Vec3 resultant{0, 0, 0}, moment{0, 0, 0};       // external force on the system, moment about o
+    Vec3 resultant{0, 0, 0}, moment{0, 0, 0};       // given external force on the system, moment about o
 };
 
 // Equations given directly (scene [newtonian]), one per coordinate in declaration order:

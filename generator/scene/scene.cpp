@@ -460,18 +460,18 @@ private:
         const toml::node* v = t.get("pole_velocity");
         c.pole_velocity = v ? read_vec3(*v, "carrier.pole_velocity") : zero_vec3(c.pos);
         const bool free = c.motion == "free";
-        // The mass distribution and initial quasi-velocities mean something only for a free carrier.
-        for (const char* key : {"mass", "inertia", "center", "initial"}) {
-            if (const toml::node* n = t.get(key); n && !free)
-                fail(at(*n), fmt::format("'carrier.{}' is given only for a free carrier (motion = \"free\"); a "
-                                         "prescribed carrier's motion does not depend on its mass",
-                                         key));
-        }
+        // The initial quasi-velocities mean something only for a free carrier. Its mass distribution
+        // is required there; a prescribed carrier may give it, for the forces that hold it.
+        if (const toml::node* n = t.get("initial"); n && !free)
+            fail(at(*n), "'carrier.initial' is given only for a free carrier (motion = \"free\"); a prescribed "
+                         "carrier has no unknown velocities");
+        if (free) c.mass = read_expr(require(t, "mass", "a free [carrier]"), "carrier.mass");
+        else if (const toml::node* m = t.get("mass")) c.mass = read_expr(*m, "carrier.mass");
+        if (free) c.inertia = read_inertia(require(t, "inertia", "a free [carrier]"), "carrier.inertia");
+        else if (const toml::node* in = t.get("inertia")) c.inertia = read_inertia(*in, "carrier.inertia");
+        const toml::node* center = t.get("center");
+        c.center = center ? read_vec3(*center, "carrier.center") : zero_vec3(c.pos);
         if (free) {
-            c.mass = read_expr(require(t, "mass", "a free [carrier]"), "carrier.mass");
-            c.inertia = read_inertia(require(t, "inertia", "a free [carrier]"), "carrier.inertia");
-            const toml::node* center = t.get("center");
-            c.center = center ? read_vec3(*center, "carrier.center") : zero_vec3(c.pos);
             if (const toml::node* initial = t.get("initial")) {
                 for (const auto& [key, value] : entries(as_table(*initial, "carrier.initial")))
                     c.initial.push_back(
@@ -602,15 +602,14 @@ private:
         const toml::table& t = as_table(*node, "forces");
         check_keys(t, {"potential", "generalized", "resultant", "moment"}, "in [forces]");
         if (const toml::node* v = t.get("potential")) s.forces.potential = read_expr(*v, "forces.potential");
-        const bool free = s.carrier && s.carrier->motion == "free";
         for (const auto& [key, target, where] :
              {std::tuple{"resultant", &s.forces.resultant, &s.forces.resultant_pos},
               std::tuple{"moment", &s.forces.moment, &s.forces.moment_pos}}) {
             const toml::node* n = t.get(key);
             if (!n) continue;
-            if (!free)
-                fail(at(*n), fmt::format("'forces.{}' acts on a free carrier's system; this scene has no [carrier] "
-                                         "with motion = \"free\" (use [forces] potential or generalized)",
+            if (!s.carrier)
+                fail(at(*n), fmt::format("'forces.{}' acts on a carrier's system; this scene has no [carrier] "
+                                         "(use [forces] potential or generalized)",
                                          key));
             *target = read_vec3(*n, std::string("forces.") + key);
             *where = at(*n);

@@ -54,7 +54,8 @@ struct Carrier {
     // quasi-velocity) or "0" (held at zero by the constraints).
     Vec3 angular_velocity;  // ω in carrier axes
     Vec3 pole_velocity;     // v_o in carrier axes
-    // A free carrier's own mass distribution: mass, inertia about o (3 principal moments or
+    // The carrier's own mass distribution (required for a free carrier, optional for a prescribed
+    // one, whose holding forces it enters): mass, inertia about o (3 principal moments or
     // 9 entries, row-major; empty when not given), mass centre in carrier axes.
     std::optional<Expr> mass;
     std::vector<Expr> inertia;

@@ -168,7 +168,9 @@ BOOST_AUTO_TEST_CASE(run_does_the_whole_job_on_the_default_scene) {
     BOOST_TEST(r.out.find("centrifugal") != std::string::npos);
     BOOST_TEST(fs::exists(dir / "disk_tube_ball.hpp"));
     const std::string csv = slurp(dir / "disk_tube_ball.csv");
-    BOOST_TEST(csv.rfind("t,q,q_dot,energy\n", 0) == 0u);
+    BOOST_TEST(csv.rfind("t,q,q_dot,energy,holding_force_1,holding_force_2,holding_force_3,holding_moment_1,"
+                          "holding_moment_2,holding_moment_3\n",
+                          0) == 0u);
     BOOST_TEST(files_in(dir) == 3u);  // header, CSV, cache
 }
 

@@ -260,11 +260,12 @@ BOOST_AUTO_TEST_CASE(csv_has_header_and_one_row_per_accepted_step) {
         const SimulationResult r = simulate(req);
         const auto lines = read_lines(csv);
         BOOST_REQUIRE(lines.size() >= 2u);
-        BOOST_TEST(lines[0] == "t,q,q_dot,energy");
+        BOOST_TEST(lines[0] == "t,q,q_dot,energy,holding_force_1,holding_force_2,holding_force_3,holding_moment_1,"
+                               "holding_moment_2,holding_moment_3");
         BOOST_TEST(lines.size() - 1 == r.steps + 1);  // t = 0 and every accepted step
         BOOST_TEST(r.csv_rows == r.steps + 1);
         const auto first = test_support::csv_numbers(lines[1]), last = test_support::csv_numbers(lines.back());
-        BOOST_REQUIRE(first.size() == 4u);
+        BOOST_REQUIRE(first.size() == 10u);  // t, q, q_dot, energy and the six holding outputs
         BOOST_TEST(first[0] == 0.0);
         BOOST_TEST(first[1] == 0.1);
         BOOST_TEST(first[2] == 0.0);

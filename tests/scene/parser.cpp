@@ -357,8 +357,13 @@ BOOST_AUTO_TEST_CASE(free_carrier_needs_its_mass_and_takes_inertia_as_moments_or
     BOOST_TEST(s.carrier->inertia[8].text == "3");
     BOOST_REQUIRE(s.carrier->initial.size() == 1u);
     BOOST_TEST(s.carrier->initial[0].value == 1.5);
-    // A prescribed carrier has no mass to give.
-    expect_error("[scene]\nname = \"f\"\n[coordinates]\nq = {}\n[carrier]\nmass = \"2\"\n" + body, 6, 8,
+    // A prescribed carrier may give its mass (for the forces that hold it), never initial quasi-velocities.
+    const Scene prescribed =
+        parse_scene_string("[scene]\nname = \"f\"\n[coordinates]\nq = {}\n[carrier]\nmass = \"2\"\n" + body, "t.toml");
+    BOOST_REQUIRE(prescribed.carrier->mass.has_value());
+    BOOST_TEST(prescribed.carrier->mass->text == "2");
+    BOOST_TEST(prescribed.carrier->inertia.empty());
+    expect_error("[scene]\nname = \"f\"\n[coordinates]\nq = {}\n[carrier]\n[carrier.initial]\nw = 1\n" + body, 6, 1,
                  "only for a free carrier");
 }
 

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 
+#include "mechanics/kinematics/operators.hpp"
 #include "mechanics/kinematics/rotations.hpp"
+#include "symbolic/differentiation.hpp"
 
 namespace eomc::mechanics {
 
@@ -74,14 +76,54 @@ EnergySplit split_kinetic_energy(const model::Model& model, const CarrierMotion&
         split.T_m += k.mass * dot(transport, k.r_dot);
         split.T_r += k.mass * dot(k.r_dot, k.r_dot) / 2;
     }
-    if (model.free_carrier()) {
-        // The carrier's own energy does not depend on q̇: it belongs to T_e.
-        const auto& c = *model.carrier;
-        const Vec3 Jw = times(c.inertia, carrier.omega);
-        split.T_e += c.mass * dot(carrier.v_o, carrier.v_o) / 2 + c.mass * dot(carrier.v_o, cross(carrier.omega, c.center)) +
-                     dot(carrier.omega, Jw) / 2;
-    }
+    // The carrier's own energy does not depend on q̇: it belongs to T_e. A prescribed carrier's is
+    // a function of t alone and stays out of the Lagrangian (and its energy integrals).
+    if (model.free_carrier()) split.T_e += carrier_own_energy(model, carrier);
     return split;
+}
+
+ex carrier_own_energy(const model::Model& model, const CarrierMotion& carrier) {
+    if (!model.carrier) return 0;
+    const auto& c = *model.carrier;
+    const Vec3 Jw = times(c.inertia, carrier.omega);
+    return c.mass * dot(carrier.v_o, carrier.v_o) / 2 + c.mass * dot(carrier.v_o, cross(carrier.omega, c.center)) +
+           dot(carrier.omega, Jw) / 2;
+}
+
+CarrierMomenta carrier_momenta(const model::Model& model) {
+    const auto& c = *model.carrier;
+    const GiNaC::symbol V[3] = {GiNaC::symbol("V_1"), GiNaC::symbol("V_2"), GiNaC::symbol("V_3")};
+    const GiNaC::symbol W[3] = {GiNaC::symbol("W_1"), GiNaC::symbol("W_2"), GiNaC::symbol("W_3")};
+    model::Model placeholder = model;
+    placeholder.carrier->pole_velocity = {V[0], V[1], V[2]};
+    placeholder.carrier->angular_velocity = {W[0], W[1], W[2]};
+    const CarrierMotion free_motion = carrier_motion(placeholder);
+    const EnergySplit split = split_kinetic_energy(placeholder, free_motion, particle_kinematics(placeholder));
+    ex T = split.T_e + split.T_m + split.T_r;
+    if (!model.free_carrier()) T += carrier_own_energy(placeholder, free_motion);  // a free carrier's is in T_e
+    GiNaC::exmap actual;
+    for (int i = 0; i < 3; ++i) {
+        actual[V[i]] = c.pole_velocity[std::size_t(i)];
+        actual[W[i]] = c.angular_velocity[std::size_t(i)];
+    }
+    CarrierMomenta out;
+    for (int i = 0; i < 3; ++i) {
+        out.P[std::size_t(i)] = derivative(T, V[i]).subs(actual);
+        out.K[std::size_t(i)] = derivative(T, W[i]).subs(actual);
+    }
+    return out;
+}
+
+CarrierBalance carrier_balance(const model::Model& model, const CarrierMomenta& momenta) {
+    const Vec3& w = model.carrier->angular_velocity;
+    const Vec3& v = model.carrier->pole_velocity;
+    const Vec3 turning = cross(w, momenta.P), turning_K = cross(w, momenta.K) + cross(v, momenta.P);
+    CarrierBalance out;
+    for (std::size_t i = 0; i < 3; ++i) {
+        out.force[i] = total_derivative(model, momenta.P[i]) + turning[i];
+        out.moment[i] = total_derivative(model, momenta.K[i]) + turning_K[i];
+    }
+    return out;
 }
 
 EnergySplit split_kinetic_energy(const model::Model& model) {

@@ -59,4 +59,27 @@ EnergySplit split_kinetic_energy(const model::Model& model, const CarrierMotion&
                                  const std::vector<ParticleKinematics>& particles);
 EnergySplit split_kinetic_energy(const model::Model& model);
 
+// The carrier's own kinetic energy ½ M v_o² + M v_o · (ω × ρ_C) + ½ ωᵀ J ω (J about o, ρ_C its
+// mass centre); zero when the model gives the carrier no mass or inertia (Mei, (1.1.13)).
+GiNaC::ex carrier_own_energy(const model::Model& model, const CarrierMotion& carrier);
+
+// The whole system's momentum P = ∂T/∂v_o and angular momentum about o K = ∂T/∂ω (Mei,
+// (1.1.14)–(1.1.15)), T the carried bodies' and the carrier's own kinetic energy: the derivatives
+// are taken with every component of v_o and ω a free placeholder, then evaluated on the model's
+// own v_o and ω (quasi-velocities, 0 for a held component, or the prescribed functions of t), so
+// that a held or prescribed component still has its momentum.
+struct CarrierMomenta {
+    Vec3 P, K;
+};
+CarrierMomenta carrier_momenta(const model::Model& model);
+
+// The inertial sides of the balance equations in carrier axes (Mei, (1.1.14)–(1.1.15)):
+// force = dP/dt + ω × P, moment = dK/dt + ω × K + v_o × P, d/dt the total derivative along the
+// motion (t, q, q̇ → q̈, quasi-velocities → their rates). They equal the external resultant V
+// (1.1.17) and its moment m⁰ about o (1.1.24) on the carrier and everything it carries.
+struct CarrierBalance {
+    Vec3 force, moment;
+};
+CarrierBalance carrier_balance(const model::Model& model, const CarrierMomenta& momenta);
+
 }  // namespace eomc::mechanics
