@@ -30,6 +30,18 @@ void StageClock::print(std::ostream& out) const {
 
 namespace {
 
+// The state-transition matrix Φ follows the flow of ẋ = F(t, x); a projection after every step
+// moves the state off that flow, and Φ does not follow it.
+void check_variational(const mechanics::Equations& eqs, const FrontEndOptions& options) {
+    if (!options.variational) return;
+    for (const auto& row : eqs.constraints)
+        if (row.stabilization == mechanics::Stabilization::project)
+            throw InputError(row.pos, fmt::format("--variational cannot follow the projection onto [[constraint]] '{}' "
+                                                  "after every step; give it stabilize = \"none\" or Baumgarte's "
+                                                  "{{ alpha = …, beta = … }} for the state-transition matrix",
+                                                  row.name));
+}
+
 // What an orbit formulation cannot be combined with (its registry entry's traits).
 void check_formulation_options(const model::Model& model, const FrontEndOptions& options) {
     if (!model.orbit) return;
@@ -60,6 +72,7 @@ Pipeline front_end(const std::string& scene_path, const FrontEndOptions& options
     if (clock) clock->lap("parse");
     p.equations = mechanics::derive(p.model);
     check_formulation_options(p.model, options);
+    check_variational(p.equations, options);
     if (options.hamiltonian || p.model.hamiltonian) p.canonical = mechanics::canonical_equations(p.model, p.equations);
     if (clock) clock->lap("derive");
     return p;

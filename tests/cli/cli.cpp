@@ -146,7 +146,8 @@ BOOST_AUTO_TEST_CASE(derive_json_is_parseable_and_holds_the_seed_equation) {
 
 BOOST_AUTO_TEST_CASE(derive_latex_compiles_with_pdflatex) {
     const fs::path dir = scratch("latex");
-    for (const char* scene : {"disk_tube_ball", "foucault_pendulum", "double_pendulum"}) {
+    for (const char* scene : {"disk_tube_ball", "foucault_pendulum", "double_pendulum", "pendulum_cartesian",
+                              "chaplygin_sleigh"}) {
         const fs::path tex = dir / (std::string(scene) + ".tex");
         const Result r = run("derive " + (fs::path(EOMC_SOURCE_DIR) / "scenes" / (std::string(scene) + ".toml")).string() +
                                  " --format latex -o " + tex.string(), dir);
@@ -156,6 +157,19 @@ BOOST_AUTO_TEST_CASE(derive_latex_compiles_with_pdflatex) {
         BOOST_TEST(std::system(command.c_str()) == 0, "pdflatex failed on " << scene << ", see " << dir);
         BOOST_TEST(fs::exists(dir / (std::string(scene) + ".pdf")));
     }
+}
+
+// A constrained scene: the commands that cannot carry the rows refuse them at the row's place.
+BOOST_AUTO_TEST_CASE(commands_that_cannot_carry_constraints_refuse_them) {
+    const fs::path dir = scratch("constraints");
+    const std::string scene = (fs::path(EOMC_SOURCE_DIR) / "scenes/pendulum_cartesian.toml").string();
+    for (const char* command : {"derive --hamiltonian", "inverse", "equilibria", "generate --variational -o ."}) {
+        const Result r = run(std::string(command) + " " + scene, dir);
+        BOOST_TEST(r.status == 2, command);
+        BOOST_TEST(r.err.find("pendulum_cartesian.toml:25:14: error:") != std::string::npos, command << ": " << r.err);
+        BOOST_TEST(r.err.find("'rod'") != std::string::npos, command << ": " << r.err);
+    }
+    BOOST_TEST(!fs::exists(dir / "pendulum_cartesian.hpp"));
 }
 
 BOOST_AUTO_TEST_CASE(run_does_the_whole_job_on_the_default_scene) {
