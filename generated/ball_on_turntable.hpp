@@ -131,7 +131,7 @@ struct BallOnTurntable {
         out[0] = Omega*m*(Omega*x_ + S(2)*y_dot);
         out[1] = Omega*m*(Omega*y - S(2)*x_dot);
         out[2] = -S(2)/S(5)*m*theta_dot*w0*(-phi_dot*w1*w6 + phi_dot*w1*w5*w6 + phi_dot*w1*w3*w6 + w4*w6*w9 - w2*w6*w8 + S(2)*Omega*w1*w6*(S(-1) + w3 + w5) - w1*w7);
-        out[3] = S(2)/S(5)*m*w0*(phi_dot*w4*w6*w9 - Omega*w2*w6*w8 + Omega*phi_dot*w1*w5*w6 - w1*w10*w6 - Omega*w1*w7 + Omega*w4*w6*w9 + Omega*phi_dot*w1*w3*w6 - phi_dot*w1*w7 + w1*w10*w5*w6 - phi_dot*w2*w6*w8 + w1*w10*w3*w6 - Omega*phi_dot*w1*w6);
+        out[3] = -S(2)/S(5)*m*w0*(-Omega*w4*w6*w9 - Omega*phi_dot*w1*w3*w6 - w1*w10*w5*w6 - w1*w10*w3*w6 + Omega*w2*w6*w8 - phi_dot*w4*w6*w9 + w1*w10*w6 + phi_dot*w1*w7 + Omega*w1*w7 + Omega*phi_dot*w1*w6 - Omega*phi_dot*w1*w5*w6 + phi_dot*w2*w6*w8);
         out[4] = S(2)/S(5)*m*theta_dot*w0*w1*(Omega + phi_dot);
     }
 
@@ -181,7 +181,7 @@ struct BallOnTurntable {
         const S w11 = phi_dot*w2*w4 + theta_dot*w9;
         const S w12 = w6*w6;
         const S w13 = w9*w9;
-        out[0] = -S(1)/S(10)*m*(S(2)*w1*w11*w11 + S(10)*x_dot*(Omega*y - x_dot) + S(4)*Omega*w1*w11*w2*w4 + S(5)*w0*(x_*x_ + y*y) + S(2)*w1*w8*w8 - S(10)*Omega*(-x_*y_dot + x_dot*y) + S(5)*x_dot*x_dot + S(4)*phi_dot*w1*(-w6*w8 - w11*w2*w4 + w10*w2*w9 - Omega*w13*w3 - Omega*w3*w5 - Omega*w12) - S(10)*y_dot*(y_dot + Omega*x_) + S(2)*w0*w1*w12 + S(5)*y_dot*y_dot + S(2)*w0*w1*w3*w5 + S(2)*w1*w10*w10 + S(2)*w0*w1*w13*w3 - S(4)*theta_dot*w1*(w11*w9 + w10*w4) + S(4)*Omega*w1*w6*w8 - S(4)*Omega*w1*w10*w2*w9 - S(4)*psi_dot*w1*(psi_dot + w7 + Omega*w6));
+        out[0] = S(1)/S(10)*m*(-S(5)*w0*(x_*x_ + y*y) - S(4)*Omega*w1*w11*w2*w4 + S(10)*y_dot*(y_dot + Omega*x_) + S(4)*theta_dot*w1*(w11*w9 + w10*w4) - S(2)*w1*w10*w10 + S(4)*Omega*w1*w10*w2*w9 - S(4)*phi_dot*w1*(-w6*w8 - w11*w2*w4 + w10*w2*w9 - Omega*w13*w3 - Omega*w3*w5 - Omega*w12) - S(2)*w0*w1*w12 - S(2)*w0*w1*w3*w5 - S(10)*x_dot*(Omega*y - x_dot) - S(5)*x_dot*x_dot - S(4)*Omega*w1*w6*w8 - S(5)*y_dot*y_dot - S(2)*w1*w11*w11 - S(2)*w0*w1*w13*w3 - S(2)*w1*w8*w8 + S(10)*Omega*(-x_*y_dot + x_dot*y) + S(4)*psi_dot*w1*(psi_dot + w7 + Omega*w6));
     }
 
     // Quantities written beside the state (functions of t, x and u̇), in output_names order.
@@ -238,11 +238,11 @@ struct BallOnTurntable {
         const S w20 = w9*w9;
         const S w21 = r*r;
         out[0] = m*(x_ddot - Omega*(w0 + y_dot) - w1);
-        out[1] = m*(w2 + y_ddot + Omega*(x_dot - w3));
+        out[1] = m*(w2 + y_ddot - Omega*(w3 - x_dot));
         out[2] = S(0);
-        out[3] = S(1)/S(5)*m*r*(-S(5)*w2 - S(2)*phi_dot*r*(-Omega*w12*w5*w8 - Omega*w4*w5*w6 + w12*w13 + Omega*w10*w5*w9 + w10*w11 - w14*w4*w5) - S(2)*r*theta_ddot*(w16*w8 - w15*w9) + Omega*(-S(5)*x_dot - S(2)*r*w12*w13 - S(2)*Omega*r*w10*w5*w9 + S(2)*r*w14*w4*w5 - S(2)*r*w10*w11 + S(2)*Omega*r*w4*w5*w6 + S(5)*w3 + S(2)*Omega*r*w12*w5*w8) + S(2)*psi_ddot*r*w5*w7 - S(2)*phi_ddot*r*w5*(w16*w9 + w15*w8 - w6*w7) - S(5)*y_ddot - S(2)*r*theta_dot*(phi_dot*w15*w6*w8 - w11*w5*w7*w9 - Omega*w17*w20*w7 - w14*w6*w7 - Omega*w19*w7 + phi_dot*w17*w7 + phi_dot*w16*w6*w9 + Omega*w16*w6*w9 + w13*w5*w7*w8 - Omega*w17*w18*w7 + Omega*w15*w6*w8 + Omega*w17*w7));
+        out[3] = -S(1)/S(5)*m*r*(-S(2)*r*theta_ddot*(-w16*w8 + w15*w9) - S(2)*r*theta_dot*(Omega*w17*w20*w7 + w14*w6*w7 + Omega*w17*w18*w7 - phi_dot*w16*w6*w9 - w13*w5*w7*w8 - phi_dot*w17*w7 + w11*w5*w7*w9 - Omega*w16*w6*w9 + Omega*w19*w7 - Omega*w15*w6*w8 - Omega*w17*w7 - phi_dot*w15*w6*w8) + S(5)*y_ddot + Omega*(-S(2)*r*w14*w4*w5 - S(2)*Omega*r*w4*w5*w6 + S(2)*Omega*r*w10*w5*w9 + S(2)*r*w10*w11 + S(5)*x_dot + S(2)*r*w12*w13 - S(2)*Omega*r*w12*w5*w8 - S(5)*w3) + S(2)*phi_ddot*r*w5*(w16*w9 + w15*w8 - w6*w7) + S(5)*w2 - S(2)*psi_ddot*r*w5*w7 - S(2)*phi_dot*r*(-w10*w11 + Omega*w12*w5*w8 - w12*w13 + Omega*w4*w5*w6 - Omega*w10*w5*w9 + w14*w4*w5));
         out[4] = S(1)/S(5)*m*r*(-S(2)*phi_ddot*r*w5*(w4*w6 - w10*w9 + w12*w8) + S(5)*x_ddot - S(5)*w1 - S(2)*phi_dot*r*(-Omega*w5*w6*w7 + Omega*w16*w5*w9 + w11*w16 - w13*w15 - w14*w5*w7 + Omega*w15*w5*w8) - S(2)*psi_ddot*r*w4*w5 - Omega*(S(2)*Omega*r*w15*w5*w8 + S(2)*Omega*r*w16*w5*w9 + S(5)*y_dot + S(5)*w0 - S(2)*Omega*r*w5*w6*w7 + S(2)*r*w11*w16 - S(2)*r*w13*w15 - S(2)*r*w14*w5*w7) + S(2)*r*theta_ddot*(w12*w9 + w10*w8) + S(2)*r*theta_dot*(-w11*w4*w5*w9 - Omega*w19*w4 - Omega*w17*w18*w4 - Omega*w12*w6*w8 + phi_dot*w17*w4 + Omega*w17*w4 - w14*w4*w6 + w13*w4*w5*w8 - phi_dot*w12*w6*w8 + Omega*w10*w6*w9 + phi_dot*w10*w6*w9 - Omega*w17*w20*w4));
-        out[5] = -S(1)/S(5)*m*(S(5)*y_dot*(x_dot - S(2)*w3) + S(5)*x_ddot*y - S(2)*phi_ddot*w21*(w19 + w17*w20 + w17*w18) - S(5)*x_dot*(y_dot + S(2)*w0) - S(2)*psi_ddot*w21*w6 - S(2)*theta_dot*w21*(S(2)*Omega*w20*w5*w6 - phi_dot*w5*w6 + w11*w6*w9 + phi_dot*w18*w5*w6 - S(2)*Omega*w5*w6 + phi_dot*w20*w5*w6 - w14*w5 + S(2)*Omega*w18*w5*w6 - w13*w6*w8) - S(5)*x_*y_ddot);
+        out[5] = -S(1)/S(5)*m*(S(5)*x_ddot*y - S(2)*phi_ddot*w21*(w19 + w17*w20 + w17*w18) - S(5)*x_dot*(y_dot + S(2)*w0) - S(2)*psi_ddot*w21*w6 - S(5)*x_*y_ddot - S(5)*y_dot*(-x_dot + S(2)*w3) + S(2)*theta_dot*w21*(phi_dot*w5*w6 + S(2)*Omega*w5*w6 - S(2)*Omega*w18*w5*w6 + w14*w5 + w13*w6*w8 - S(2)*Omega*w20*w5*w6 - w11*w6*w9 - phi_dot*w18*w5*w6 - phi_dot*w20*w5*w6));
     }
 
     // Bilateral constraint rows: M u̇ − Wᵀλ = f, W u̇ = −bias − stabilisation; λ is output as
@@ -346,7 +346,7 @@ struct BallOnTurntable {
         out_M[24] = S(2)/S(5)*m*w0;
         out_f[0] = Omega*m*(Omega*x_ + S(2)*y_dot);
         out_f[1] = Omega*m*(Omega*y - S(2)*x_dot);
-        out_f[2] = S(2)/S(5)*m*theta_dot*w0*(-w1*w11*w4 - phi_dot*w1*w2*w7 + w1*w10*w6 + phi_dot*w1*w2 - phi_dot*w1*w2*w5 - S(2)*Omega*w1*w2*(S(-1) + w5 + w7) + w2*w9);
+        out_f[2] = -S(2)/S(5)*m*theta_dot*w0*(phi_dot*w1*w2*w7 - w1*w10*w6 + S(2)*Omega*w1*w2*(S(-1) + w5 + w7) + phi_dot*w1*w2*w5 - phi_dot*w1*w2 + w1*w11*w4 - w2*w9);
         out_f[3] = S(2)/S(5)*m*w0*(-Omega*w2*w9 - Omega*w1*w10*w6 - w1*w12*w2 + w1*w12*w2*w5 - phi_dot*w2*w9 - Omega*phi_dot*w1*w2 + w1*w12*w2*w7 + Omega*phi_dot*w1*w2*w5 + phi_dot*w1*w11*w4 + Omega*phi_dot*w1*w2*w7 - phi_dot*w1*w10*w6 + Omega*w1*w11*w4);
         out_f[4] = S(2)/S(5)*m*theta_dot*w0*w2*(Omega + phi_dot);
         out_W[0] = S(1);
@@ -359,7 +359,7 @@ struct BallOnTurntable {
         out_W[7] = S(0);
         out_W[8] = r*w14;
         out_W[9] = r*w13*w2;
-        out_r[0] = r*(phi_dot*psi_dot*w13*w2 - psi_dot*theta_dot*w1*w14 + phi_dot*theta_dot*w14);
+        out_r[0] = -r*(psi_dot*theta_dot*w1*w14 - phi_dot*theta_dot*w14 - phi_dot*psi_dot*w13*w2);
         out_r[1] = -r*(-phi_dot*theta_dot*w13 + psi_dot*theta_dot*w1*w13 + phi_dot*psi_dot*w14*w2);
     }
 
@@ -417,7 +417,7 @@ struct BallOnTurntable {
         const S w0 = sin(phi);
         const S w1 = cos(phi);
         const S w2 = sin(theta);
-        const S w3 = x_dot + r*(psi_dot*w1*w2 - theta_dot*w0);
+        const S w3 = x_dot - r*(theta_dot*w0 - psi_dot*w1*w2);
         const S w4 = y_dot + r*(theta_dot*w1 + psi_dot*w0*w2);
         out[0] = w3;
         out[1] = w4;

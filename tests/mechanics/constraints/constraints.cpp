@@ -217,6 +217,12 @@ BOOST_AUTO_TEST_CASE(refusals) {
         BOOST_TEST(e.message().find("'rod' and 'rod2' are dependent") != std::string::npos, e.message());
         BOOST_TEST(eomc::to_string(e.where()) == "c.toml:21:14", eomc::to_string(e.where()));
     }
+    {  // a row undefined at the initial state (GiNaC throws at log(0)): refused, not a crash
+        const InputError e = error_of(exact_pendulum("x^2 + y^2 - l^2 + (x - 3)*log(x - 3)"));
+        BOOST_TEST(e.message().find("does not evaluate to a real number at the initial state") != std::string::npos,
+                   e.message());
+        BOOST_TEST(eomc::to_string(e.where()) == "c.toml:21:14", eomc::to_string(e.where()));
+    }
     {  // an unknown stabilize value
         const InputError e = error_of(exact_pendulum("x^2 + y^2 - l^2", "stabilize = \"projekt\"\n"));
         BOOST_TEST(e.message().find("unknown stabilize value 'projekt'") != std::string::npos, e.message());
