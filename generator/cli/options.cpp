@@ -102,18 +102,8 @@ void check_overrides_against_scene(const std::string& scene_path, const std::str
 
 namespace {
 
-// The runtime's integrators (eomc/runtime/registry.hpp) that satisfy `keep`, in the registry's
-// order, joined by `separator`: the --help texts list what the registry holds.
-template <class Keep>
-std::string integrators_where(Keep keep, std::string_view separator = ", ") {
-    std::string out;
-    for (const runtime::IntegratorInfo& info : runtime::integrator_infos)
-        if (keep(info)) {
-            if (!out.empty()) out += separator;
-            out += info.name;
-        }
-    return out;
-}
+// The --help texts list what the runtime's registry (eomc/runtime/registry.hpp) holds.
+using runtime::integrator_list;
 bool adaptive(const runtime::IntegratorInfo& info) { return !info.fixed_step(); }
 bool fixed_step(const runtime::IntegratorInfo& info) { return info.fixed_step(); }
 
@@ -135,14 +125,14 @@ void add_simulate_options(CLI::App* cmd, SimulateOptions& o) {
     cmd->add_option("--t-end", o.t_end, "final time (default: [simulate] t_end)")->check(decimal)->check(CLI::PositiveNumber);
     cmd->add_option("--integrator", o.integrator,
                     fmt::format("{} (default: [simulate] integrator; {} need a separable system)",
-                                integrators_where([](const auto&) { return true; }, " | "),
-                                integrators_where([](const auto& i) { return i.needs_separable; })))
+                                integrator_list(" | "),
+                                integrator_list([](const auto& i) { return i.needs_separable; })))
         ->check(CLI::IsMember(std::vector<std::string>(scene::integrator_names.begin(), scene::integrator_names.end())));
-    cmd->add_option("--rtol", o.rtol, fmt::format("relative tolerance ({})", integrators_where(adaptive)))
+    cmd->add_option("--rtol", o.rtol, fmt::format("relative tolerance ({})", integrator_list(adaptive)))
         ->check(decimal)->check(CLI::PositiveNumber);
-    cmd->add_option("--atol", o.atol, fmt::format("absolute tolerance ({})", integrators_where(adaptive)))
+    cmd->add_option("--atol", o.atol, fmt::format("absolute tolerance ({})", integrator_list(adaptive)))
         ->check(decimal)->check(CLI::PositiveNumber);
-    cmd->add_option("--step", o.step, fmt::format("step size ({})", integrators_where(fixed_step)))
+    cmd->add_option("--step", o.step, fmt::format("step size ({})", integrator_list(fixed_step)))
         ->check(decimal)->check(CLI::PositiveNumber);
     cmd->add_option("--compensated", o.compensated,
                     "on | off: compensated (Kahan) summation of the state update (default: [simulate] compensated, "
@@ -156,7 +146,7 @@ void add_simulate_options(CLI::App* cmd, SimulateOptions& o) {
                     fmt::format("the most steps the run may take (default: {} for the fixed-step methods, refused "
                                 "before the run when t_end/step is more; {} attempts for {})",
                                 host::SimulationRequest::default_max_fixed_steps, runtime::Limits{}.max_steps,
-                                integrators_where(adaptive, " and ")))
+                                integrator_list(adaptive, " and ")))
         ->check(CLI::PositiveNumber);
     cmd->add_option("--max-rows", o.max_rows,
                     fmt::format("the most rows the CSV may hold (default {}); a run that would write more leaves no CSV",

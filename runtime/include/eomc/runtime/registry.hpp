@@ -10,6 +10,7 @@
 // order is the stepper's.
 
 #include <array>
+#include <concepts>
 #include <cstddef>
 #include <stdexcept>
 #include <string>
@@ -145,14 +146,22 @@ constexpr const IntegratorInfo* find_integrator(std::string_view name) {
 
 constexpr bool is_integrator(std::string_view name) { return find_integrator(name) != nullptr; }
 
-// The names joined by `separator` ("rk4, dopri5, ..."), for messages and --help.
-inline std::string integrator_list(std::string_view separator = ", ") {
+// The names of the entries `keep` accepts, joined by `separator` ("rk4, dopri5, ..."), for
+// messages and --help.
+template <std::predicate<const IntegratorInfo&> Keep>
+std::string integrator_list(Keep keep, std::string_view separator = ", ") {
   std::string out;
-  for (std::string_view name : integrator_names) {
-    if (!out.empty()) out += separator;
-    out += name;
-  }
+  for (const IntegratorInfo& info : integrator_infos)
+    if (keep(info)) {
+      if (!out.empty()) out += separator;
+      out += info.name;
+    }
   return out;
+}
+
+// Every name, joined by `separator`.
+inline std::string integrator_list(std::string_view separator = ", ") {
+  return integrator_list([](const IntegratorInfo&) { return true; }, separator);
 }
 
 namespace detail {
