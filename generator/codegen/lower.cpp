@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "codegen/cpp_text.hpp"
 #include "codegen/kernel_ir.hpp"
 #include "symbolic/differentiation.hpp"
 
@@ -89,6 +90,25 @@ void lower_constraints(KernelIR& ir, const mechanics::FirstOrderForm& form, cons
     ir.mass_forcing_and_constraints = eliminate_common_subexpressions(all, prefix);
     ir.constraint_residuals = eliminate_common_subexpressions(residuals, prefix);
     ir.constraint_jacobian = eliminate_common_subexpressions(W, prefix);
+}
+
+}  // namespace
+
+namespace {
+
+// The state, invariant and output names are the CSV's columns and the summary's keys, so each
+// must be one quantity's: a coordinate the scene calls lambda_rod beside a constraint rod's
+// multiplier, or reaction_x beside a reaction, is refused rather than written twice.
+void require_distinct_columns(const KernelIR& ir) {
+    std::set<std::string> seen;
+    const auto add = [&](const std::string& name, const char* what) {
+        if (!seen.insert(name).second)
+            throw EmitError("the kernel would write two columns named '" + name + "' (the second is " + what +
+                            "); rename the scene's coordinate or constraint that takes this name");
+    };
+    for (const auto& s : ir.state) add(s.name, "a state variable");
+    for (const auto& n : ir.invariant_names) add(n, "an invariant");
+    for (const auto& n : ir.output_names) add(n, "an output");
 }
 
 }  // namespace
@@ -212,6 +232,7 @@ KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form,
                                            eliminate_common_subexpressions(r.reference, prefix)};
     }
     t.invariants = lap();
+    require_distinct_columns(ir);
     return ir;
 }
 

@@ -179,6 +179,21 @@ BOOST_AUTO_TEST_CASE(a_constant_double_cannot_hold_is_refused_at_generate) {
     BOOST_TEST(!fs::exists(dir / "out" / "tiny.hpp"));
 }
 
+// A coordinate named like a constraint's multiplier would be a second CSV column of that name.
+BOOST_AUTO_TEST_CASE(a_name_that_would_be_written_twice_is_refused_at_generate) {
+    const fs::path dir = scratch("columns");
+    const fs::path scene = write_file(dir / "clash.toml",
+                                 "[scene]\nname = \"clash\"\n[parameters]\nl = 1.0\n[coordinates]\n"
+                                 "lambda_rod = { initial = 1.0 }\ny = { initial = 0.0 }\n[lagrangian]\n"
+                                 "T = \"(lambda_rod_dot^2 + y_dot^2)/2\"\n[[constraint]]\nname = \"rod\"\n"
+                                 "holonomic = \"lambda_rod^2 + y^2 - l^2\"\n");
+    const Result r = run("generate " + sh_quoted(scene) + " -o " + sh_quoted(dir / "out"), dir);
+    BOOST_TEST(r.status == 2);
+    BOOST_TEST(r.err.find("clash.toml: error: ") != std::string::npos, r.err);
+    BOOST_TEST(r.err.find("two columns named 'lambda_rod'") != std::string::npos, r.err);
+    BOOST_TEST(!fs::exists(dir / "out" / "clash.hpp"));
+}
+
 // The plot script quotes the output directory in gnuplot's single quotes, which only a line
 // break can leave; the next line ran as a gnuplot command (`system`).
 BOOST_AUTO_TEST_CASE(a_bench_output_directory_with_a_line_break_is_refused) {
