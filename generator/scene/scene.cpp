@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <fstream>
 #include <initializer_list>
 #include <map>
@@ -903,15 +904,19 @@ private:
                 if (const toml::table* spec = st->as_table()) {
                     check_keys(*spec, {"alpha", "beta"}, "in '" + path + ".stabilize'");
                     c.stabilize = "baumgarte";
-                    c.alpha = read_number(require(*spec, "alpha", "'" + path + ".stabilize'"), path + ".stabilize.alpha");
-                    if (c.alpha < 0.0)
-                        fail(at(*spec->get("alpha")), fmt::format("'{}.stabilize.alpha' must not be negative, got {}",
-                                                                  path, number_text(*spec->get("alpha"))));
+                    // A rate constant: not negative, and a double the model's exact arithmetic and the
+                    // kernel can hold as 2α and β² (CLN has no subnormal floats; 1e150² is near the
+                    // largest double).
+                    const auto rate_constant = [&](const toml::node& n, const char* key) {
+                        const double v = read_number(n, path + ".stabilize." + key);
+                        if (v < 0.0 || (v != 0.0 && v < std::numeric_limits<double>::min()) || v > 1e150)
+                            fail(at(n), fmt::format("'{}.stabilize.{}' must be 0 or between 2.2e-308 and 1e150, got {}",
+                                                    path, key, number_text(n)));
+                        return v;
+                    };
+                    c.alpha = rate_constant(require(*spec, "alpha", "'" + path + ".stabilize'"), "alpha");
                     if (const toml::node* b = spec->get("beta")) {
-                        c.beta = read_number(*b, path + ".stabilize.beta");
-                        if (c.beta < 0.0)
-                            fail(at(*b), fmt::format("'{}.stabilize.beta' must not be negative, got {}", path,
-                                                     number_text(*b)));
+                        c.beta = rate_constant(*b, "beta");
                     } else if (c.holonomic) {
                         fail(at(*spec), fmt::format("missing required key 'beta' in '{}.stabilize': a holonomic row's "
                                                     "Baumgarte stabilisation needs alpha and beta",

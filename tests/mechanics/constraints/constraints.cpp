@@ -223,6 +223,14 @@ BOOST_AUTO_TEST_CASE(refusals) {
                    e.message());
         BOOST_TEST(eomc::to_string(e.where()) == "c.toml:21:14", eomc::to_string(e.where()));
     }
+    {  // Baumgarte constants a double cannot hold as 2α and β² (CLN has no subnormals): refused at the number
+        const InputError e = error_of(exact_pendulum("x^2 + y^2 - l^2", "stabilize = { alpha = 1e-310, beta = 1.0 }\n"));
+        BOOST_TEST(e.message().find("'constraint[0].stabilize.alpha' must be 0 or between") != std::string::npos,
+                   e.message());
+        BOOST_TEST(e.where().line == 22);
+        const InputError big = error_of(exact_pendulum("x^2 + y^2 - l^2", "stabilize = { alpha = 1.0, beta = 1e300 }\n"));
+        BOOST_TEST(big.message().find("stabilize.beta' must be 0 or between") != std::string::npos, big.message());
+    }
     {  // an unknown stabilize value
         const InputError e = error_of(exact_pendulum("x^2 + y^2 - l^2", "stabilize = \"projekt\"\n"));
         BOOST_TEST(e.message().find("unknown stabilize value 'projekt'") != std::string::npos, e.message());
