@@ -100,6 +100,10 @@ Commands declare_commands(CLI::App& app, Options& o) {
                         "an orbit scene in another formulation (" +
                             fmt::format("{}", fmt::join(scene::orbit_formulation_names, ", ")) +
                             "); the kernel's name gains _<formulation>");
+        cmd->add_option("--rigid-formulation", o.front.rigid_formulation,
+                        "a rigid-body scene in another formulation (" +
+                            fmt::format("{}", fmt::join(scene::rigid_formulation_names, ", ")) +
+                            "); the kernel's name gains _<formulation>");
     };
     auto variational_flag = [&](CLI::App* cmd, const char* what) { cmd->add_flag("--variational", o.front.variational, what); };
     const char* integrate_phi = "integrate the state-transition matrix Φ too (Φ(0) = I; CSV columns Phi_<i>_<j>)";
@@ -193,7 +197,7 @@ void simulate_command(const Pipeline& p, Options& o, bool whole_job) {
     const fs::path header_path = fs::path(o.out_dir) / (p.model.name + ".hpp");
     if (whole_job && o.simulate.output.empty()) o.simulate.output = (fs::path(o.out_dir) / (p.model.name + ".csv")).string();
     const host::SimulationRequest request = cli::simulation_request(p, header, o.simulate);
-    cli::check_overrides_against_scene(o.scene_path, o.front.orbit_formulation, o.simulate.overrides);
+    cli::check_overrides_against_scene(o.scene_path, o.front, o.simulate.overrides);
     host::check_separable(request.integrator, request.integrator_pos, ir.separable, ir.scene_name);
     if (whole_job) {
         report::print_derivation(p.model, p.equations, report::DerivationFormat::text, std::cout, canonical(p));

@@ -75,12 +75,14 @@ std::vector<std::pair<std::string, double>> parse_overrides(const std::vector<st
 // The scene's own checks on the values --set gives its parameters: a body's mass must stay
 // positive, and so must an orbit's μ and radius, as when the scene itself gives them. The scene
 // is built again with those values as its parameters' (only when --set names a parameter).
-void check_overrides_against_scene(const std::string& scene_path, const std::string& orbit_formulation,
+void check_overrides_against_scene(const std::string& scene_path, const host::FrontEndOptions& front,
                                    const std::vector<std::string>& items) {
     const auto overrides = parse_overrides(items);
     scene::Scene s = scene::parse_scene_file(scene_path);
-    if (!orbit_formulation.empty())
-        scene::set_orbit_formulation(s, orbit_formulation, SourcePos{"--orbit-formulation " + orbit_formulation});
+    if (!front.orbit_formulation.empty())
+        scene::set_orbit_formulation(s, front.orbit_formulation, SourcePos{"--orbit-formulation " + front.orbit_formulation});
+    if (!front.rigid_formulation.empty())
+        scene::set_rigid_formulation(s, front.rigid_formulation, SourcePos{"--rigid-formulation " + front.rigid_formulation});
     std::string given;
     for (std::size_t i = 0; i < overrides.size(); ++i)
         for (auto& parameter : s.parameters)

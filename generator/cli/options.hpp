@@ -26,7 +26,7 @@ double parse_decimal(std::string_view text, const SourcePos& where);
 std::vector<std::pair<std::string, double>> parse_overrides(const std::vector<std::string>& items);
 
 // The scene's own checks on the values --set gives its parameters.
-void check_overrides_against_scene(const std::string& scene_path, const std::string& orbit_formulation,
+void check_overrides_against_scene(const std::string& scene_path, const host::FrontEndOptions& front,
                                    const std::vector<std::string>& items);
 
 struct SimulateOptions {

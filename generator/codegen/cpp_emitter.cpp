@@ -572,12 +572,23 @@ std::string quaternion_renormalisation(const KernelIR& ir) {
                             k, k + 1, k + 2, k + 3);
         body += fmt::format("            for (int i = {}; i < {}; ++i) x[i] /= norm;\n        }}\n", k, k + 4);
     }
+    for (std::size_t k : ir.unit_vectors) {
+        body += fmt::format("        {{\n            const S norm = sqrt(x[{0}] * x[{0}] + x[{1}] * x[{1}] + x[{2}] * x[{2}]);\n",
+                            k, k + 1, k + 2);
+        body += fmt::format("            for (int i = {}; i < {}; ++i) x[i] /= norm;\n        }}\n", k, k + 3);
+    }
     return body;
 }
 
 std::string quaternion_projection(const KernelIR& ir) {
-    if (ir.unit_quaternions.empty()) return "";
+    if (ir.unit_quaternions.empty() && ir.unit_vectors.empty()) return "";
     const std::string body = "        (void)t;\n        (void)p;\n        using std::sqrt;\n" + quaternion_renormalisation(ir);
+    if (ir.unit_quaternions.empty())
+        return "\n    // Puts Poisson's vertical back on |γ| = 1, a Casimir of the equations that integration keeps only\n"
+               "    // to its error (the runtime calls it after every accepted step; Hairer, Lubich, Wanner,\n"
+               "    // Geometric Numerical Integration, 2nd ed., IV.4, standard projection).\n"
+               "    template <class S>\n    static void project(S t, S* x, const Parameters& p) {\n" +
+               body + "    }\n";
     return "\n    // Puts the attitude quaternion back on |e| = 1 (the runtime calls it after every accepted\n"
            "    // step). R(e)/|e|² is orthogonal for any |e|, so this only keeps e well scaled.\n"
            "    template <class S>\n    static void project(S t, S* x, const Parameters& p) {\n" +
@@ -657,9 +668,10 @@ std::string constraints_part(const KernelIR& ir) {
         "        constraint_residuals_(t, x, out, phi.data(), p);\n"
         "    }}\n",
         m, quoted_list(ir.constraint_names, "a constraint name"), holonomic, projected);
-    if (!projects && ir.unit_quaternions.empty()) return out;
+    if (!projects && ir.unit_quaternions.empty() && ir.unit_vectors.empty()) return out;
     std::string body;
-    if (!ir.unit_quaternions.empty()) body += "        using std::sqrt;\n" + quaternion_renormalisation(ir);
+    if (!ir.unit_quaternions.empty() || !ir.unit_vectors.empty())
+        body += "        using std::sqrt;\n" + quaternion_renormalisation(ir);
     if (projects)
         body +=
             "        eomc::runtime::project_onto_constraints(\n"

@@ -61,6 +61,7 @@ struct KernelIR {
     std::vector<std::string> output_names;
     bool separable = false;                  // q̈ = a(t, q): emit acceleration() for the splitting methods
     std::vector<std::size_t> unit_quaternions;  // first state index of each: emit project()
+    std::vector<std::size_t> unit_vectors;      // likewise for unit 3-vectors
     std::optional<RectificationIR> rectification;  // encke: emit project() that rectifies
 
     Block mass_matrix;       // n_velocities² outputs, row-major

@@ -137,6 +137,7 @@ KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form,
     ir.n_velocities = nu;
     ir.separable = form.separable;
     ir.unit_quaternions = form.unit_quaternions;
+    ir.unit_vectors = form.unit_vectors;
     for (const auto& c : form.state) {
         ir.state.push_back({c.name, c.symbol});
         ir.initial_state.push_back(c.initial);

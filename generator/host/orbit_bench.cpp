@@ -39,7 +39,10 @@ void add_orbit_formulations(BenchRequest& r, const std::string& scene_path, cons
     if (names.empty()) names.assign(scene::orbit_formulation_names.begin(), scene::orbit_formulation_names.end());
     for (const auto& name : names) scene::check_orbit_formulation(name, SourcePos{"--formulations"});
     const auto formulation = [&](const std::string& name) {
-        return front_end(scene_path, FrontEndOptions{.orbit_formulation = name, .flag = "--formulations"});
+        FrontEndOptions options;
+        options.orbit_formulation = name;
+        options.flag = "--formulations";
+        return front_end(scene_path, options);
     };
     const Pipeline cowell = formulation("cowell");
     r.header_text = kernel_header(cowell);

@@ -8,6 +8,7 @@
 #include "codegen/cpp_emitter.hpp"
 #include "mechanics/derive.hpp"
 #include "mechanics/orbit/formulation.hpp"
+#include "mechanics/rigid/formulation.hpp"
 #include "scene/scene.hpp"
 #include "support/diagnostic.hpp"
 
@@ -42,8 +43,25 @@ void check_variational(const mechanics::Equations& eqs, const FrontEndOptions& o
                                                   row.name));
 }
 
+// What a rigid-body formulation cannot be combined with (its registry entry's traits).
+void check_rigid_formulation_options(const model::Model& model, const FrontEndOptions& options) {
+    const mechanics::rigid::RigidFormulation& f = mechanics::rigid::rigid_formulation(model.rigid->formulation);
+    if ((options.hamiltonian || model.hamiltonian) && !f.hamiltonian)
+        throw InputError(model.rigid->formulation_pos,
+                         fmt::format("the {} formulation integrates its own equations ({}), not Hamilton's in (q, p); "
+                                     "use formulation = \"euler_angles\" (or andoyer_deprit, canonical already)",
+                                     f.name, f.summary));
+    if (options.variational && !f.variational)
+        throw InputError(model.rigid->formulation_pos,
+                         fmt::format("--variational cannot follow the {} formulation's projection onto |γ| = 1 or |e| = "
+                                     "1 after every step; use formulation = \"euler_angles\" or \"andoyer_deprit\" for "
+                                     "the state-transition matrix",
+                                     f.name));
+}
+
 // What an orbit formulation cannot be combined with (its registry entry's traits).
 void check_formulation_options(const model::Model& model, const FrontEndOptions& options) {
+    if (model.rigid) return check_rigid_formulation_options(model, options);
     if (!model.orbit) return;
     const mechanics::OrbitFormulation& f = mechanics::orbit_formulation(model.orbit->kind);
     if ((options.hamiltonian || model.hamiltonian) && !f.hamiltonian)
@@ -67,6 +85,9 @@ Pipeline front_end(const std::string& scene_path, const FrontEndOptions& options
     if (!options.orbit_formulation.empty())
         scene::set_orbit_formulation(scene, options.orbit_formulation,
                                      SourcePos{std::string(options.flag) + " " + options.orbit_formulation});
+    if (!options.rigid_formulation.empty())
+        scene::set_rigid_formulation(scene, options.rigid_formulation,
+                                     SourcePos{"--rigid-formulation " + options.rigid_formulation});
     Pipeline p{model::build_model(scene), {}, std::nullopt, options.variational};
     for (const auto& w : p.model.warnings) std::cerr << format_warning(w) << "\n";
     if (clock) clock->lap("parse");

@@ -38,6 +38,7 @@ struct Pipeline {
 struct FrontEndOptions {
     bool hamiltonian = false;        // --hamiltonian (or the scene's [formulation] kind)
     std::string orbit_formulation;   // --orbit-formulation; "" = the scene's own
+    std::string rigid_formulation;   // --rigid-formulation; "" = the scene's own
     bool variational = false;        // --variational
     const char* flag = "--orbit-formulation";  // the option that chose the formulation, for messages
 };

@@ -7,6 +7,7 @@
 #include "mechanics/orbit/formulation.hpp"
 #include "mechanics/orbit/invariants.hpp"
 #include "mechanics/relative/lagrange.hpp"
+#include "mechanics/rigid/euler_poisson.hpp"
 
 namespace eomc::mechanics {
 
@@ -45,6 +46,11 @@ Equations derive(const model::Model& model) {
             add_orbit_invariants(model, eqs);
             return eqs;
         }
+        case model::ModelKind::rigid:
+            // In Euler angles the body is a Lagrangian system like any other; the other formulations
+            // start from Euler's and Poisson's equations.
+            if (model.rigid->formulation == scene::RigidFormulationKind::euler_angles) return derive_lagrange(model);
+            return rigid::derive_rigid(model);
     }
     throw std::logic_error("derive: unknown model kind");
 }

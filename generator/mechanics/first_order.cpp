@@ -8,6 +8,7 @@
 #include "mechanics/inverse/inverse_problem.hpp"
 #include "mechanics/orbit/formulation.hpp"
 #include "mechanics/relative/holding_forces.hpp"
+#include "mechanics/rigid/formulation.hpp"
 #include "support/diagnostic.hpp"
 
 namespace eomc::mechanics {
@@ -81,6 +82,7 @@ FirstOrderForm first_order_form(const model::Model& model, const Equations& eqs)
         // An orbit scene's formulation decides what the kernel integrates; the equations derived
         // (Cowell's) are the same either way.
         case model::ModelKind::orbit: return orbit_formulation(model.orbit->kind).build(model, eqs);
+        case model::ModelKind::rigid: return rigid::rigid_formulation(model.rigid->formulation).build(model, eqs);
     }
     throw std::logic_error("first_order_form: unknown model kind");
 }

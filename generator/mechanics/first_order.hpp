@@ -82,6 +82,8 @@ struct FirstOrderForm {
     // First state index of each unit quaternion (a free carrier's attitude): the kernel's
     // project() puts it back on |e| = 1 after every step.
     std::vector<std::size_t> unit_quaternions;
+    // First state index of each unit 3-vector (Poisson's vertical γ): project() normalises it.
+    std::vector<std::size_t> unit_vectors;
     // Bilateral constraint rows on the velocity block (mechanics/constraints/rows.hpp): the kernel
     // solves M u̇ − Wᵀλ = f, W u̇ = −bias (− stabilisation), outputs λ, and its project() puts the
     // state back on the rows that ask for projection.

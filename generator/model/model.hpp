@@ -133,11 +133,35 @@ struct Orbit {
     GiNaC::ex r;                                 // √(x² + y² + z²)
 };
 
+// A heavy rigid body (or gyrostat) about a fixed point O ([rigid_body]; Mei, ch. 5), in body
+// axes: ω = (p, q, r), γ the upward vertical (|γ| = 1), gravity −P γ at the mass centre.
+// Every formulation (mechanics/rigid/formulation.hpp) writes its state through ω and γ, so
+// events and integrals are stated in p, q, r, gamma1..3 whatever the kernel integrates.
+struct RigidBody {
+    GiNaC::matrix inertia = GiNaC::matrix(3, 3);  // about O, body axes, symmetric
+    bool principal = true;                        // inertia diagonal (the body axes are principal)
+    Vec3 center{0, 0, 0};                         // r_c, body axes
+    GiNaC::ex weight = 0;                         // P = m g
+    Vec3 gyrostat{0, 0, 0};                       // k, the rotor's constant angular momentum, body axes
+    std::array<GiNaC::symbol, 3> omega;           // p, q, r
+    std::array<GiNaC::symbol, 3> omega_rate;      // p_dot, q_dot, r_dot
+    std::array<GiNaC::symbol, 3> gamma;           // gamma1, gamma2, gamma3
+    std::array<double, 3> omega0{0, 0, 0};        // ω(0)
+    std::array<double, 4> attitude0{1, 0, 0, 0};  // body → space unit quaternion at t = 0
+    std::array<double, 3> vertical0{0, 0, 1};     // γ(0) = R(0)ᵀ e_Z
+    scene::RigidFormulationKind formulation = scene::RigidFormulationKind::euler_poisson;
+    SourcePos formulation_pos, initial_pos, pos;
+
+    Vec3 omega_vector() const { return {omega[0], omega[1], omega[2]}; }
+    Vec3 gamma_vector() const { return {gamma[0], gamma[1], gamma[2]}; }
+};
+
 // What a scene describes, which decides the chapter that derives its equations (mechanics/derive).
 enum class ModelKind {
     energies,         // T and V: a [lagrangian] T, or carried particles and bodies (Mei, ch. 1)
     given_equations,  // [newtonian]: the equations themselves (the inverse problem, Mei, ch. 4)
     orbit,            // [orbit]: a perturbed Kepler motion (Mei, ch. 2)
+    rigid,            // [rigid_body]: a heavy rigid body about a fixed point (Mei, ch. 5)
 };
 
 struct Model {
@@ -169,11 +193,17 @@ struct Model {
     std::vector<Event> events;           // [events], in file order
     std::vector<Constraint> constraints; // [[constraint]], in file order
     std::optional<Orbit> orbit;          // an orbit scene: coordinates x, y, z, T and V built from [orbit]
+    // A rigid-body scene; in the euler_angles formulation the model also has the coordinates φ, θ,
+    // ψ and T, V in them (the Lagrangian chapter derives its equations).
+    std::optional<RigidBody> rigid;
     scene::Inverse inverse;
     std::vector<Warning> warnings;       // accepted but doubtful input, printed by the CLI
 
     ModelKind kind() const {
-        return newtonian ? ModelKind::given_equations : orbit ? ModelKind::orbit : ModelKind::energies;
+        return newtonian ? ModelKind::given_equations
+               : orbit   ? ModelKind::orbit
+               : rigid   ? ModelKind::rigid
+                         : ModelKind::energies;
     }
     bool keeps(Effect e) const { return keep[static_cast<int>(e)]; }
     bool free_carrier() const { return carrier && carrier->free; }

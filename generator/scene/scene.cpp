@@ -114,11 +114,12 @@ public:
         Scene s;
         check_keys(root_, {"scene", "parameters", "coordinates", "carrier", "body", "lagrangian", "forces",
                            "effects", "simulate", "events", "formulation", "reference", "newtonian", "inverse", "orbit",
-                           "constraint"},
+                           "constraint", "rigid_body"},
                    "at the top level");
         read_scene(s);
         read_parameters(s);
         read_orbit(s);
+        read_rigid_body(s);
         read_coordinates(s);
         check_name_clashes(s);
         read_carrier(s);
@@ -134,6 +135,7 @@ public:
         read_newtonian(s);
         read_inverse(s);
         check_orbit_structure();
+        check_rigid_structure();
         check_newtonian_structure();
         check_structure();
         return s;
@@ -374,6 +376,12 @@ private:
                                 "inertial x, y, z of the orbiting body");
             return;
         }
+        if (s.rigid_body) {
+            if (node)
+                fail(at(*node), "[coordinates] cannot be combined with [rigid_body]: a rigid body's state is its "
+                                "formulation's (ω and γ, a quaternion, Euler angles or Andoyer-Deprit variables)");
+            return;
+        }
         if (!node) fail(top(), "missing required table [coordinates]: the scene needs at least one coordinate");
         const toml::table& t = as_table(*node, "coordinates");
         if (t.empty()) fail(at(t), "[coordinates] declares no coordinate; the scene needs at least one");
@@ -428,9 +436,10 @@ private:
                                  lagrangian_later ? "[lagrangian]" : title, lagrangian_later ? title : "[lagrangian]",
                                  at(earlier).line));
             }
-        } else if (!body && !root_.get("newtonian") && !root_.get("orbit")) {
-            fail(top(), "the scene has neither [[body]] nor [lagrangian] nor [newtonian] nor [orbit]; give carried "
-                        "bodies, a lagrangian L = T - V, the equations of motion, or an orbit");
+        } else if (!body && !root_.get("newtonian") && !root_.get("orbit") && !root_.get("rigid_body")) {
+            fail(top(), "the scene has neither [[body]] nor [lagrangian] nor [newtonian] nor [orbit] nor [rigid_body]; "
+                        "give carried bodies, a lagrangian L = T - V, the equations of motion, an orbit or a rigid body "
+                        "about a fixed point");
         }
         if (effects && !carrier && !root_.get("orbit"))
             fail(at(*effects), "[effects] requires a [carrier] (inertial effects of a moving frame) or an [orbit] "
@@ -767,6 +776,88 @@ private:
         return el;
     }
 
+    // [rigid_body]: the body's inertia at O, mass centre, weight and optional gyrostatic moment as
+    // expressions of the parameters; ω(0), and γ(0) or a ZXZ attitude, as numbers.
+    void read_rigid_body(Scene& s) const {
+        const toml::node* node = root_.get("rigid_body");
+        if (!node) return;
+        const toml::table& t = as_table(*node, "rigid_body");
+        check_keys(t, {"inertia", "center", "weight", "gyrostatic_moment", "formulation", "initial"}, "in [rigid_body]");
+        RigidBody r;
+        r.pos = at(t);
+        const toml::node& inertia = require(t, "inertia", "[rigid_body]");
+        r.inertia = read_inertia(inertia, "rigid_body.inertia");
+        r.inertia_pos = at(inertia);
+        const toml::node* center = t.get("center");
+        r.center = center ? read_vec3(*center, "rigid_body.center") : zero_vec3(r.pos);
+        const toml::node* weight = t.get("weight");
+        r.weight = weight ? read_expr(*weight, "rigid_body.weight") : Expr{"0", r.pos};
+        if (const toml::node* k = t.get("gyrostatic_moment")) r.gyrostatic_moment = read_vec3(*k, "rigid_body.gyrostatic_moment");
+        r.formulation_pos = r.pos;
+        if (const toml::node* f = t.get("formulation")) {
+            r.formulation_pos = at(*f);
+            r.formulation = parse_rigid_formulation(read_string(*f, "rigid_body.formulation"), r.formulation_pos);
+        }
+        const toml::table& init = as_table(require(t, "initial", "[rigid_body]"), "rigid_body.initial");
+        check_keys(init, {"omega", "vertical", "attitude"}, "in 'rigid_body.initial'");
+        r.omega = read_numbers3(require(init, "omega", "'rigid_body.initial'"), "rigid_body.initial.omega");
+        const toml::node* vertical = init.get("vertical");
+        const toml::node* attitude = init.get("attitude");
+        if (vertical && attitude)
+            fail(at(*attitude), "'rigid_body.initial' gives both 'vertical' and 'attitude'; give one initial attitude");
+        if (!vertical && !attitude)
+            fail(at(init), "missing required key 'vertical' (γ(0), the upward vertical in body axes) or 'attitude' "
+                           "in 'rigid_body.initial'");
+        if (vertical) {
+            r.initial_pos = at(*vertical);
+            const auto g = read_numbers3(*vertical, "rigid_body.initial.vertical");
+            const double norm = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+            // A direction typed to the digits a scene shows (0.6, 0.48, 0.64): unit to 1e-9, the
+            // relative accuracy of ten significant digits; it is then normalised exactly.
+            if (!(std::abs(norm - 1.0) <= 1e-9))
+                fail(at(*vertical), fmt::format("'rigid_body.initial.vertical' is the unit upward vertical in body "
+                                                "axes; its length is {:.17g}, not 1",
+                                                norm));
+            r.vertical = std::array<double, 3>{g[0] / norm, g[1] / norm, g[2] / norm};
+        } else {
+            r.initial_pos = at(*attitude);
+            const toml::table& a = as_table(*attitude, "rigid_body.initial.attitude");
+            check_keys(a, {"zxz"}, "in 'rigid_body.initial.attitude'");
+            r.zxz = read_numbers3(require(a, "zxz", "'rigid_body.initial.attitude'"), "rigid_body.initial.attitude.zxz");
+        }
+        s.rigid_body = std::move(r);
+    }
+
+    std::array<double, 3> read_numbers3(const toml::node& n, const std::string& path) const {
+        const toml::array* a = n.as_array();
+        if (!a) fail(at(n), fmt::format("'{}': expected an array of 3 numbers, got {}", path, type_name(n)));
+        if (a->size() != 3) fail(at(n), fmt::format("'{}': expected 3 numbers, got {}", path, a->size()));
+        std::array<double, 3> v{};
+        for (std::size_t i = 0; i < 3; ++i) v[i] = read_number(*a->get(i), fmt::format("{}[{}]", path, i));
+        return v;
+    }
+
+    // A rigid-body scene describes its body by [rigid_body] alone.
+    void check_rigid_structure() const {
+        const toml::node* rigid = root_.get("rigid_body");
+        if (!rigid) return;
+        const std::pair<const char*, const char*> others[] = {
+            {"body", "[[body]]"},       {"lagrangian", "[lagrangian]"}, {"newtonian", "[newtonian]"},
+            {"carrier", "[carrier]"},   {"forces", "[forces]"},         {"reference", "[reference]"},
+            {"orbit", "[orbit]"},       {"effects", "[effects]"},       {"constraint", "[[constraint]]"},
+            {"formulation", "[formulation]"}};
+        for (const auto& [key, title] : others) {
+            const toml::node* other = root_.get(key);
+            if (!other) continue;
+            const bool rigid_later = before(at(*other), at(*rigid));
+            fail(at(rigid_later ? *rigid : *other),
+                 fmt::format("{} cannot be combined with {} (line {}); a rigid-body scene describes its body by "
+                             "[rigid_body], and its formulation by [rigid_body] formulation",
+                             rigid_later ? "[rigid_body]" : title, rigid_later ? title : "[rigid_body]",
+                             at(rigid_later ? *other : *rigid).line));
+        }
+    }
+
     // An orbit scene describes its body by [orbit] alone: no carried bodies, energies, equations or
     // forces beside it (perturbations go in [effects]).
     void check_orbit_structure() const {
@@ -1079,6 +1170,27 @@ void set_orbit_formulation(Scene& scene, const std::string& name, const SourcePo
     scene.name += "_" + name;
     scene.orbit->formulation = kind;
     scene.orbit->formulation_pos = where;
+}
+
+RigidFormulationKind parse_rigid_formulation(std::string_view name, const SourcePos& where) {
+    for (std::size_t k = 0; k < rigid_formulation_names.size(); ++k)
+        if (rigid_formulation_names[k] == name) return static_cast<RigidFormulationKind>(k);
+    const std::vector<std::string> names(rigid_formulation_names.begin(), rigid_formulation_names.end());
+    const std::string near = nearest_name(std::string(name), names);
+    throw InputError(where, fmt::format("unknown rigid-body formulation '{}'; {}", name,
+                                        near.empty() ? fmt::format("expected one of {}", fmt::join(names, ", "))
+                                                     : fmt::format("did you mean '{}'?", near)));
+}
+
+void set_rigid_formulation(Scene& scene, const std::string& name, const SourcePos& where) {
+    if (!scene.rigid_body)
+        throw InputError(where, fmt::format("{} has no [rigid_body]; only a rigid-body scene has a formulation to "
+                                            "choose",
+                                            scene.path.empty() ? "the scene" : scene.path));
+    const RigidFormulationKind kind = parse_rigid_formulation(name, where);
+    scene.name += "_" + name;
+    scene.rigid_body->formulation = kind;
+    scene.rigid_body->formulation_pos = where;
 }
 
 Scene parse_scene_string(std::string_view toml_text, const std::string& path) {

@@ -149,6 +149,31 @@ struct Orbit {
     SourcePos pos;                         // the [orbit] table
 };
 
+// The formulations of a rigid body's equations (Mei, ch. 5), each one kernel from the same scene:
+// what each one integrates is mechanics/rigid/formulation.hpp's registry.
+enum class RigidFormulationKind { euler_poisson, quaternion, euler_angles, andoyer_deprit };
+// Indexed by RigidFormulationKind.
+inline constexpr std::array<std::string_view, 4> rigid_formulation_names{"euler_poisson", "quaternion", "euler_angles",
+                                                                         "andoyer_deprit"};
+inline constexpr std::string_view name(RigidFormulationKind kind) {
+    return rigid_formulation_names[static_cast<std::size_t>(kind)];
+}
+
+// [rigid_body]: a heavy rigid body (or gyrostat) about a fixed point O (Mei, ch. 5). Body axes
+// are principal at O when `inertia` gives three moments; γ is the upward vertical in body axes.
+struct RigidBody {
+    std::vector<Expr> inertia;  // 3 principal moments, or 9 entries of a symmetric matrix (row-major)
+    Vec3 center;                // the mass centre in body axes
+    Expr weight;                // P = m g
+    std::optional<Vec3> gyrostatic_moment;  // k, body axes (a gyrostat's rotor; §5.6)
+    RigidFormulationKind formulation = RigidFormulationKind::euler_poisson;
+    SourcePos formulation_pos;
+    std::array<double, 3> omega{0, 0, 0};          // ω(0), body axes
+    std::optional<std::array<double, 3>> vertical;  // γ(0), unit (checked)
+    std::optional<std::array<double, 3>> zxz;       // attitude φ, θ, ψ (radians) instead of γ(0)
+    SourcePos inertia_pos, initial_pos, pos;        // the inertia value, the initial attitude value, the table
+};
+
 // The integrators `eomc simulate` offers: the runtime's catalogue (eomc/runtime/registry.hpp),
 // which says for each its kind, order and traits. Fixed-step ones take a step, adaptive ones
 // tolerances; the splitting methods need a separable kernel (q̈ = a(t, q)).
@@ -267,6 +292,7 @@ struct Scene {
     std::optional<Reference> reference;
     std::optional<Newtonian> newtonian;  // instead of [[body]] or [lagrangian]
     std::optional<Orbit> orbit;          // instead of [coordinates] and [[body]] / [lagrangian]
+    std::optional<RigidBody> rigid_body; // instead of [coordinates] and [[body]] / [lagrangian]
     Inverse inverse;
 };
 
@@ -285,6 +311,12 @@ void check_orbit_formulation(const std::string& name, const SourcePos& where);
 // struct, and the header's name follows from the flag alone. A scene without [orbit] is
 // refused at `where`.
 void set_orbit_formulation(Scene& scene, const std::string& name, const SourcePos& where);
+
+// The rigid-body formulation called `name`, as parse_orbit_formulation does for orbits.
+RigidFormulationKind parse_rigid_formulation(std::string_view name, const SourcePos& where);
+// `--rigid-formulation NAME`, as set_orbit_formulation: the scene's name gains "_NAME". A scene
+// without [rigid_body] is refused at `where`.
+void set_rigid_formulation(Scene& scene, const std::string& name, const SourcePos& where);
 
 // "disk_tube_ball" -> "DiskTubeBall"
 std::string struct_name(const std::string& scene_name);
