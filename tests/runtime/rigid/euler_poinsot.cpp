@@ -149,7 +149,7 @@ Comparison compare_with_rk4(const Case& c, long n) {
   const double err_q = quaternion_distance(exact.quaternion, qf);
   const double w_scale = norm3(c.w);
   const double period = body.period();
-  const double turns = std::isfinite(period) && period > 0 ? c.T / period * 8 : c.T * 10;
+  const double turns = std::isfinite(period) && period > 0 ? std::fabs(c.T) / period * 8 : std::fabs(c.T) * 10;
   const double round = 64 * eps * (1 + turns);
   const double tol_w = 2 * est_w + round * w_scale, tol_q = 2 * est_q + round;
   BOOST_TEST(err_w <= tol_w, "omega: error " << err_w << " > tolerance " << tol_w << " (I = " << c.I[0]
@@ -212,7 +212,7 @@ BOOST_AUTO_TEST_CASE(sncndn_matches_boost) {
 }
 
 // Random bodies (moments in [1, 10], any order) and initial states on both sides of the
-// separatrix, symmetric bodies (about the largest and the smallest moment), and the
+// separatrix (one of each integrated backwards), symmetric bodies (about the largest and the smallest moment), and the
 // near-separatrix wing nut, against RK4 over about 10 periods of omega.
 BOOST_AUTO_TEST_CASE(agrees_with_numerical_integration) {
   std::mt19937_64 rng(20260510);
@@ -239,6 +239,7 @@ BOOST_AUTO_TEST_CASE(agrees_with_numerical_integration) {
   for (Case& c : cases) {
     const auto body = rt::FreeRigidBody::from(c.I, c.w, c.q);
     c.T = std::min(10 * body.period(), 120.0);
+    if (&c == &cases[1] || &c == &cases[5]) c.T = -c.T;  // backwards in time, once on each side
     // 8000 and 16000 steps: h <= 0.015, RK4's error 1e-11..1e-9, far above the closed form's
     // rounding and small enough (nu h <= 0.05) that the h^4 term dominates.
     const long n = 8000;
@@ -319,6 +320,25 @@ BOOST_AUTO_TEST_CASE(axis_order_is_immaterial) {
     BOOST_TEST(std::fabs(sa.omega[2] - sb.omega[1]) <= 64 * eps * (1 + t));
     BOOST_TEST(std::fabs(sa.omega[0] - sb.omega[2]) <= 64 * eps * (1 + t));
     BOOST_TEST(quaternion_distance(rt::poinsot_detail::mul(sa.quaternion, pc), sb.quaternion) <= 64 * eps * (1 + t));
+  }
+}
+
+// omega is periodic with period(): after j periods it is back at omega0 up to the phase error
+// of tau = nu t + tau0, a few eps (1 + nu t) (see compare_with_rk4), times |omega'|/nu <= |omega|:
+// bound 16 eps (1 + nu t) |omega|, with nu t = 4 K j.
+BOOST_AUTO_TEST_CASE(omega_is_periodic) {
+  for (const auto& [I, w] : std::array<std::pair<V3, V3>, 3>{{{{2, 3, 5}, {0.4, 0, 0.8}},
+                                                                  {{2, 3, 5}, {0.9, 0.3, 0.1}},
+                                                                  {{6, 1, 4}, {0.2, 0.7, -0.3}}}}) {
+    const auto body = rt::FreeRigidBody::from(I, w, {1, 0, 0, 0});
+    const double T = body.period();
+    for (int j : {1, 10, 1000}) {
+      const auto s = body.at(j * T);
+      const double nut = 4 * 3.5 * j;  // 4 K j with K < 3.5 for these moduli
+      const double err = norm3({s.omega[0] - w[0], s.omega[1] - w[1], s.omega[2] - w[2]});
+      BOOST_TEST(err <= 16 * eps * (1 + nut) * norm3(w), "j = " << j << ": " << err);
+      BOOST_TEST_MESSAGE("periodic, j = " << j << ": " << err / (eps * norm3(w)) << " eps");
+    }
   }
 }
 

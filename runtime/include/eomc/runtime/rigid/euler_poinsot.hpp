@@ -48,10 +48,12 @@
 //   symmetric    I1 = I2 (the pole is the symmetry axis) is the case k = 0, n = 0 of the above:
 //                sn = sin, cn = cos, dn = 1, Pi = F = u: regular precession [LL Sect. 33].
 //
-// Accuracy (measured by tests/runtime/rigid): omega(t), the energy, |K| and the space-fixed K
-// to a few tens of ulps for any t (the attitude and the phase of omega to eps times the number of
-// periods elapsed, the conditioning of the time itself); against a converged numerical
-// integration to its error.
+// Accuracy (measured by tests/runtime/rigid/euler_poinsot.cpp): the energy, |K| and the
+// space-fixed K within 4.1 eps for any t up to 1e4 (bound asserted: 64 eps); omega(3) against
+// mpmath within 1 eps; the phase of omega (and the angle phi) to eps times the elapsed nu t, the
+// conditioning of the time itself (omega back at omega0 after 1000 periods: 2800 eps, 2.8 eps per
+// period); against RK4 error/estimate 0.93..1.04 over ten periods, i.e. exact to the integrator's
+// error. Double only.
 
 #include <algorithm>
 #include <array>
