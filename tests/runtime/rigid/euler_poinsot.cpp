@@ -3,20 +3,18 @@
 // kinematics, conservation of E, |K| and K in space to round-off for t up to 1e4, the symmetric,
 // principal-axis and separatrix cases, and refused input.
 #define BOOST_TEST_MODULE runtime_euler_poinsot
-#include <boost/test/unit_test.hpp>
+#include "eomc/runtime/rigid/euler_poinsot.hpp"
 
 #include <algorithm>
 #include <array>
+#include <boost/math/special_functions/jacobi_elliptic.hpp>
+#include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <limits>
 #include <random>
 #include <stdexcept>
 #include <utility>
 #include <vector>
-
-#include <boost/math/special_functions/jacobi_elliptic.hpp>
-
-#include "eomc/runtime/rigid/euler_poinsot.hpp"
 
 namespace rt = eomc::runtime;
 using V3 = std::array<double, 3>;
@@ -36,8 +34,7 @@ V3 rotate(const Q4& q, const V3& v) {
                      {2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)}};
   V3 out{};
   for (int i = 0; i < 3; ++i)
-    out[static_cast<std::size_t>(i)] =
-        static_cast<double>(r[i][0] * v[0] + r[i][1] * v[1] + r[i][2] * v[2]);
+    out[static_cast<std::size_t>(i)] = static_cast<double>(r[i][0] * v[0] + r[i][1] * v[1] + r[i][2] * v[2]);
   return out;
 }
 
@@ -99,8 +96,8 @@ double d2_of(const V3& I, const V3& w) {
   std::sort(s.begin(), s.end());
   double d = 0;
   for (int i = 0; i < 3; ++i)
-    d += I[static_cast<std::size_t>(i)] * (I[static_cast<std::size_t>(i)] - s[1]) * w[static_cast<std::size_t>(i)] *
-         w[static_cast<std::size_t>(i)];
+    d += I[static_cast<std::size_t>(i)] * (I[static_cast<std::size_t>(i)] - s[1]) *
+         w[static_cast<std::size_t>(i)] * w[static_cast<std::size_t>(i)];
   return d;
 }
 
@@ -134,7 +131,8 @@ Comparison compare_with_rk4(const Case& c, long n) {
   double est_w = 0, est_q = 0, err_w = 0;
   Q4 qf{};
   for (std::size_t i = 0; i < 3; ++i) {
-    const double d = static_cast<double>(coarse[i] - fine[i]), e = exact.omega[i] - static_cast<double>(fine[i]);
+    const double d = static_cast<double>(coarse[i] - fine[i]),
+                 e = exact.omega[i] - static_cast<double>(fine[i]);
     est_w += d * d;
     err_w += e * e;
   }
@@ -149,11 +147,12 @@ Comparison compare_with_rk4(const Case& c, long n) {
   const double err_q = quaternion_distance(exact.quaternion, qf);
   const double w_scale = norm3(c.w);
   const double period = body.period();
-  const double turns = std::isfinite(period) && period > 0 ? std::fabs(c.T) / period * 8 : std::fabs(c.T) * 10;
+  const double turns =
+      std::isfinite(period) && period > 0 ? std::fabs(c.T) / period * 8 : std::fabs(c.T) * 10;
   const double round = 64 * eps * (1 + turns);
   const double tol_w = 2 * est_w + round * w_scale, tol_q = 2 * est_q + round;
-  BOOST_TEST(err_w <= tol_w, "omega: error " << err_w << " > tolerance " << tol_w << " (I = " << c.I[0]
-                                              << "," << c.I[1] << "," << c.I[2] << ")");
+  BOOST_TEST(err_w <= tol_w, "omega: error " << err_w << " > tolerance " << tol_w << " (I = " << c.I[0] << ","
+                                             << c.I[1] << "," << c.I[2] << ")");
   BOOST_TEST(err_q <= tol_q, "attitude: error " << err_q << " > tolerance " << tol_q);
   BOOST_TEST_MESSAGE("  omega: error/estimate " << err_w / est_w << ", attitude: " << err_q / est_q);
   return {std::max(err_w / w_scale, err_q), std::max(est_w / w_scale, est_q)};
@@ -212,8 +211,8 @@ BOOST_AUTO_TEST_CASE(sncndn_matches_boost) {
 }
 
 // Random bodies (moments in [1, 10], any order) and initial states on both sides of the
-// separatrix (one of each integrated backwards), symmetric bodies (about the largest and the smallest moment), and the
-// near-separatrix wing nut, against RK4 over about 10 periods of omega.
+// separatrix (one of each integrated backwards), symmetric bodies (about the largest and the smallest
+// moment), and the near-separatrix wing nut, against RK4 over about 10 periods of omega.
 BOOST_AUTO_TEST_CASE(agrees_with_numerical_integration) {
   std::mt19937_64 rng(20260510);
   std::uniform_real_distribution<double> moment(1, 10), comp(-1, 1);
@@ -292,7 +291,8 @@ BOOST_AUTO_TEST_CASE(principal_axis_rotation) {
     BOOST_TEST(body.period() == 0.0);
     const double t = 7.5, rate = norm3(w);
     const Q4 r{std::cos(rate * t / 2), rate > 0 ? std::sin(rate * t / 2) * w[0] / rate : 0,
-               rate > 0 ? std::sin(rate * t / 2) * w[1] / rate : 0, rate > 0 ? std::sin(rate * t / 2) * w[2] / rate : 0};
+               rate > 0 ? std::sin(rate * t / 2) * w[1] / rate : 0,
+               rate > 0 ? std::sin(rate * t / 2) * w[2] / rate : 0};
     const Q4 expect = rt::poinsot_detail::mul(q0, r);
     const auto s = body.at(t);
     BOOST_TEST(s.omega == w);
@@ -319,7 +319,8 @@ BOOST_AUTO_TEST_CASE(axis_order_is_immaterial) {
     BOOST_TEST(std::fabs(sa.omega[1] - sb.omega[0]) <= 64 * eps * (1 + t));
     BOOST_TEST(std::fabs(sa.omega[2] - sb.omega[1]) <= 64 * eps * (1 + t));
     BOOST_TEST(std::fabs(sa.omega[0] - sb.omega[2]) <= 64 * eps * (1 + t));
-    BOOST_TEST(quaternion_distance(rt::poinsot_detail::mul(sa.quaternion, pc), sb.quaternion) <= 64 * eps * (1 + t));
+    BOOST_TEST(quaternion_distance(rt::poinsot_detail::mul(sa.quaternion, pc), sb.quaternion) <=
+               64 * eps * (1 + t));
   }
 }
 
@@ -327,9 +328,8 @@ BOOST_AUTO_TEST_CASE(axis_order_is_immaterial) {
 // of tau = nu t + tau0, a few eps (1 + nu t) (see compare_with_rk4), times |omega'|/nu <= |omega|:
 // bound 16 eps (1 + nu t) |omega|, with nu t = 4 K j.
 BOOST_AUTO_TEST_CASE(omega_is_periodic) {
-  for (const auto& [I, w] : std::array<std::pair<V3, V3>, 3>{{{{2, 3, 5}, {0.4, 0, 0.8}},
-                                                                  {{2, 3, 5}, {0.9, 0.3, 0.1}},
-                                                                  {{6, 1, 4}, {0.2, 0.7, -0.3}}}}) {
+  for (const auto& [I, w] : std::array<std::pair<V3, V3>, 3>{
+           {{{2, 3, 5}, {0.4, 0, 0.8}}, {{2, 3, 5}, {0.9, 0.3, 0.1}}, {{6, 1, 4}, {0.2, 0.7, -0.3}}}}) {
     const auto body = rt::FreeRigidBody::from(I, w, {1, 0, 0, 0});
     const double T = body.period();
     for (int j : {1, 10, 1000}) {

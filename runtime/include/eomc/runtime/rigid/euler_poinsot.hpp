@@ -57,15 +57,14 @@
 
 #include <algorithm>
 #include <array>
+#include <boost/math/special_functions/ellint_rf.hpp>
+#include <boost/math/special_functions/ellint_rj.hpp>
 #include <cmath>
 #include <cstddef>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <string>
-
-#include <boost/math/special_functions/ellint_rf.hpp>
-#include <boost/math/special_functions/ellint_rj.hpp>
 
 namespace eomc::runtime {
 
@@ -131,9 +130,10 @@ struct Sncndn {
 // sn, cn, dn of (u | k^2 = 1 - kc2) for 0 <= kc2 <= 1 [Bulirsch; NR Sect. 6.11]: the descending
 // Landen sequence a_{i+1} = (a_i + b_i)/2, b_{i+1} = sqrt(a_i b_i) from a_0 = 1, b_0 = k', the
 // amplitude at the top, then back down. The AGM converges quadratically (the relative gap squares
-// and shrinks 8x each step), so stopping at a gap of 1e-8 leaves ~1e-17 after the last mean; at
-// most 8 steps for kc2 >= 1e-300. kc2 = 0 is the separatrix limit tanh, sech, sech. Accurate for
-// |u| up to about K; callers reduce u by whole periods first.
+// and shrinks 8x each step), so stopping at a gap of 1e-8 leaves ~1e-17 after the last mean:
+// 5 steps for kc2 = 1e-2, 8 for 1e-16, 12 for 1e-300 and for the smallest subnormal (counted).
+// kc2 = 0 is the separatrix limit tanh, sech, sech. Accurate for |u| up to about K; callers
+// reduce u by whole periods first.
 inline Sncndn sncndn(double u, double kc2) {
   if (kc2 == 0.0) {
     const double sech = 1.0 / std::cosh(u);
@@ -227,7 +227,8 @@ struct FreeRigidBody {
       const double h = rate_ * t / 2, s = std::sin(h);
       pd::Quat r{std::cos(h), 0.0, 0.0, 0.0};
       for (int i = 0; i < 3; ++i)
-        r[static_cast<std::size_t>(i + 1)] = rate_ > 0.0 ? s * omega0_[static_cast<std::size_t>(i)] / rate_ : 0.0;
+        r[static_cast<std::size_t>(i + 1)] =
+            rate_ > 0.0 ? s * omega0_[static_cast<std::size_t>(i)] / rate_ : 0.0;
       return {omega0_, pd::normalised(pd::mul(q0_, r))};
     }
     const double tau = nu_ * t + tau0_;
@@ -272,8 +273,8 @@ struct FreeRigidBody {
  private:
   enum class Kind { principal, elliptic, separatrix };
   Kind kind_ = Kind::principal;
-  std::array<int, 3> perm_{0, 1, 2};        // working axis i is body axis perm_[i] ...
-  std::array<double, 3> sgn_{1.0, 1.0, 1.0};  // ... times sgn_[i] (a proper rotation)
+  std::array<int, 3> perm_{0, 1, 2};             // working axis i is body axis perm_[i] ...
+  std::array<double, 3> sgn_{1.0, 1.0, 1.0};     // ... times sgn_[i] (a proper rotation)
   poinsot_detail::Quat p_{1.0, 0.0, 0.0, 0.0};   // that rotation: v_working = p v_body p*
   poinsot_detail::Quat qk_{1.0, 0.0, 0.0, 0.0};  // R_K: pole frame -> space at phi = 0
   poinsot_detail::Quat q0_{1.0, 0.0, 0.0, 0.0};
@@ -324,8 +325,8 @@ struct FreeRigidBody {
     bool principal = true;
     for (int i = 0; i < 3; ++i)
       for (int j = i + 1; j < 3; ++j)
-        if (J[static_cast<std::size_t>(i)] != J[static_cast<std::size_t>(j)] && w0[static_cast<std::size_t>(i)] != 0.0 &&
-            w0[static_cast<std::size_t>(j)] != 0.0)
+        if (J[static_cast<std::size_t>(i)] != J[static_cast<std::size_t>(j)] &&
+            w0[static_cast<std::size_t>(i)] != 0.0 && w0[static_cast<std::size_t>(j)] != 0.0)
           principal = false;
     if (principal) {
       kind_ = Kind::principal;
@@ -335,11 +336,14 @@ struct FreeRigidBody {
 
     // Ascending order; M^2 - 2 E I2 (middle moment) decides which extreme axis is the pole.
     std::array<int, 3> order{0, 1, 2};
-    std::stable_sort(order.begin(), order.end(),
-                     [&](int x, int y) { return J[static_cast<std::size_t>(x)] < J[static_cast<std::size_t>(y)]; });
+    std::stable_sort(order.begin(), order.end(), [&](int x, int y) {
+      return J[static_cast<std::size_t>(x)] < J[static_cast<std::size_t>(y)];
+    });
     auto D = [&](double Ij) {  // M^2 - 2 E Ij = sum_i Ii (Ii - Ij) wi^2, term by term
       double s = 0.0;
-      for (int i = 0; i < 3; ++i) s += J[static_cast<std::size_t>(i)] * (J[static_cast<std::size_t>(i)] - Ij) * w0[static_cast<std::size_t>(i)] * w0[static_cast<std::size_t>(i)];
+      for (int i = 0; i < 3; ++i)
+        s += J[static_cast<std::size_t>(i)] * (J[static_cast<std::size_t>(i)] - Ij) *
+             w0[static_cast<std::size_t>(i)] * w0[static_cast<std::size_t>(i)];
       return s;
     };
     const double D2 = D(J[static_cast<std::size_t>(order[1])]);
