@@ -57,14 +57,15 @@
 
 #include <algorithm>
 #include <array>
-#include <boost/math/special_functions/ellint_rf.hpp>
-#include <boost/math/special_functions/ellint_rj.hpp>
 #include <cmath>
 #include <cstddef>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <string>
+
+#include <boost/math/special_functions/ellint_rf.hpp>
+#include <boost/math/special_functions/ellint_rj.hpp>
 
 namespace eomc::runtime {
 
