@@ -3,18 +3,20 @@
 // kinematics, conservation of E, |K| and K in space to round-off for t up to 1e4, the symmetric,
 // principal-axis and separatrix cases, and refused input.
 #define BOOST_TEST_MODULE runtime_euler_poinsot
-#include "eomc/runtime/rigid/euler_poinsot.hpp"
+#include <boost/test/unit_test.hpp>
 
 #include <algorithm>
 #include <array>
-#include <boost/math/special_functions/jacobi_elliptic.hpp>
-#include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <limits>
 #include <random>
 #include <stdexcept>
 #include <utility>
 #include <vector>
+
+#include <boost/math/special_functions/jacobi_elliptic.hpp>
+
+#include "eomc/runtime/rigid/euler_poinsot.hpp"
 
 namespace rt = eomc::runtime;
 using V3 = std::array<double, 3>;
