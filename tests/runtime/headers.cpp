@@ -72,6 +72,15 @@ template class eomc::runtime::NoProgressChecker<long double>;
 template class eomc::runtime::EventLocator<double>;
 template class eomc::runtime::EventLocator<long double>;
 
+// The free rigid body in closed form (double only).
+BOOST_AUTO_TEST_CASE(free_rigid_body_instantiates) {
+  const auto body = rt::FreeRigidBody::from({2, 3, 5}, {0.4, 0, 0.8}, {1, 0, 0, 0});
+  const rt::FreeRigidBody::State s = body.at(1.0);
+  BOOST_TEST(body.period() > 7.95);
+  BOOST_TEST(body.period() < 7.96);
+  BOOST_TEST(s.quaternion[0] * s.quaternion[0] > 0.0);
+}
+
 BOOST_AUTO_TEST_CASE(api_instantiates_for_double_and_long_double) {
   exercise<double>();
   exercise<long double>();

@@ -15,6 +15,7 @@
 #include "eomc/runtime/orbit/orbital_elements.hpp"
 #include "eomc/runtime/quaternion.hpp"
 #include "eomc/runtime/registry.hpp"
+#include "eomc/runtime/rigid/euler_poinsot.hpp"
 #include "eomc/runtime/state.hpp"
 #include "eomc/runtime/stepper/dop853.hpp"
 #include "eomc/runtime/stepper/dopri5.hpp"
