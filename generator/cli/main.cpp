@@ -21,8 +21,11 @@
 #include "host/simulate.hpp"
 #include "mechanics/inverse/inverse_problem.hpp"
 #include "mechanics/relative/equilibria.hpp"
+#include "mechanics/rigid/euler_poisson.hpp"
+#include "mechanics/rigid/integrals.hpp"
 #include "report/derivation_printer.hpp"
 #include "report/equilibria_printer.hpp"
+#include "report/rigid_printer.hpp"
 #include "report/inverse_printer.hpp"
 #include "scene/scene.hpp"
 #include "support/cleanup.hpp"
@@ -82,10 +85,11 @@ struct Options {
     cli::SimulateOptions simulate;
     cli::BenchOptions bench;
     mechanics::inverse::SearchBudget search_budget;
+    unsigned degree = mechanics::rigid::default_search_degree;
 };
 
 struct Commands {
-    CLI::App *derive, *generate, *simulate, *equilibria, *inverse, *run, *bench;
+    CLI::App *derive, *generate, *simulate, *equilibria, *inverse, *integrals, *run, *bench;
 };
 
 Commands declare_commands(CLI::App& app, Options& o) {
@@ -146,6 +150,14 @@ Commands declare_commands(CLI::App& app, Options& o) {
                      "expression nodes the multiplier search may build before it stops undecided (default 1000000)")
         ->check(CLI::PositiveNumber);
 
+    c.integrals = app.add_subcommand(
+        "integrals", "a rigid body's first integrals: the classical ones proven, new polynomial ones searched for");
+    scene_argument(c.integrals);
+    c.integrals->add_option("--format", o.format, "text | latex | json")->check(CLI::IsMember({"text", "latex", "json"}));
+    c.integrals->add_option("--degree", o.degree, "the highest total degree searched (default 4; at most 8)")
+        ->check(CLI::Range(1, 8));
+    orbit_formulation(c.integrals);
+
     c.run = app.add_subcommand("run", "derive + generate + simulate: the whole job on one scene");
     scene_argument(c.run);
     c.run->add_option("-d,--dir", o.out_dir, "directory for the header and the CSV (default: .)");
@@ -173,6 +185,20 @@ report::DerivationFormat derivation_format(const std::string& name) {
 void deliver(const std::string& text, const std::string& output) {
     if (output.empty()) std::cout << text;
     else write_file_atomically(output, text);
+}
+
+// `eomc integrals`: the search runs on the Euler–Poisson field, whatever the formulation.
+void integrals_command(const Pipeline& p, const Options& o) {
+    if (!p.model.rigid)
+        throw InputError(SourcePos{o.scene_path, 0, 0},
+                         fmt::format("{} has no [rigid_body]; `eomc integrals` searches a rigid body's polynomial "
+                                     "integrals (the invariants of any scene are in `eomc derive`)",
+                                     o.scene_path));
+    const auto system = mechanics::rigid::euler_poisson(*p.model.rigid);
+    std::ostringstream text;
+    report::print_rigid_integrals(p.model, mechanics::rigid::search_rigid_integrals(p.model, system, o.degree),
+                                  derivation_format(o.format), text);
+    std::cout << text.str();
 }
 
 const mechanics::CanonicalEquations* canonical(const Pipeline& p) { return p.canonical ? &*p.canonical : nullptr; }
@@ -279,6 +305,7 @@ int main(int argc, char** argv) {
         else if (c.equilibria->parsed())
             report::print_equilibria(p.model, mechanics::relative_equilibria(p.model, p.equations), o.format, std::cout);
         else if (c.inverse->parsed()) inverse_command(p, o);
+        else if (c.integrals->parsed()) integrals_command(p, o);
     } catch (const InputError& e) {
         std::cerr << e.what() << "\n";
         return 2;

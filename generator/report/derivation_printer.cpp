@@ -10,6 +10,7 @@
 #include "mechanics/kinematics/rotations.hpp"
 #include "mechanics/orbit/encke.hpp"
 #include "report/inverse_printer.hpp"
+#include "report/rigid_printer.hpp"
 #include "support/json.hpp"
 #include "symbolic/differentiation.hpp"
 #include "symbolic/expression_text.hpp"
@@ -572,6 +573,10 @@ void print_canonical_json(const mechanics::CanonicalEquations& c, std::ostream& 
 void print_derivation(const model::Model& model, const mechanics::Equations& eqs, DerivationFormat format,
                       std::ostream& out, const mechanics::CanonicalEquations* canonical) {
     if (model.newtonian) return print_newtonian_derivation(model, eqs, format, out);  // equations given, not energies
+    // A rigid body's own chain (Euler's and Poisson's equations, its integrals); in Euler angles it is
+    // a Lagrangian system and prints as one.
+    if (model.rigid && model.rigid->formulation != scene::RigidFormulationKind::euler_angles)
+        return print_rigid_derivation(model, eqs, format, out);
     switch (format) {
         case DerivationFormat::text:
             print_text(model, eqs, out);

@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "mechanics/rigid/integrals.hpp"
 #include "symbolic/differentiation.hpp"
 #include "symbolic/simplify.hpp"
 #include "symbolic/vector3.hpp"
@@ -26,6 +27,10 @@ EulerPoisson euler_poisson(const model::RigidBody& body) {
         for (auto& r : s.omega_rate) r = normalized(r);
     }
     s.gamma_rate = cross(g, w);
+    s.divergence = 0;
+    for (unsigned i = 0; i < 3; ++i)
+        s.divergence += derivative(s.omega_rate[i], body.omega[i]) + derivative(s.gamma_rate[i], body.gamma[i]);
+    s.divergence = body.principal ? s.divergence.expand() : simplified(s.divergence);
     s.kinetic = dot(w, times(body.inertia, w)) / 2;
     s.potential = body.weight * dot(body.center, g);
     const Invariant candidates[] = {
@@ -68,6 +73,8 @@ Equations derive_rigid(const model::Model& model) {
         eqs.forcing.push_back(s.forcing[i]);
     }
     eqs.invariants = s.integrals;
+    for (auto& inv : tracked_invariants(search_rigid_integrals(model, s, default_search_degree)))
+        eqs.invariants.push_back(std::move(inv));
     return eqs;
 }
 

@@ -27,6 +27,9 @@ struct EulerPoisson {
     GiNaC::ex kinetic, potential;  // ½ ω·Iω, P r_c·γ
     // The classical integrals (Mei, ch. 5): energy ½ ω·Iω + P r_c·γ, area K·γ, geometric |γ|².
     std::vector<Invariant> integrals;
+    // div of the field, expanded: 0 proves Jacobi's last multiplier is 1 (Whittaker, Analytical
+    // Dynamics, §§118–119).
+    GiNaC::ex divergence;
 };
 
 // The system of `body`, with the integrals kept only when proven along it.

@@ -8,6 +8,7 @@
 
 #include "eomc/runtime/rigid/andoyer_deprit.hpp"
 #include "mechanics/rigid/euler_poisson.hpp"
+#include "mechanics/rigid/integrals.hpp"
 #include "symbolic/differentiation.hpp"
 #include "symbolic/simplify.hpp"
 #include "symbolic/vector3.hpp"
@@ -142,6 +143,8 @@ FirstOrderForm euler_angles_form(const model::Model& model, const Equations& eqs
     const EulerPoisson s = euler_poisson(body);
     for (const auto& inv : s.integrals)
         if (inv.name == "area") form.invariants.push_back({inv.name, inv.value.subs(to_state), inv.description});
+    for (const auto& inv : tracked_invariants(search_rigid_integrals(model, s, default_search_degree)))
+        form.invariants.push_back({inv.name, inv.value.subs(to_state), inv.description});
     return form;
 }
 

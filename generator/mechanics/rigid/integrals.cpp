@@ -1,0 +1,87 @@
+#include "mechanics/rigid/integrals.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace eomc::mechanics::rigid {
+
+using GiNaC::ex;
+
+RigidIntegrals search_rigid_integrals(const model::Model& model, const EulerPoisson& system, unsigned degree) {
+    const model::RigidBody& body = *model.rigid;
+    RigidIntegrals out;
+    out.degree = degree;
+    // The search is exact: each parameter must be the short decimal the scene wrote.
+    GiNaC::exmap exact;
+    for (const auto& p : model.parameters) {
+        const auto r = rational_from_decimal(p.value);
+        if (!r) {
+            out.not_searched = fmt::format("the parameter '{}' = {} is not a short decimal, so the search has no exact "
+                                           "value for it",
+                                           p.name, p.value);
+            return out;
+        }
+        exact[p.symbol] = *r;
+    }
+    IntegralSearchInput in;
+    for (std::size_t i = 0; i < 3; ++i) in.state.push_back(body.omega[i]);
+    for (std::size_t i = 0; i < 3; ++i) in.state.push_back(body.gamma[i]);
+    for (std::size_t i = 0; i < 3; ++i) in.field.push_back(system.omega_rate[i].subs(exact).expand());
+    for (std::size_t i = 0; i < 3; ++i) in.field.push_back(system.gamma_rate[i].subs(exact).expand());
+    in.degree = degree;
+    const ex* area = nullptr;
+    for (const auto& inv : system.integrals) {
+        in.known.push_back({inv.name, inv.value.subs(exact).expand()});
+        if (inv.name == "area") area = &inv.value;
+    }
+    if (area) in.conditions.push_back({"area", area->subs(exact).expand(), 0});
+    try {
+        out.found = search_polynomial_integrals(in);
+    } catch (const std::invalid_argument& e) {
+        out.not_searched = e.what();
+        return out;
+    }
+    // The state at t = 0, to decide whether it lies on a conditional integral's level.
+    GiNaC::exmap initial = exact;
+    for (std::size_t i = 0; i < 3; ++i) {
+        initial[body.omega[i]] = GiNaC::numeric(body.omega0[i]);
+        initial[body.gamma[i]] = GiNaC::numeric(body.vertical0[i]);
+    }
+    for (std::size_t k = 0; k < out.found.size(); ++k) {
+        const FoundIntegral& f = out.found[k];
+        out.names.push_back(f.conditional ? fmt::format("conditional_{}_{}", f.degree, k + 1)
+                                          : fmt::format("integral_{}_{}", f.degree, k + 1));
+        bool on_level = !f.conditional;
+        if (f.conditional && area) {
+            // On the level to the initial state's rounding: |K·γ| against |K| |γ|.
+            const double value = GiNaC::ex_to<GiNaC::numeric>(area->subs(initial).evalf()).to_double();
+            double scale = 0;
+            for (std::size_t i = 0; i < 3; ++i) scale += std::abs(body.omega0[i]);
+            on_level = std::abs(value) <= 1e-12 * (1 + scale);
+        }
+        out.tracked.push_back(on_level);
+    }
+    return out;
+}
+
+std::vector<Invariant> tracked_invariants(const RigidIntegrals& integrals) {
+    std::vector<Invariant> out;
+    for (std::size_t k = 0; k < integrals.found.size(); ++k) {
+        if (!integrals.tracked[k]) continue;
+        const FoundIntegral& f = integrals.found[k];
+        out.push_back({integrals.names[k], f.value,
+                       f.conditional ? fmt::format("a polynomial integral of degree {} found by undetermined "
+                                                   "coefficients at the scene's parameter values; it {}, where the "
+                                                   "motion starts",
+                                                   f.degree, f.condition_name)
+                                     : fmt::format("a polynomial integral of degree {} found by undetermined "
+                                                   "coefficients at the scene's parameter values (not a polynomial in "
+                                                   "the energy, area and geometric integrals)",
+                                                   f.degree)});
+    }
+    return out;
+}
+
+}  // namespace eomc::mechanics::rigid
