@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -21,6 +22,7 @@
 #include "host/simulate.hpp"
 #include "mechanics/inverse/inverse_problem.hpp"
 #include "mechanics/relative/equilibria.hpp"
+#include "mechanics/rigid/equilibria.hpp"
 #include "report/derivation_printer.hpp"
 #include "report/equilibria_printer.hpp"
 #include "report/inverse_printer.hpp"
@@ -82,6 +84,7 @@ struct Options {
     cli::SimulateOptions simulate;
     cli::BenchOptions bench;
     mechanics::inverse::SearchBudget search_budget;
+    std::optional<double> spin;  // equilibria of a rigid body: Ω of the sleeping families
 };
 
 struct Commands {
@@ -132,9 +135,13 @@ Commands declare_commands(CLI::App& app, Options& o) {
     orbit_formulation(c.simulate);
     variational_flag(c.simulate, integrate_phi);
 
-    c.equilibria = app.add_subcommand("equilibria", "relative equilibria of a steady carrier and their stability");
+    c.equilibria = app.add_subcommand("equilibria", "relative equilibria of a steady carrier and their stability; "
+                                                    "a rigid body's permanent rotations (Staude)");
     scene_argument(c.equilibria);
     c.equilibria->add_option("--format", o.format, "text | json")->check(CLI::IsMember({"text", "json"}));
+    c.equilibria->add_option("--spin", o.spin,
+                             "a rigid body: the spin Ω at which the rotations about principal axes holding the mass "
+                             "centre are linearised (default: ω0·γ0 of the scene)");
 
     c.inverse = app.add_subcommand("inverse", "the inverse problem: self-adjointness, a multiplier, a Lagrangian");
     scene_argument(c.inverse);
@@ -276,6 +283,9 @@ int main(int argc, char** argv) {
         else if (c.simulate->parsed()) simulate_command(p, o, false);
         else if (c.run->parsed()) simulate_command(p, o, true);
         else if (c.bench->parsed()) bench_command(p, o);
+        else if (c.equilibria->parsed() && p.model.kind() == model::ModelKind::rigid)
+            report::print_rigid_equilibria(p.model, mechanics::rigid::rigid_equilibria(p.model, o.spin), o.format,
+                                           std::cout);
         else if (c.equilibria->parsed())
             report::print_equilibria(p.model, mechanics::relative_equilibria(p.model, p.equations), o.format, std::cout);
         else if (c.inverse->parsed()) inverse_command(p, o);
