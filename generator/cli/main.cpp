@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -23,6 +24,7 @@
 #include "mechanics/relative/equilibria.hpp"
 #include "mechanics/rigid/euler_poisson.hpp"
 #include "mechanics/rigid/integrals.hpp"
+#include "mechanics/rigid/equilibria.hpp"
 #include "report/derivation_printer.hpp"
 #include "report/equilibria_printer.hpp"
 #include "report/rigid_printer.hpp"
@@ -86,6 +88,7 @@ struct Options {
     cli::BenchOptions bench;
     mechanics::inverse::SearchBudget search_budget;
     unsigned degree = mechanics::rigid::default_search_degree;
+    std::optional<double> spin;  // equilibria of a rigid body: Ω of the sleeping families
 };
 
 struct Commands {
@@ -136,9 +139,13 @@ Commands declare_commands(CLI::App& app, Options& o) {
     orbit_formulation(c.simulate);
     variational_flag(c.simulate, integrate_phi);
 
-    c.equilibria = app.add_subcommand("equilibria", "relative equilibria of a steady carrier and their stability");
+    c.equilibria = app.add_subcommand("equilibria", "relative equilibria of a steady carrier and their stability; "
+                                                    "a rigid body's permanent rotations (Staude)");
     scene_argument(c.equilibria);
     c.equilibria->add_option("--format", o.format, "text | json")->check(CLI::IsMember({"text", "json"}));
+    c.equilibria->add_option("--spin", o.spin,
+                             "a rigid body: the spin Ω at which the rotations about principal axes holding the mass "
+                             "centre are linearised (default: ω0·γ0 of the scene)");
 
     c.inverse = app.add_subcommand("inverse", "the inverse problem: self-adjointness, a multiplier, a Lagrangian");
     scene_argument(c.inverse);
@@ -302,6 +309,9 @@ int main(int argc, char** argv) {
         else if (c.simulate->parsed()) simulate_command(p, o, false);
         else if (c.run->parsed()) simulate_command(p, o, true);
         else if (c.bench->parsed()) bench_command(p, o);
+        else if (c.equilibria->parsed() && p.model.kind() == model::ModelKind::rigid)
+            report::print_rigid_equilibria(p.model, mechanics::rigid::rigid_equilibria(p.model, o.spin), o.format,
+                                           std::cout);
         else if (c.equilibria->parsed())
             report::print_equilibria(p.model, mechanics::relative_equilibria(p.model, p.equations), o.format, std::cout);
         else if (c.inverse->parsed()) inverse_command(p, o);

@@ -85,3 +85,95 @@ void print_equilibria(const model::Model& model, const std::vector<mechanics::Eq
 }
 
 }  // namespace eomc::report
+
+namespace eomc::report {
+
+namespace {
+
+namespace rigid = mechanics::rigid;
+
+std::string complex_json(const std::vector<std::complex<double>>& values) {
+    std::string out = "[";
+    for (std::size_t k = 0; k < values.size(); ++k)
+        out += fmt::format("{}[{:.17g}, {:.17g}]", k ? ", " : "", values[k].real(), values[k].imag());
+    return out + "]";
+}
+
+std::string rotation_json(const rigid::PermanentRotation& r) {
+    return fmt::format("{{\"label\": {}, \"gamma\": [{:.17g}, {:.17g}, {:.17g}], \"spin\": {:.17g}, \"any_spin\": {}, "
+                       "\"eigenvalues\": {}, \"leaf_eigenvalues\": {}, \"verdict\": {}}}",
+                       json_string(r.label), r.gamma[0], r.gamma[1], r.gamma[2], r.spin, r.any_spin ? "true" : "false",
+                       complex_json(r.eigenvalues), complex_json(r.reduced), json_string(r.verdict));
+}
+
+void print_rigid_json(const rigid::RigidEquilibria& found, std::ostream& out) {
+    out << "{\"rigid\": true, \"gyrostat\": " << (found.gyrostat ? "true" : "false")
+        << ",\n \"cone\": " << json_string(text(found.cone))
+        << ",\n \"spin_on_cone\": {\"" << (found.gyrostat ? "Omega" : "Omega^2") << "\": "
+        << json_string(text(found.spin_on_cone)) << "}"
+        << fmt::format(",\n \"spin\": {:.17g}", found.spin) << ",\n \"rotations\": [";
+    for (std::size_t i = 0; i < found.rotations.size(); ++i)
+        out << (i ? ",\n  " : "\n  ") << rotation_json(found.rotations[i]);
+    out << (found.rotations.empty() ? "]" : "\n ]") << ",\n \"initial\": "
+        << (found.initial ? rotation_json(*found.initial) : "null");
+    if (!found.initial) out << ", \"initial_note\": " << json_string(found.initial_note);
+    out << ",\n \"lagrange\": [";
+    for (std::size_t i = 0; i < found.lagrange.size(); ++i) {
+        const auto& c = found.lagrange[i];
+        out << (i ? ",\n  " : "\n  ")
+            << fmt::format("{{\"gamma\": [0, 0, {}], \"spin\": {}, \"quartic\": {}, \"criterion\": {}, "
+                           "\"critical_spin\": {}}}",
+                           c.sign, json_string(c.spin.get_name()), json_string(text(c.quartic)),
+                           json_string(text(c.criterion) + " > 0"),
+                           c.critical_spin ? json_string(text(*c.critical_spin)) : "null");
+    }
+    out << (found.lagrange.empty() ? "]}\n" : "\n ]}\n");
+}
+
+void print_rotation_text(const rigid::PermanentRotation& r, std::ostream& out) {
+    out << fmt::format("  {}: γ = ({:.12g}, {:.12g}, {:.12g}), Ω = {:.12g}{}\n", r.label, r.gamma[0], r.gamma[1],
+                       r.gamma[2], r.spin, r.any_spin ? " (any Ω: linearised at this spin)" : "");
+    out << "    " << r.verdict << "\n    eigenvalues on the leaf";
+    for (const auto& l : r.reduced) out << fmt::format(" ({:.12g}{:+.12g}i)", l.real(), l.imag());
+    out << "\n    all six";
+    for (const auto& l : r.eigenvalues) out << fmt::format(" ({:.6g}{:+.6g}i)", l.real(), l.imag());
+    out << "\n";
+}
+
+void print_rigid_text(const model::Model& model, const rigid::RigidEquilibria& found, std::ostream& out) {
+    out << "permanent rotations of " << model.name
+        << " (ω = Ω γ about the vertical, γ fixed: Ω² γ × Iγ + Ω γ × k = P γ × r_c; Staude 1894)\n";
+    if (!found.gyrostat) {
+        out << "\nStaude's cone det[γ, Iγ, r_c] = 0:\n  " << text(found.cone) << " = 0"
+            << (found.cone.is_zero() ? "  (identically: every vertical where γ × Iγ ∥ γ × r_c, or r_c = 0)" : "") << "\n"
+            << "  on it Ω² = P (γ × r_c)·(γ × Iγ)/|γ × Iγ|² = " << text(found.spin_on_cone)
+            << "  (a rotation where positive)\n";
+    } else {
+        out << "\nthe gyrostat's cone P det[γ, Iγ, r_c]² = det[γ, r_c, k] det[γ, Iγ, k]:\n  " << text(found.cone)
+            << " = 0\n  on it Ω = P det[γ, Iγ, r_c]/det[γ, Iγ, k] = " << text(found.spin_on_cone) << "\n";
+    }
+    out << fmt::format("\nabout the principal axes (parameters at their defaults; families linearised at Ω = {:.12g}):\n",
+                       found.spin);
+    if (found.rotations.empty()) out << "  none (no principal axis holds r_c)\n";
+    for (const auto& r : found.rotations) print_rotation_text(r, out);
+    out << "\nthrough the initial state:\n";
+    if (found.initial) print_rotation_text(*found.initial, out);
+    else out << "  none: " << found.initial_note << "\n";
+    for (const auto& c : found.lagrange) {
+        out << fmt::format("\nLagrange case, sleeping top γ = (0, 0, {}), ω = (0, 0, {}):\n", c.sign, c.spin.get_name());
+        out << "  det(λ − J) = λ² (" << text(c.quartic) << ")\n";
+        out << "  spectrally stable iff " << text(c.criterion) << " > 0\n";
+        if (c.critical_spin) out << "  critical spin |" << c.spin.get_name() << "| = " << text(*c.critical_spin) << "\n";
+        else out << "  (no critical spin: the criterion holds at every spin for the default parameters)\n";
+    }
+}
+
+}  // namespace
+
+void print_rigid_equilibria(const model::Model& model, const rigid::RigidEquilibria& found, const std::string& format,
+                            std::ostream& out) {
+    if (format == "json") print_rigid_json(found, out);
+    else print_rigid_text(model, found, out);
+}
+
+}  // namespace eomc::report
