@@ -39,20 +39,19 @@ const std::array<RigidFormulation, 4> registry{{
      andoyer_deprit_form, false, true},
 }};
 
-// What every formulation adds once ω(x) and γ(x) are known: the outputs p, q, r, gamma1..3 (unless
-// they are the state), the integrals and the events in the state, and an integral that its
-// variables keep identically (|γ|² = 1 in all but Euler–Poisson) dropped.
-void complete(const model::Model& model, const Equations& eqs, const GiNaC::exmap& body_of_state, bool outputs,
-              FirstOrderForm& form) {
+// What every formulation adds once ω(x) and γ(x) are known: the outputs p, q, r, gamma1..3 that
+// are not state variables, the integrals and the events in the state, and an integral that the
+// variables keep identically (|γ|² = 1 where γ is computed from an attitude) dropped.
+void complete(const model::Model& model, const Equations& eqs, const GiNaC::exmap& body_of_state, FirstOrderForm& form) {
     const model::RigidBody& body = *model.rigid;
-    if (outputs) {
-        const char* names[6] = {"p", "q", "r", "gamma1", "gamma2", "gamma3"};
-        for (std::size_t i = 0; i < 3; ++i) form.outputs.push_back({names[i], body.omega[i].subs(body_of_state)});
-        for (std::size_t i = 0; i < 3; ++i) form.outputs.push_back({names[3 + i], body.gamma[i].subs(body_of_state)});
+    const char* names[6] = {"p", "q", "r", "gamma1", "gamma2", "gamma3"};
+    for (std::size_t i = 0; i < 6; ++i) {
+        const GiNaC::symbol& s = i < 3 ? body.omega[i] : body.gamma[i - 3];
+        if (body_of_state.count(s)) form.outputs.push_back({names[i], s.subs(body_of_state)});
     }
     for (const auto& inv : eqs.invariants) {
         const ex value = inv.value.subs(body_of_state);
-        if (!outputs || !GiNaC::is_a<GiNaC::numeric>(simplified(value))) form.invariants.push_back({inv.name, value, inv.description});
+        if (!GiNaC::is_a<GiNaC::numeric>(simplified(value))) form.invariants.push_back({inv.name, value, inv.description});
     }
     for (const auto& e : model.events) form.events.push_back({e.name, e.when.subs(body_of_state), e.direction, e.terminal});
 }
@@ -86,7 +85,7 @@ FirstOrderForm euler_poisson_form(const model::Model& model, const Equations& eq
     form.unit_vectors.push_back(3);
     for (std::size_t i = 0; i < 3; ++i) form.derivation.push_back({fmt::format("d{}/dt", names[i]), s.omega_rate[i]});
     for (std::size_t i = 0; i < 3; ++i) form.derivation.push_back({fmt::format("d{}/dt", names[3 + i]), s.gamma_rate[i]});
-    complete(model, eqs, {}, false, form);
+    complete(model, eqs, {}, form);
     return form;
 }
 
@@ -116,9 +115,7 @@ FirstOrderForm quaternion_form(const model::Model& model, const Equations& eqs) 
                half * (e0 * w2 + e3 * w1 - e1 * w3), half * (e0 * w3 + e1 * w2 - e2 * w1)});
     form.unit_quaternions.push_back(3);
     for (std::size_t i = 0; i < 3; ++i) form.derivation.push_back({fmt::format("gamma{}", i + 1), gamma[i]});
-    complete(model, eqs, to_state, true, form);
-    // p, q, r are the state: not outputs again.
-    form.outputs.erase(form.outputs.begin(), form.outputs.begin() + 3);
+    complete(model, eqs, to_state, form);
     return form;
 }
 
@@ -184,7 +181,7 @@ FirstOrderForm andoyer_deprit_form(const model::Model& model, const Equations& e
     form.derivation.push_back({"Hamiltonian", hamiltonian});
     GiNaC::exmap to_state;
     for (std::size_t i = 0; i < 3; ++i) to_state[body.omega[i]] = omega[i], to_state[body.gamma[i]] = gamma[i];
-    complete(model, eqs, to_state, true, form);
+    complete(model, eqs, to_state, form);
     return form;
 }
 
