@@ -51,7 +51,6 @@
 #include "lagrange_top_euler_angles.hpp"
 #include "lagrange_top_quaternion.hpp"
 #include "physics_support.hpp"
-#include "simulation.hpp"
 #include "static_imbalance_gyroscope.hpp"
 
 namespace rt = eomc::runtime;
@@ -204,7 +203,7 @@ void check_kovalevskaya_csv(const std::string& formulation) {
     const auto r = test_support::run_eomc("simulate " + std::string(EOMC_SOURCE_DIR) +
                                               "/scenes/kovalevskaya_top.toml --rigid-formulation " + formulation +
                                               " --output " + csv.string() + " --cache-dir " +
-                                              test_support::test_cache_dir,
+                                              std::string(EOMC_BINARY_DIR "/test-cache"),
                                           dir);
     BOOST_REQUIRE_MESSAGE(r.status == 0, r.err);
     const auto lines = test_support::read_lines(csv);
@@ -267,8 +266,11 @@ BOOST_AUTO_TEST_CASE(kovalevskaya_K_from_the_csv_of_every_formulation) {
 // and the stage iteration stops at round-off, so over N steps an integral moves by at most
 // N · 8ε · |∇I||x| (a random walk would give √N; the linear bound is the safe one).
 namespace {
+struct Excursions {
+    S K, quadratic;
+};
 template <class Stepper>
-S gauss_legendre_K_excursion(S h, int n_steps, bool check_quadratic) {
+Excursions gauss_legendre_excursions(S h, int n_steps) {
     using M = em::KovalevskayaTop;
     phys::KernelSystem<M, S> sys{};
     rt::State<S> x(M::initial_state.begin(), M::initial_state.end());
@@ -284,7 +286,7 @@ S gauss_legendre_K_excursion(S h, int n_steps, bool check_quadratic) {
         for (int k = 0; k < M::n_invariants; ++k) worst[k] = std::max(worst[k], std::abs(inv[k] - inv0[k]));
         worst_K = std::max(worst_K, std::abs(kovalevskaya_K(physical<M>(Vec(x.begin(), x.end())), kc) - K0));
     }
-    if (check_quadratic) {
+    {
         // |∇I||x| ≤ 2·max(|I|, |x|²·max(A, C, P x0)) ≤ 2·4 for these sizes (|ω| ≤ 2, |γ| = 1).
         const S roundoff = n_steps * 8 * eps * 8;
         for (int k = 0; k < M::n_invariants; ++k) {
@@ -294,20 +296,23 @@ S gauss_legendre_K_excursion(S h, int n_steps, bool check_quadratic) {
         }
     }
     BOOST_TEST_MESSAGE("GL order " << Stepper::order << " h " << h << ": max |K − K0| " << worst_K);
-    return worst_K;
+    return {worst_K, *std::max_element(worst.begin(), worst.end())};
 }
 
 template <class Stepper>
 void check_gauss_legendre(S h) {
     const int n = 10000;
-    const S coarse = gauss_legendre_K_excursion<Stepper>(h, n, true);
-    const S fine = gauss_legendre_K_excursion<Stepper>(h / 2, 2 * n, true);
+    const auto a = gauss_legendre_excursions<Stepper>(h, n);
+    const auto b = gauss_legendre_excursions<Stepper>(h / 2, 2 * n);
+    const S coarse = a.K, fine = b.K;
     const S ratio = coarse / fine, expected = std::pow(2.0, Stepper::order);
     BOOST_TEST_MESSAGE("GL order " << Stepper::order << ": K excursion ratio " << ratio << " (2^order = " << expected
                                    << ")");
-    // The excursion is C h^order (1 + O(h²)): within 25 % of 2^order at these steps, where it is
-    // still far above the round-off of the quadratic integrals.
-    BOOST_TEST(coarse > 1e4 * n * 8 * eps * 8);
+    // The excursion is C h^order (1 + O(h²)): within 25 % of 2^order at these steps, where the
+    // finer one is still a hundred times the round-off that K picks up (that of evaluating it,
+    // 64 ulps of its 16, plus the measured round-off walk of the state, which the quadratic
+    // integrals show, times |∇K|·|x| ≤ 16).
+    BOOST_TEST(fine > 100 * (64 * eps * 16 + 16 * b.quadratic));
     BOOST_TEST(ratio >= expected * 0.75);
     BOOST_TEST(ratio <= expected * 1.25);
 }
@@ -350,8 +355,9 @@ BOOST_AUTO_TEST_CASE(goryachev_chaplygin_G_is_conserved_on_zero_area) {
 }
 
 BOOST_AUTO_TEST_CASE(goryachev_chaplygin_G_drifts_off_zero_area) {
-    // γ0 = (0.6, 0, 0.8): K_z = A p γ1 + C r γ3 = 0.88. Then dG/dt = −(P x0/C) q K_z: checked on
-    // the rhs at t = 0 to round-off, and G moves by orders of magnitude more than the bound.
+    // γ0 = (0.6, 0, 0.8): K_z = A p γ1 + C r γ3 = 0.88. Then dG/dt = −(P x0/C) q K_z/A (with
+    // A = 4C, by expanding Ġ along the Euler–Poisson field; sympy): checked on the rhs at t = 0
+    // to round-off, and G moves by orders of magnitude more than its bound as an integral.
     Vec x0 = initial<GC>();
     x0[3] = 0.6, x0[4] = 0, x0[5] = 0.8;
     S dx[GC::n_state];
@@ -360,7 +366,7 @@ BOOST_AUTO_TEST_CASE(goryachev_chaplygin_G_drifts_off_zero_area) {
     S Gdot = 0;
     for (int i = 0; i < 6; ++i) Gdot += g[i] * dx[i];
     const S Kz = gp.A * x0[0] * x0[3] + gp.A * x0[1] * x0[4] + gp.C * x0[2] * x0[5];
-    BOOST_TEST(std::abs(Gdot - (-(gp.P * gp.x0 / gp.C) * x0[1] * Kz)) <= 64 * eps);
+    BOOST_TEST(std::abs(Gdot - (-(gp.P * gp.x0 / gp.C) * x0[1] * Kz / gp.A)) <= 64 * eps);
     const auto r = run<GC>(x0, 10.0);
     const S bound = phys::invariant_drift_bound<S>(r.steps, gc_G, S(2));
     const S drift = std::abs(gc_G(r.x1) - gc_G(r.x0));
@@ -400,12 +406,12 @@ BOOST_AUTO_TEST_CASE(lagrange_top_nutation_bounds_and_period) {
             BOOST_TEST(std::abs(x[5] - u) <= 2 * dx + 5e-16);
         }
     // Period: two crossing times, each off by |∇g|₁ δx/|ġ| (|∇g|₁ ≤ |γ1| + |q| + |γ2| + |p|).
-    for (const auto* c : {&maxima, &minima}) {
+    for (const auto& [times, states] : {std::pair{&maxima.times, &maxima.states}, std::pair{&minima.times, &minima.states}}) {
         S dt = 0;
-        for (const auto& x : c->states)
+        for (const auto& x : *states)
             dt += (std::abs(x[3]) + std::abs(x[1]) + std::abs(x[4]) + std::abs(x[0])) * dx / std::abs(gamma3_accel(x)) +
                   8 * eps * 11;
-        const S T = c->times[1] - c->times[0];
+        const S T = (*times)[1] - (*times)[0];
         BOOST_TEST_MESSAGE("nutation period " << T << " error " << std::abs(T - 4.97673074539632) << " (bound " << dt + 5e-15
                                               << ")");
         BOOST_TEST(std::abs(T - 4.97673074539632) <= dt + 5e-15);
