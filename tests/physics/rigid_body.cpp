@@ -635,3 +635,71 @@ BOOST_AUTO_TEST_CASE(static_imbalance_drift_rate) {
     BOOST_TEST(std::abs(rate - approx) <= bound + correction * 1.01 * approx);
     BOOST_TEST(std::abs(r.x1[1] - r.x0[1]) <= r.bound[1] + 1e-14);
 }
+
+// ---------------------------------------------------------------------------------------------
+// The scene's [events] entry gamma3_turn (γ̇3 = γ1 q − γ2 p, written in p, q, r, γ whatever the
+// formulation) located by `eomc simulate` in every formulation: the event rows of the CSV are
+// the turning points, two apart by the nutation period 4.97673074539632. Bound per crossing:
+// |∇g|·δ(p, q, r, γ)/|ġ|, δ the bound on those quantities at the end of an in-process run of
+// the same kernel (t = 11, past the last event), ġ on the Euler–Poisson field at the event.
+namespace {
+template <class Model>
+void check_lagrange_events(const std::string& formulation) {
+    const fs::path dir = test_support::scratch("physics_rigid", "lagrange_" + formulation);
+    const fs::path csv = dir / "l.csv";
+    const auto res = test_support::run_eomc("simulate " + std::string(EOMC_SOURCE_DIR) +
+                                                "/scenes/lagrange_top.toml --rigid-formulation " + formulation +
+                                                " --t-end 11 --output " + csv.string() + " --cache-dir " +
+                                                std::string(EOMC_BINARY_DIR "/test-cache"),
+                                            dir);
+    BOOST_REQUIRE_MESSAGE(res.status == 0, res.err);
+    const auto lines = test_support::read_lines(csv);
+    BOOST_REQUIRE(lines.size() > 2);
+    const auto header = lines[0];
+    std::vector<std::string> names;
+    {
+        std::string cell;
+        for (char c : header + ",")
+            if (c == ',') names.push_back(cell), cell.clear();
+            else cell += c;
+    }
+    BOOST_REQUIRE(names.back() == "event");
+    std::array<int, 6> col{};
+    for (int k = 0; k < 6; ++k)
+        col[k] = int(std::find(names.begin(), names.end(), std::string(phys_names[k])) - names.begin());
+    std::vector<S> times;
+    std::vector<Vec> states;  // p, q, r, γ at the events
+    for (std::size_t i = 1; i < lines.size(); ++i) {
+        const auto& line = lines[i];
+        const auto comma = line.rfind(',');
+        if (comma == std::string::npos || line.substr(comma + 1) != "gamma3_turn") continue;
+        const Vec row = test_support::csv_numbers(line.substr(0, comma));
+        times.push_back(row[0]);
+        Vec v(6);
+        for (int k = 0; k < 6; ++k) v[k] = row[col[k]];
+        states.push_back(v);
+    }
+    BOOST_REQUIRE(times.size() == 4);
+    const auto r = run<Model>(initial<Model>(), 11.0);
+    const Phys b = physical_bound(r);
+    std::vector<S> dt;
+    for (const auto& x : states) {
+        BOOST_TEST(std::abs(gamma3_rate(x)) <= 1e-12);
+        const S grad_dx = std::abs(x[4]) * b[0] + std::abs(x[3]) * b[1] + std::abs(x[1]) * b[3] + std::abs(x[0]) * b[4];
+        dt.push_back(grad_dx / std::abs(gamma3_accel(x)) + 8 * eps * 11);
+    }
+    for (std::size_t i = 2; i < times.size(); ++i) {
+        const S T = times[i] - times[i - 2], bound = dt[i] + dt[i - 2] + 5e-15;
+        BOOST_TEST_MESSAGE("csv " << formulation << " event period " << T << " error " << std::abs(T - 4.97673074539632)
+                                  << " (bound " << bound << ")");
+        BOOST_TEST(std::abs(T - 4.97673074539632) <= bound, formulation);
+    }
+}
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(lagrange_events_in_every_formulation) {
+    check_lagrange_events<LT>("euler_poisson");
+    check_lagrange_events<em::LagrangeTopQuaternion>("quaternion");
+    check_lagrange_events<em::LagrangeTopEulerAngles>("euler_angles");
+    check_lagrange_events<em::LagrangeTopAndoyerDeprit>("andoyer_deprit");
+}
