@@ -42,6 +42,13 @@ function(eomc_add_model target)
       list(GET ARG_OPTIONS ${formulation_index} formulation)
       set(header_name "${header_name}_${formulation}")
     endif()
+    # So does --rigid-formulation NAME (scene::set_rigid_formulation).
+    list(FIND ARG_OPTIONS "--rigid-formulation" rigid_flag)
+    if(rigid_flag GREATER -1)
+      math(EXPR rigid_index "${rigid_flag} + 1")
+      list(GET ARG_OPTIONS ${rigid_index} rigid_formulation)
+      set(header_name "${header_name}_${rigid_formulation}")
+    endif()
     set(header "${out_dir}/${header_name}.hpp")
     set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS "${scene}")
     add_custom_command(

@@ -818,7 +818,10 @@ private:
                 fail(at(*vertical), fmt::format("'rigid_body.initial.vertical' is the unit upward vertical in body "
                                                 "axes; its length is {:.17g}, not 1",
                                                 norm));
-            r.vertical = std::array<double, 3>{g[0] / norm, g[1] / norm, g[2] / norm};
+            // Unit already to the double's rounding: kept as written (dividing by 1 ± 1 ulp would move it).
+            r.vertical = std::abs(norm - 1.0) <= 4 * std::numeric_limits<double>::epsilon()
+                             ? g
+                             : std::array<double, 3>{g[0] / norm, g[1] / norm, g[2] / norm};
         } else {
             r.initial_pos = at(*attitude);
             const toml::table& a = as_table(*attitude, "rigid_body.initial.attitude");
