@@ -289,14 +289,21 @@ Excursions gauss_legendre_excursions(S h, int n_steps) {
     {
         // |∇I||x| ≤ 2·max(|I|, |x|²·max(A, C, P x0)) ≤ 2·4 for these sizes (|ω| ≤ 2, |γ| = 1).
         const S roundoff = n_steps * 8 * eps * 8;
+        // The quadratic ones only: the kernel also tracks the quartic the integral search found
+        // (integral_4_1, Kovalevskaya's up to the classical ones), which Gauss–Legendre keeps
+        // only to its order, as K below.
+        S quadratic = 0;
         for (int k = 0; k < M::n_invariants; ++k) {
-            BOOST_TEST_MESSAGE("GL order " << Stepper::order << " h " << h << ": " << M::invariant_names[k]
-                                           << " max drift " << worst[k] << " (round-off bound " << roundoff << ")");
-            BOOST_TEST(worst[k] <= roundoff, M::invariant_names[k]);
+            const std::string name = M::invariant_names[k];
+            if (name != "energy" && name != "area" && name != "geometric") continue;
+            BOOST_TEST_MESSAGE("GL order " << Stepper::order << " h " << h << ": " << name << " max drift "
+                                           << worst[k] << " (round-off bound " << roundoff << ")");
+            BOOST_TEST(worst[k] <= roundoff, name);
+            quadratic = std::max(quadratic, worst[k]);
         }
+        BOOST_TEST_MESSAGE("GL order " << Stepper::order << " h " << h << ": max |K − K0| " << worst_K);
+        return {worst_K, quadratic};
     }
-    BOOST_TEST_MESSAGE("GL order " << Stepper::order << " h " << h << ": max |K − K0| " << worst_K);
-    return {worst_K, *std::max_element(worst.begin(), worst.end())};
 }
 
 template <class Stepper>
