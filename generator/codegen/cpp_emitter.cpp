@@ -735,8 +735,8 @@ std::string singular_sets_part(const KernelIR& ir, const LocalNames& names) {
     for (std::size_t k = 0; k < ir.singular_set_orders.size(); ++k)
         orders += fmt::format("{}{}", k ? ", " : "", ir.singular_set_orders[k]);
     return fmt::format(
-        "\n    // Where det M = 0 (the coordinates fail there: gimbal lock): indicators s_k(t, x) of the sets\n"
-        "    // s_k = 0, each with its power in det M. A simulation stops before the state reaches one.\n"
+        "\n    // Where det M = 0 (a coordinate singularity, as the gimbal lock of Euler angles): indicators\n"
+        "    // s_k(t, x) of the sets s_k = 0, each with its power in det M; a simulation stops before them.\n"
         "    static constexpr int n_singular_sets = {};\n"
         "    static constexpr std::array<const char*, n_singular_sets> singular_set_names{{ {} }};\n"
         "    static constexpr std::array<int, n_singular_sets> singular_set_orders{{ {} }};\n\n"

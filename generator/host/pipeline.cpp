@@ -75,9 +75,13 @@ Pipeline front_end(const std::string& scene_path, const FrontEndOptions& options
     for (const auto& set : p.equations.singular_sets)
         std::cerr << format_warning({p.model.kinetic_pos,
                                      fmt::format("the mass matrix is singular where {} (det M has the factor ({})^{}): "
-                                                 "the coordinates fail there (gimbal lock), and a simulation stops "
-                                                 "when the state comes close",
-                                                 set.condition, symbolic::text(set.indicator), set.order)})
+                                                 "the coordinates fail there ({}), and a simulation stops when the "
+                                                 "state comes close",
+                                                 set.condition, symbolic::text(set.indicator), set.order,
+                                                 set.indicator.has(GiNaC::sin(GiNaC::wild())) ||
+                                                         set.indicator.has(GiNaC::cos(GiNaC::wild()))
+                                                     ? "gimbal lock"
+                                                     : "a coordinate singularity")})
                   << "\n";
     check_formulation_options(p.model, options);
     check_variational(p.equations, options);

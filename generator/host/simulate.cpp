@@ -418,10 +418,14 @@ private:
         const std::string& name = lib_.singular_set_names()[k];
         throw runtime::IntegrationError(
             runtime::IntegrationError::Kind::singular_set, t,
-            fmt::format("the state reached the singular set {} of the mass matrix (gimbal lock: det M = 0 there, the "
+            fmt::format("the state reached the singular set {} of the mass matrix ({}: det M = 0 there, the "
                         "coordinates fail) at t = {}: {}; use coordinates without this singularity (or start away "
                         "from it)",
-                        name, number(t),
+                        name,
+                        name.find("sin(") != std::string::npos || name.find("cos(") != std::string::npos
+                            ? "gimbal lock"
+                            : "a coordinate singularity",
+                        number(t),
                         crossed ? fmt::format("the indicator changed sign from {:.3g} to {:.3g} in one step",
                                               previous_[k], s)
                                 : fmt::format("|{}| = {:.3g} fell below {:.3g} = eps^(1/{}) of its scale {:.3g}, where "

@@ -610,7 +610,8 @@ std::string joined(const std::vector<std::string>& names) {
 }
 
 // Jacobi's count in words (the same sentence in every format).
-std::string jacobi_sentence(const mechanics::rigid::JacobiCount& j) {
+std::string jacobi_sentence(const mechanics::rigid::JacobiCount& j, const mechanics::rigid::LastMultiplier& m) {
+    if (m.status == mechanics::rigid::MultiplierStatus::not_applicable) return "not formed (" + m.reason + ")";
     std::string s = fmt::format(
         "{} first-order equations ({}); {} independent integral{} known ({}); with a last multiplier Jacobi's "
         "theorem asks {} (2n − {}): {} missing",
@@ -657,7 +658,7 @@ void print_reduction_text(const model::Model& model, const mechanics::Equations&
         out << " = " << text(display_form(r.multiplier.mu)) << "\n    " << multiplier_verdict(r.multiplier.status)
             << ": " << r.multiplier.reason << "\n";
     }
-    out << "  Jacobi's count: " << jacobi_sentence(r.count) << "\n";
+    out << "  Jacobi's count: " << jacobi_sentence(r.count, r.multiplier) << "\n";
     out << "  Singular sets of M (det M = 0; the coordinates fail there, a simulation stops before them):";
     if (eqs.singular_sets.empty()) out << " none";
     out << "\n";
@@ -695,7 +696,7 @@ void print_reduction_latex(const model::Model& model, const mechanics::Equations
     if (r.multiplier.status != mechanics::rigid::MultiplierStatus::not_applicable)
         out << "$\\; = " << latex(display_form(r.multiplier.mu)) << "$";
     out << ": " << latex_escape(multiplier_verdict(r.multiplier.status)) << " (" << latex_escape(r.multiplier.reason)
-        << ").\n\nJacobi's count: " << latex_escape(jacobi_sentence(r.count)) << ".\n\nSingular sets of $M$:";
+        << ").\n\nJacobi's count: " << latex_escape(jacobi_sentence(r.count, r.multiplier)) << ".\n\nSingular sets of $M$:";
     if (eqs.singular_sets.empty()) out << " none.\n";
     else out << "\n\\begin{align*}\n";
     for (const auto& set : eqs.singular_sets)
