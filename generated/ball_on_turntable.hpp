@@ -11,8 +11,9 @@
 //   explicit rates                    0 ->       0 (0 temporaries)
 //   constraint residuals             36 ->      15 (5 temporaries)
 //   constraint jacobian              12 ->       9 (3 temporaries)
-//   invariants                      221 ->     125 (14 temporaries)
+//   invariants                      272 ->     128 (15 temporaries)
 //   outputs                         921 ->     382 (22 temporaries)
+//   singular_sets                     1 ->       1 (0 temporaries)
 #pragma once
 
 #include <array>
@@ -35,14 +36,14 @@ struct BallOnTurntable {
     static constexpr int velocity_offset = 5;
     static constexpr int n_velocities = 5;
     static constexpr int n_parameters = 3;
-    static constexpr int n_invariants = 1;
+    static constexpr int n_invariants = 2;
     static constexpr int n_outputs = 13;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = false;
     static constexpr const char* scene_name = "ball_on_turntable";
     static constexpr std::array<const char*, n_state> state_names{ "x", "y", "phi", "theta", "psi", "x_dot", "y_dot", "phi_dot", "theta_dot", "psi_dot" };
     static constexpr std::array<const char*, n_parameters> parameter_names{ "m", "r", "Omega" };
-    static constexpr std::array<const char*, n_invariants> invariant_names{ "energy" };
+    static constexpr std::array<const char*, n_invariants> invariant_names{ "energy", "momentum_phi" };
     static constexpr std::array<const char*, n_outputs> output_names{ "holding_force_1", "holding_force_2", "holding_force_3", "holding_moment_1", "holding_moment_2", "holding_moment_3", "lambda_roll_x", "lambda_roll_y", "reaction_x", "reaction_y", "reaction_phi", "reaction_theta", "reaction_psi" };
     static constexpr std::array<double, n_state> initial_state{ 0.3, 0, 0, 1.5707963267948966, 0, 0, 0.2, 0, -2, 0 };
 
@@ -181,7 +182,9 @@ struct BallOnTurntable {
         const S w11 = phi_dot*w2*w4 + theta_dot*w9;
         const S w12 = w6*w6;
         const S w13 = w9*w9;
-        out[0] = S(1)/S(10)*m*(-S(5)*w0*(x_*x_ + y*y) - S(4)*Omega*w1*w11*w2*w4 + S(10)*y_dot*(y_dot + Omega*x_) + S(4)*theta_dot*w1*(w11*w9 + w10*w4) - S(2)*w1*w10*w10 + S(4)*Omega*w1*w10*w2*w9 - S(4)*phi_dot*w1*(-w6*w8 - w11*w2*w4 + w10*w2*w9 - Omega*w13*w3 - Omega*w3*w5 - Omega*w12) - S(2)*w0*w1*w12 - S(2)*w0*w1*w3*w5 - S(10)*x_dot*(Omega*y - x_dot) - S(5)*x_dot*x_dot - S(4)*Omega*w1*w6*w8 - S(5)*y_dot*y_dot - S(2)*w1*w11*w11 - S(2)*w0*w1*w13*w3 - S(2)*w1*w8*w8 + S(10)*Omega*(-x_*y_dot + x_dot*y) + S(4)*psi_dot*w1*(psi_dot + w7 + Omega*w6));
+        const S w14 = Omega*w12 - w10*w2*w9 + Omega*w13*w3 + w6*w8 + w11*w2*w4 + Omega*w3*w5;
+        out[0] = S(1)/S(10)*m*(-S(5)*w0*(x_*x_ + y*y) - S(4)*Omega*w1*w11*w2*w4 + S(10)*y_dot*(y_dot + Omega*x_) + S(4)*theta_dot*w1*(w11*w9 + w10*w4) - S(2)*w1*w10*w10 + S(4)*Omega*w1*w10*w2*w9 - S(2)*w0*w1*w12 - S(2)*w0*w1*w3*w5 - S(10)*x_dot*(Omega*y - x_dot) - S(5)*x_dot*x_dot + S(4)*phi_dot*w1*w14 - S(4)*Omega*w1*w6*w8 - S(5)*y_dot*y_dot - S(2)*w1*w11*w11 - S(2)*w0*w1*w13*w3 - S(2)*w1*w8*w8 + S(10)*Omega*(-x_*y_dot + x_dot*y) + S(4)*psi_dot*w1*(psi_dot + w7 + Omega*w6));
+        out[1] = S(2)/S(5)*m*w1*w14;
     }
 
     // Quantities written beside the state (functions of t, x and u̇), in output_names order.
@@ -240,9 +243,9 @@ struct BallOnTurntable {
         out[0] = m*(x_ddot - Omega*(w0 + y_dot) - w1);
         out[1] = m*(w2 + y_ddot - Omega*(w3 - x_dot));
         out[2] = S(0);
-        out[3] = -S(1)/S(5)*m*r*(-S(2)*r*theta_ddot*(-w16*w8 + w15*w9) - S(2)*r*theta_dot*(Omega*w17*w20*w7 + w14*w6*w7 + Omega*w17*w18*w7 - phi_dot*w16*w6*w9 - w13*w5*w7*w8 - phi_dot*w17*w7 + w11*w5*w7*w9 - Omega*w16*w6*w9 + Omega*w19*w7 - Omega*w15*w6*w8 - Omega*w17*w7 - phi_dot*w15*w6*w8) + S(5)*y_ddot + Omega*(-S(2)*r*w14*w4*w5 - S(2)*Omega*r*w4*w5*w6 + S(2)*Omega*r*w10*w5*w9 + S(2)*r*w10*w11 + S(5)*x_dot + S(2)*r*w12*w13 - S(2)*Omega*r*w12*w5*w8 - S(5)*w3) + S(2)*phi_ddot*r*w5*(w16*w9 + w15*w8 - w6*w7) + S(5)*w2 - S(2)*psi_ddot*r*w5*w7 - S(2)*phi_dot*r*(-w10*w11 + Omega*w12*w5*w8 - w12*w13 + Omega*w4*w5*w6 - Omega*w10*w5*w9 + w14*w4*w5));
-        out[4] = S(1)/S(5)*m*r*(-S(2)*phi_ddot*r*w5*(w4*w6 - w10*w9 + w12*w8) + S(5)*x_ddot - S(5)*w1 - S(2)*phi_dot*r*(-Omega*w5*w6*w7 + Omega*w16*w5*w9 + w11*w16 - w13*w15 - w14*w5*w7 + Omega*w15*w5*w8) - S(2)*psi_ddot*r*w4*w5 - Omega*(S(2)*Omega*r*w15*w5*w8 + S(2)*Omega*r*w16*w5*w9 + S(5)*y_dot + S(5)*w0 - S(2)*Omega*r*w5*w6*w7 + S(2)*r*w11*w16 - S(2)*r*w13*w15 - S(2)*r*w14*w5*w7) + S(2)*r*theta_ddot*(w12*w9 + w10*w8) + S(2)*r*theta_dot*(-w11*w4*w5*w9 - Omega*w19*w4 - Omega*w17*w18*w4 - Omega*w12*w6*w8 + phi_dot*w17*w4 + Omega*w17*w4 - w14*w4*w6 + w13*w4*w5*w8 - phi_dot*w12*w6*w8 + Omega*w10*w6*w9 + phi_dot*w10*w6*w9 - Omega*w17*w20*w4));
-        out[5] = -S(1)/S(5)*m*(S(5)*x_ddot*y - S(2)*phi_ddot*w21*(w19 + w17*w20 + w17*w18) - S(5)*x_dot*(y_dot + S(2)*w0) - S(2)*psi_ddot*w21*w6 - S(5)*x_*y_ddot - S(5)*y_dot*(-x_dot + S(2)*w3) + S(2)*theta_dot*w21*(phi_dot*w5*w6 + S(2)*Omega*w5*w6 - S(2)*Omega*w18*w5*w6 + w14*w5 + w13*w6*w8 - S(2)*Omega*w20*w5*w6 - w11*w6*w9 - phi_dot*w18*w5*w6 - phi_dot*w20*w5*w6));
+        out[3] = -S(1)/S(5)*m*r*(-S(2)*phi_ddot*r*w5*(-w16*w9 - w15*w8 + w6*w7) - S(2)*r*theta_dot*(Omega*w17*w20*w7 + w14*w6*w7 + Omega*w17*w18*w7 - phi_dot*w16*w6*w9 - w13*w5*w7*w8 - phi_dot*w17*w7 + w11*w5*w7*w9 - Omega*w16*w6*w9 + Omega*w19*w7 - Omega*w15*w6*w8 - Omega*w17*w7 - phi_dot*w15*w6*w8) + S(2)*r*theta_ddot*(w16*w8 - w15*w9) + S(5)*y_ddot + S(5)*w2 - Omega*(-S(5)*x_dot - S(2)*r*w12*w13 - S(2)*Omega*r*w10*w5*w9 + S(2)*r*w14*w4*w5 - S(2)*r*w10*w11 + S(2)*Omega*r*w4*w5*w6 + S(5)*w3 + S(2)*Omega*r*w12*w5*w8) - S(2)*psi_ddot*r*w5*w7 + S(2)*phi_dot*r*(-Omega*w12*w5*w8 - Omega*w4*w5*w6 + w12*w13 + Omega*w10*w5*w9 + w10*w11 - w14*w4*w5));
+        out[4] = S(1)/S(5)*m*r*(S(2)*phi_ddot*r*w5*(-w4*w6 - w12*w8 + w10*w9) + S(5)*x_ddot - S(5)*w1 - S(2)*phi_dot*r*(-Omega*w5*w6*w7 + Omega*w16*w5*w9 + w11*w16 - w13*w15 - w14*w5*w7 + Omega*w15*w5*w8) - S(2)*psi_ddot*r*w4*w5 - Omega*(S(2)*Omega*r*w15*w5*w8 + S(2)*Omega*r*w16*w5*w9 + S(5)*y_dot + S(5)*w0 - S(2)*Omega*r*w5*w6*w7 + S(2)*r*w11*w16 - S(2)*r*w13*w15 - S(2)*r*w14*w5*w7) + S(2)*r*theta_ddot*(w12*w9 + w10*w8) + S(2)*r*theta_dot*(-w11*w4*w5*w9 - Omega*w19*w4 - Omega*w17*w18*w4 - Omega*w12*w6*w8 + phi_dot*w17*w4 + Omega*w17*w4 - w14*w4*w6 + w13*w4*w5*w8 - phi_dot*w12*w6*w8 + Omega*w10*w6*w9 + phi_dot*w10*w6*w9 - Omega*w17*w20*w4));
+        out[5] = S(1)/S(5)*m*(S(2)*theta_dot*w21*(S(2)*Omega*w20*w5*w6 - phi_dot*w5*w6 + w11*w6*w9 + phi_dot*w18*w5*w6 - S(2)*Omega*w5*w6 + phi_dot*w20*w5*w6 - w14*w5 + S(2)*Omega*w18*w5*w6 - w13*w6*w8) + S(5)*y_dot*(-x_dot + S(2)*w3) + S(2)*phi_ddot*w21*(w19 + w17*w20 + w17*w18) + S(5)*x_dot*(y_dot + S(2)*w0) + S(2)*psi_ddot*w21*w6 - S(5)*x_ddot*y + S(5)*x_*y_ddot);
     }
 
     // Bilateral constraint rows: M u̇ − Wᵀλ = f, W u̇ = −bias − stabilisation; λ is output as
@@ -279,6 +282,28 @@ struct BallOnTurntable {
         std::array<S, n_invariants> all;
         invariants(t, x, all.data(), p);
         return all[0];
+    }
+
+    template <class S>
+    static S momentum_phi(S t, const S* x, const Parameters& p) {
+        std::array<S, n_invariants> all;
+        invariants(t, x, all.data(), p);
+        return all[1];
+    }
+
+    // Where det M = 0 (a coordinate singularity, as the gimbal lock of Euler angles): indicators
+    // s_k(t, x) of the sets s_k = 0, each with its power in det M; a simulation stops before them.
+    static constexpr int n_singular_sets = 1;
+    static constexpr std::array<const char*, n_singular_sets> singular_set_names{ "sin(theta) = 0" };
+    static constexpr std::array<int, n_singular_sets> singular_set_orders{ 2 };
+
+    template <class S>
+    static void singular_sets(S t, const S* x, S* out, const Parameters& p) {
+        (void)t;
+        (void)p;
+        using std::sin;
+        const S theta = x[3];
+        out[0] = sin(theta);
     }
 
 
@@ -347,7 +372,7 @@ struct BallOnTurntable {
         out_f[0] = Omega*m*(Omega*x_ + S(2)*y_dot);
         out_f[1] = Omega*m*(Omega*y - S(2)*x_dot);
         out_f[2] = -S(2)/S(5)*m*theta_dot*w0*(phi_dot*w1*w2*w7 - w1*w10*w6 + S(2)*Omega*w1*w2*(S(-1) + w5 + w7) + phi_dot*w1*w2*w5 - phi_dot*w1*w2 + w1*w11*w4 - w2*w9);
-        out_f[3] = S(2)/S(5)*m*w0*(-Omega*w2*w9 - Omega*w1*w10*w6 - w1*w12*w2 + w1*w12*w2*w5 - phi_dot*w2*w9 - Omega*phi_dot*w1*w2 + w1*w12*w2*w7 + Omega*phi_dot*w1*w2*w5 + phi_dot*w1*w11*w4 + Omega*phi_dot*w1*w2*w7 - phi_dot*w1*w10*w6 + Omega*w1*w11*w4);
+        out_f[3] = -S(2)/S(5)*m*w0*(phi_dot*w1*w10*w6 - Omega*phi_dot*w1*w2*w5 - phi_dot*w1*w11*w4 + Omega*phi_dot*w1*w2 - Omega*phi_dot*w1*w2*w7 - w1*w12*w2*w5 + Omega*w1*w10*w6 + Omega*w2*w9 + w1*w12*w2 - Omega*w1*w11*w4 + phi_dot*w2*w9 - w1*w12*w2*w7);
         out_f[4] = S(2)/S(5)*m*theta_dot*w0*w2*(Omega + phi_dot);
         out_W[0] = S(1);
         out_W[1] = S(0);

@@ -8,7 +8,8 @@
 //   forcing                           9 ->       9 (0 temporaries)
 //   rhs (u̇ in closed form)          10 ->      10 (0 temporaries)
 //   jacobian                         20 ->      19 (1 temporaries)
-//   invariants                       10 ->      10 (0 temporaries)
+//   invariants                       12 ->      11 (1 temporaries)
+//   singular_sets                     0 ->       0 (0 temporaries)
 #pragma once
 
 #include <array>
@@ -28,14 +29,14 @@ struct KeplerOrbit {
     static constexpr int velocity_offset = 2;
     static constexpr int n_velocities = 2;
     static constexpr int n_parameters = 1;
-    static constexpr int n_invariants = 1;
+    static constexpr int n_invariants = 2;
     static constexpr int n_outputs = 0;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = false;
     static constexpr const char* scene_name = "kepler_orbit";
     static constexpr std::array<const char*, n_state> state_names{ "r", "phi", "r_dot", "phi_dot" };
     static constexpr std::array<const char*, n_parameters> parameter_names{ "mu" };
-    static constexpr std::array<const char*, n_invariants> invariant_names{ "energy" };
+    static constexpr std::array<const char*, n_invariants> invariant_names{ "energy", "momentum_phi" };
     static constexpr std::array<const char*, n_outputs> output_names{  };
     static constexpr std::array<double, n_state> initial_state{ 0.5, 0, 0, 3.4641016151377544 };
 
@@ -117,7 +118,9 @@ struct KeplerOrbit {
         const S r_dot = x[2];
         const S phi_dot = x[3];
         const S mu = S(p.mu);
-        out[0] = -mu/r + S(1)/S(2)*phi_dot*phi_dot*r*r + S(1)/S(2)*r_dot*r_dot;
+        const S w0 = r*r;
+        out[0] = -mu/r + S(1)/S(2)*w0*phi_dot*phi_dot + S(1)/S(2)*r_dot*r_dot;
+        out[1] = phi_dot*w0;
     }
 
     // Quantities written beside the state (none for this model), in output_names order.
@@ -134,6 +137,27 @@ struct KeplerOrbit {
         std::array<S, n_invariants> all;
         invariants(t, x, all.data(), p);
         return all[0];
+    }
+
+    template <class S>
+    static S momentum_phi(S t, const S* x, const Parameters& p) {
+        std::array<S, n_invariants> all;
+        invariants(t, x, all.data(), p);
+        return all[1];
+    }
+
+    // Where det M = 0 (a coordinate singularity, as the gimbal lock of Euler angles): indicators
+    // s_k(t, x) of the sets s_k = 0, each with its power in det M; a simulation stops before them.
+    static constexpr int n_singular_sets = 1;
+    static constexpr std::array<const char*, n_singular_sets> singular_set_names{ "r = 0" };
+    static constexpr std::array<int, n_singular_sets> singular_set_orders{ 2 };
+
+    template <class S>
+    static void singular_sets(S t, const S* x, S* out, const Parameters& p) {
+        (void)t;
+        (void)p;
+        const S r = x[0];
+        out[0] = r;
     }
 
 };

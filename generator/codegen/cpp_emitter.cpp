@@ -332,7 +332,7 @@ std::string number_list(const std::vector<double>& values, std::string_view what
 bool uses_kepler_solver(const KernelIR& ir) {
     for (const Block* b : {&ir.mass_matrix, &ir.forcing, &ir.rhs_explicit, &ir.jacobian_explicit, &ir.mass_and_forcing,
                            &ir.explicit_rates, &ir.explicit_rates_jacobian, &ir.mass_and_jacobian_terms, &ir.invariants,
-                           &ir.outputs, &ir.events, &ir.santilli_residuals,
+                           &ir.outputs, &ir.events, &ir.santilli_residuals, &ir.singular_sets,
                            &ir.mass_forcing_and_constraints, &ir.constraint_residuals, &ir.constraint_jacobian}) {
         for (const auto& t : b->temporaries)
             if (model::has_kepler_E(t.value)) return true;
@@ -740,6 +740,24 @@ std::string santilli_residuals(const KernelIR& ir, const LocalNames& names) {
         indent(block_body(ir, names, ir.santilli_residuals, "out"), 8));
 }
 
+// Only kernels whose mass matrix has a singular set carry it, so that no other kernel changes.
+std::string singular_sets_part(const KernelIR& ir, const LocalNames& names) {
+    if (ir.singular_set_names.empty()) return "";
+    std::string orders;
+    for (std::size_t k = 0; k < ir.singular_set_orders.size(); ++k)
+        orders += fmt::format("{}{}", k ? ", " : "", ir.singular_set_orders[k]);
+    return fmt::format(
+        "\n    // Where det M = 0 (a coordinate singularity, as the gimbal lock of Euler angles): indicators\n"
+        "    // s_k(t, x) of the sets s_k = 0, each with its power in det M; a simulation stops before them.\n"
+        "    static constexpr int n_singular_sets = {};\n"
+        "    static constexpr std::array<const char*, n_singular_sets> singular_set_names{{ {} }};\n"
+        "    static constexpr std::array<int, n_singular_sets> singular_set_orders{{ {} }};\n\n"
+        "    template <class S>\n"
+        "    static void singular_sets(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n",
+        ir.singular_set_names.size(), literal_list(ir.singular_set_names), orders,
+        indent(block_body(ir, names, ir.singular_sets, "out"), 8));
+}
+
 }  // namespace
 
 std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
@@ -758,6 +776,7 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
                         table_row("invariants", ir.invariants);
         if (!ir.output_names.empty()) t += table_row("outputs", ir.outputs);
         if (!ir.event_names.empty()) t += table_row("events", ir.events);
+        if (!ir.singular_set_names.empty()) t += table_row("singular_sets", ir.singular_sets);
         t.pop_back();
         return t;
     }();
@@ -822,7 +841,8 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
         {"events", events_part(ir, names)},
         {"constraints", constraints_part(ir)},
         {"variational", projection + variational},
-        {"invariant_accessors", invariant_accessors(ir) + santilli_residuals(ir, names)},
+        {"invariant_accessors",
+         invariant_accessors(ir) + santilli_residuals(ir, names) + singular_sets_part(ir, names)},
         {"private_part", private_part},
     };
     return fill_template(kernel_template(), fields);

@@ -83,6 +83,12 @@ struct KernelIR {
     std::vector<bool> event_terminal;
     Block events;
 
+    // Where the mass matrix is singular (empty: nothing is emitted and the kernel keeps its bytes):
+    // indicators s_k(t, x) whose zero set it is, each with its power in det M.
+    std::vector<std::string> singular_set_names;  // "sin(theta) = 0"
+    std::vector<int> singular_set_orders;
+    Block singular_sets;
+
     // Newtonian scenes only (empty otherwise, and then nothing is emitted): Santilli's
     // conditions S1–S5 of the fundamental form as residuals, one output per name.
     std::vector<std::string> santilli_residual_names;

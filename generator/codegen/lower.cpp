@@ -221,6 +221,13 @@ KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form,
         events.push_back(e.value);
     }
     if (!events.empty()) ir.events = eliminate_common_subexpressions(events, prefix);
+    std::vector<ex> indicators;
+    for (const auto& set : form.singular_sets) {
+        ir.singular_set_names.push_back(set.condition);
+        ir.singular_set_orders.push_back(set.order);
+        indicators.push_back(set.indicator);
+    }
+    if (!indicators.empty()) ir.singular_sets = eliminate_common_subexpressions(indicators, prefix);
     std::vector<ex> residuals;
     for (const auto& r : form.santilli_residuals) {
         ir.santilli_residual_names.push_back(r.name);

@@ -21,8 +21,8 @@ namespace {
 
 // Bumped whenever the C interface below changes; the loader refuses a library that reports
 // another value (a cache written by an older eomc).
-constexpr int adapter_abi = 8;  // 3: acceleration and events; 4: project; 5: variational_rhs; 6: project(t, x, p);
-                                // 7: eomc_kernel_identity; 8: constraint rows
+constexpr int adapter_abi = 9;  // 3: acceleration and events; 4: project; 5: variational_rhs; 6: project(t, x, p);
+                                // 7: eomc_kernel_identity; 8: constraint rows; 9: singular sets
 
 // The adapter: C functions over double, so that the host needs no knowledge of the kernel's
 // C++ types. Parameters travel by position in parameter_names order, never by member name
@@ -108,6 +108,26 @@ void constraint_residuals(double t, const double* x, double* out, const void* p)
     else (void)t, (void)x, (void)out, (void)p;
 }
 template <class M>
+constexpr int n_singular_sets() {
+    if constexpr (rt::SingularSetKernel<M>) return M::n_singular_sets;
+    else return 0;
+}
+template <class M>
+const char* singular_set_name(int i) {
+    if constexpr (rt::SingularSetKernel<M>) return M::singular_set_names[std::size_t(i)];
+    else return (void)i, nullptr;
+}
+template <class M>
+int singular_set_order(int i) {
+    if constexpr (rt::SingularSetKernel<M>) return M::singular_set_orders[std::size_t(i)];
+    else return (void)i, 0;
+}
+template <class M>
+void singular_sets(double t, const double* x, double* out, const void* p) {
+    if constexpr (rt::SingularSetKernel<M>) M::template singular_sets<double>(t, x, out, *static_cast<const typename M::Parameters*>(p));
+    else (void)t, (void)x, (void)out, (void)p;
+}
+template <class M>
 void events(double t, const double* x, double* out, const void* p) {
     if constexpr (rt::EventKernel<M>) M::template events<double>(t, x, out, *static_cast<const typename M::Parameters*>(p));
     else (void)t, (void)x, (void)out, (void)p;
@@ -170,6 +190,12 @@ EOMC_EXPORT int eomc_n_constraints() { return n_constraints<K>(); }
 EOMC_EXPORT const char* eomc_constraint_name(int i) { return constraint_name<K>(i); }
 EOMC_EXPORT void eomc_constraint_residuals(double t, const double* x, double* out, const void* p) {
     constraint_residuals<K>(t, x, out, p);
+}
+EOMC_EXPORT int eomc_n_singular_sets() { return n_singular_sets<K>(); }
+EOMC_EXPORT const char* eomc_singular_set_name(int i) { return singular_set_name<K>(i); }
+EOMC_EXPORT int eomc_singular_set_order(int i) { return singular_set_order<K>(i); }
+EOMC_EXPORT void eomc_singular_sets(double t, const double* x, double* out, const void* p) {
+    singular_sets<K>(t, x, out, p);
 }
 )";
 
@@ -302,6 +328,14 @@ KernelLibrary KernelLibrary::load(const std::string& header_text, const std::str
     for (int i = 0; i < n_con; ++i) lib.constraint_names_.emplace_back(constraint_name(i));
     lib.constraint_residuals_ =
         symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_constraint_residuals", p);
+    const int n_sing = symbol<int (*)()>(h, "eomc_n_singular_sets", p)();
+    const auto singular_set_name = symbol<const char* (*)(int)>(h, "eomc_singular_set_name", p);
+    const auto singular_set_order = symbol<int (*)(int)>(h, "eomc_singular_set_order", p);
+    for (int i = 0; i < n_sing; ++i) {
+        lib.singular_set_names_.emplace_back(singular_set_name(i));
+        lib.singular_set_orders_.push_back(singular_set_order(i));
+    }
+    lib.singular_sets_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_singular_sets", p);
     lib.seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return lib;
 }
@@ -346,6 +380,9 @@ KernelLibrary& KernelLibrary::operator=(KernelLibrary&& other) noexcept {
         events_ = other.events_;
         constraint_names_ = std::move(other.constraint_names_);
         constraint_residuals_ = other.constraint_residuals_;
+        singular_set_names_ = std::move(other.singular_set_names_);
+        singular_set_orders_ = std::move(other.singular_set_orders_);
+        singular_sets_ = other.singular_sets_;
     }
     return *this;
 }

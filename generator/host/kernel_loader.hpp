@@ -85,6 +85,14 @@ public:
         constraint_residuals_(t, x, out, p.get());
     }
 
+    // Where the mass matrix is singular (none for most kernels): indicators s_k(t, x) of the sets
+    // s_k = 0 ("sin(theta) = 0"), each with its power in det M, written to out[0 .. singular_set_names().size()).
+    const std::vector<std::string>& singular_set_names() const { return singular_set_names_; }
+    const std::vector<int>& singular_set_orders() const { return singular_set_orders_; }
+    void singular_sets(double t, const double* x, double* out, const Parameters& p) const {
+        singular_sets_(t, x, out, p.get());
+    }
+
     // How the library was obtained.
     const std::string& library_path() const { return path_; }
     bool cache_hit() const { return cache_hit_; }
@@ -119,6 +127,9 @@ private:
     void (*events_)(double, const double*, double*, const void*) = nullptr;
     std::vector<std::string> constraint_names_;
     void (*constraint_residuals_)(double, const double*, double*, const void*) = nullptr;
+    std::vector<std::string> singular_set_names_;
+    std::vector<int> singular_set_orders_;
+    void (*singular_sets_)(double, const double*, double*, const void*) = nullptr;
 };
 
 // Exposed for tests: the adapter source for a struct and its header (it exports the kernel's

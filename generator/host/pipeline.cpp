@@ -11,6 +11,7 @@
 #include "mechanics/rigid/formulation.hpp"
 #include "scene/scene.hpp"
 #include "support/diagnostic.hpp"
+#include "symbolic/expression_text.hpp"
 
 namespace eomc::host {
 
@@ -92,6 +93,17 @@ Pipeline front_end(const std::string& scene_path, const FrontEndOptions& options
     for (const auto& w : p.model.warnings) std::cerr << format_warning(w) << "\n";
     if (clock) clock->lap("parse");
     p.equations = mechanics::derive(p.model);
+    for (const auto& set : p.equations.singular_sets)
+        std::cerr << format_warning({p.model.kinetic_pos,
+                                     fmt::format("the mass matrix is singular where {} (det M has the factor ({})^{}): "
+                                                 "the coordinates fail there ({}), and a simulation stops when the "
+                                                 "state comes close",
+                                                 set.condition, symbolic::text(set.indicator), set.order,
+                                                 set.indicator.has(GiNaC::sin(GiNaC::wild())) ||
+                                                         set.indicator.has(GiNaC::cos(GiNaC::wild()))
+                                                     ? "gimbal lock"
+                                                     : "a coordinate singularity")})
+                  << "\n";
     check_formulation_options(p.model, options);
     check_variational(p.equations, options);
     if (options.hamiltonian || p.model.hamiltonian) p.canonical = mechanics::canonical_equations(p.model, p.equations);

@@ -370,6 +370,76 @@ runtime::IntegrationError failed_run(const runtime::IntegrationError& e, const S
     return runtime::IntegrationError(e.kind(), e.t(), message, e.component());
 }
 
+// The sets where the kernel's mass matrix is singular (gimbal lock): after every accepted step
+// (and at t0) each indicator s_k must stay clear of zero. Near a set whose indicator divides
+// det M to the power m, the smallest eigenvalue of M shrinks like |s_k|^m while the others stay,
+// so cond(M) ≈ cond₀ (scale/|s_k|)^m with scale the size of |s_k| away from the set (the largest
+// |s_k| seen so far). Past cond(M) = 1/√ε the solve of M u̇ = f keeps fewer than half of the
+// digits: the run stops when |s_k| < ε^(1/2m) · scale, or when s_k changed sign between two
+// accepted steps (the step went through the set), before any non-finite value is written.
+class SingularSetWatch {
+public:
+    SingularSetWatch(const KernelLibrary& lib, const KernelLibrary::Parameters& parameters)
+        : lib_(lib), parameters_(parameters), value_(lib.singular_set_names().size()),
+          previous_(value_.size(), 0.0), scale_(value_.size(), 0.0) {}
+
+    // Throws IntegrationError(singular_set) naming the set the state at t has reached.
+    void check(double t, const State<double>& xs) {
+        if (value_.empty()) return;
+        lib_.singular_sets(t, xs.data(), value_.data(), parameters_);
+        for (std::size_t k = 0; k < value_.size(); ++k) {
+            const double s = value_[k];
+            const int order = std::max(1, lib_.singular_set_orders()[k]);
+            const double threshold =
+                std::pow(std::numeric_limits<double>::epsilon(), 0.5 / order) * std::max(scale_[k], std::abs(s));
+            const bool crossed = seen_ && std::isfinite(s) && s * previous_[k] < 0.0;
+            if (!std::isfinite(s) || std::abs(s) <= threshold || crossed) fail(t, k, s, threshold, crossed);
+            scale_[k] = std::max(scale_[k], std::abs(s));
+            previous_[k] = s;
+        }
+        seen_ = true;
+    }
+
+    // The indicators at x (for the message of a run that failed otherwise), "" when none is near.
+    std::string near(double t, const State<double>& xs) {
+        if (value_.empty()) return "";
+        lib_.singular_sets(t, xs.data(), value_.data(), parameters_);
+        std::string out;
+        for (std::size_t k = 0; k < value_.size(); ++k)
+            if (scale_[k] > 0 && std::abs(value_[k]) < 1e-2 * scale_[k])
+                out += fmt::format("; the last accepted state is near the singular set {} of the mass matrix "
+                                   "(indicator {:.3g}, {:.3g} of its scale)",
+                                   lib_.singular_set_names()[k], value_[k], std::abs(value_[k]) / scale_[k]);
+        return out;
+    }
+
+private:
+    [[noreturn]] void fail(double t, std::size_t k, double s, double threshold, bool crossed) const {
+        const std::string& name = lib_.singular_set_names()[k];
+        throw runtime::IntegrationError(
+            runtime::IntegrationError::Kind::singular_set, t,
+            fmt::format("the state reached the singular set {} of the mass matrix ({}: det M = 0 there, the "
+                        "coordinates fail) at t = {}: {}; use coordinates without this singularity (or start away "
+                        "from it)",
+                        name,
+                        name.find("sin(") != std::string::npos || name.find("cos(") != std::string::npos
+                            ? "gimbal lock"
+                            : "a coordinate singularity",
+                        number(t),
+                        crossed ? fmt::format("the indicator changed sign from {:.3g} to {:.3g} in one step",
+                                              previous_[k], s)
+                                : fmt::format("|{}| = {:.3g} fell below {:.3g} = eps^(1/{}) of its scale {:.3g}, where "
+                                              "cond(M) would pass 1/sqrt(eps)",
+                                              name.substr(0, name.rfind(" = 0")), std::abs(s), threshold, 2 * std::max(1, lib_.singular_set_orders()[k]),
+                                              std::max(scale_[k], std::abs(s)))));
+    }
+
+    const KernelLibrary& lib_;
+    const KernelLibrary::Parameters& parameters_;
+    std::vector<double> value_, previous_, scale_;
+    bool seen_ = false;
+};
+
 }  // namespace
 
 SimulationResult simulate(const SimulationRequest& request) {
@@ -420,7 +490,9 @@ SimulationResult simulate(const SimulationRequest& request) {
     double t_last = 0.0;
     State<double> x_last = x;
     ProgressBar progress(request.progress, request.t_end);
+    SingularSetWatch singular(lib, parameters);
     auto record = [&](double t, const State<double>& xs, const std::string* event) {
+        singular.check(t, xs);  // before the row: no state past the set is written
         lib.invariants(t, xs.data(), inv.data(), parameters);
         if (first) inv0 = inv, first = false;
         for (std::size_t i = 0; i < n_inv; ++i) max_drift[i] = track_max(max_drift[i], std::abs(inv[i] - inv0[i]));
@@ -460,6 +532,12 @@ SimulationResult simulate(const SimulationRequest& request) {
                                              lib.scene_name(), request.integrator, request.csv_path, request.max_rows,
                                              number(limit.t), number(request.t_end)));
     } catch (const runtime::IntegrationError& e) {
+        if (e.kind() == runtime::IntegrationError::Kind::non_finite && !first) {
+            const std::string near = singular.near(t_last, x_last);
+            if (!near.empty())
+                throw failed_run(runtime::IntegrationError(e.kind(), e.t(), e.what() + near, e.component()), request,
+                                 lib.scene_name(), state_names, t_last, x_last, csv);
+        }
         throw failed_run(e, request, lib.scene_name(), state_names, t_last, x_last, csv);
     }
     result.wall_s = seconds_since(start);

@@ -1,6 +1,7 @@
 #include "mechanics/derive.hpp"
 
 #include <stdexcept>
+#include <utility>
 
 #include "mechanics/constraints/constraints.hpp"
 #include "mechanics/inverse/given_equations.hpp"
@@ -8,14 +9,28 @@
 #include "mechanics/orbit/invariants.hpp"
 #include "mechanics/relative/lagrange.hpp"
 #include "mechanics/rigid/euler_poisson.hpp"
+#include "mechanics/rigid/cyclic.hpp"
+#include "mechanics/rigid/last_multiplier.hpp"
 
 namespace eomc::mechanics {
+
+namespace {
+
+// Any Lagrangian system: the momenta of its cyclic coordinates (proven, mechanics/rigid/cyclic)
+// and the sets where det M = 0, which the kernel watches (mechanics/rigid/last_multiplier).
+Equations with_integrals(const model::Model& model, Equations eqs) {
+    rigid::add_cyclic_momenta(model, eqs);
+    eqs.singular_sets = rigid::singular_sets(model, eqs);
+    return eqs;
+}
+
+}  // namespace
 
 Equations derive(const model::Model& model) {
     switch (model.kind()) {
         case model::ModelKind::energies: {
             Equations eqs = derive_lagrange(model);
-            if (model.constraints.empty()) return eqs;
+            if (model.constraints.empty()) return with_integrals(model, std::move(eqs));
             // The rows stay beside the equations: lhs/rhs, M and f are those of the free system,
             // the reactions Σ λ_α W_αs are added by whoever reads eqs.constraints.
             eqs.constraints = constraint_rows(model);
@@ -35,7 +50,7 @@ Equations derive(const model::Model& model) {
                     it = eqs.invariants.erase(it);
                 }
             }
-            return eqs;
+            return with_integrals(model, std::move(eqs));
         }
         case model::ModelKind::given_equations: return derive_given_equations(model);
         case model::ModelKind::orbit: {
@@ -49,7 +64,8 @@ Equations derive(const model::Model& model) {
         case model::ModelKind::rigid:
             // In Euler angles the body is a Lagrangian system like any other; the other formulations
             // start from Euler's and Poisson's equations.
-            if (model.rigid->formulation == scene::RigidFormulationKind::euler_angles) return derive_lagrange(model);
+            if (model.rigid->formulation == scene::RigidFormulationKind::euler_angles)
+                return with_integrals(model, derive_lagrange(model));
             return rigid::derive_rigid(model);
     }
     throw std::logic_error("derive: unknown model kind");

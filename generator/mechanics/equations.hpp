@@ -27,6 +27,16 @@ struct Equation {
     GiNaC::ex dT_dqdot;  // ∂T/∂q̇_s
 };
 
+// A set of states where the mass matrix is singular (mechanics/rigid/last_multiplier.hpp):
+// indicator^order divides det M, so M⁻¹ blows up where indicator(t, q) = 0 (gimbal lock of
+// Euler angles at sin θ = 0, the pole r = 0 of polar coordinates). The kernel carries the
+// indicators so that a simulation stops before it reaches the set.
+struct SingularSet {
+    std::string condition;  // "sin(theta) = 0"
+    GiNaC::ex indicator;    // sin(theta)
+    int order = 1;          // its power in det M
+};
+
 struct Invariant {
     std::string name;         // "energy"
     GiNaC::ex value;
@@ -58,6 +68,7 @@ struct Equations {
     GiNaC::matrix mass_matrix;         // M_sk = ∂(lhs_s − rhs_s)/∂u̇_k, symmetric
     std::vector<GiNaC::ex> forcing;    // f_s = −(lhs_s − rhs_s)|u̇=0
     std::vector<Invariant> invariants; // only those proven conserved along the equations
+    std::vector<SingularSet> singular_sets;  // where det M = 0 (models given by their energies)
     // Bilateral constraint rows ([[constraint]]): the system is M u̇ − Wᵀλ = f, W u̇ = −bias;
     // mass_matrix and forcing above hold M and f without the reactions.
     std::vector<ConstraintRow> constraints;

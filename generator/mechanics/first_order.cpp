@@ -120,6 +120,7 @@ FirstOrderForm lagrange_form(const model::Model& model, const Equations& eqs) {
     form.mass_matrix = eqs.mass_matrix;
     form.forcing = eqs.forcing;
     form.invariants = eqs.invariants;
+    form.singular_sets = eqs.singular_sets;
     form.constraints = eqs.constraints;
     for (const auto& e : model.events) form.events.push_back({e.name, e.when, e.direction, e.terminal});
     form.separable = is_separable(model, form);

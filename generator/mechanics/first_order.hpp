@@ -68,6 +68,8 @@ struct FirstOrderForm {
     std::vector<std::pair<std::size_t, GiNaC::ex>> explicit_rates;
 
     std::vector<Invariant> invariants;
+    // Where M is singular (Equations::singular_sets): the kernel's singular_sets() indicators.
+    std::vector<SingularSet> singular_sets;
     // Quantities written beside the state (a free carrier's reactions): functions of (t, x, u̇).
     std::vector<NamedExpression> outputs;
 

@@ -1,5 +1,6 @@
 #include "report/derivation_printer.hpp"
 
+#include <optional>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -9,6 +10,8 @@
 #include "mechanics/first_order.hpp"
 #include "mechanics/kinematics/rotations.hpp"
 #include "mechanics/orbit/encke.hpp"
+#include "mechanics/rigid/cyclic.hpp"
+#include "mechanics/rigid/last_multiplier.hpp"
 #include "report/inverse_printer.hpp"
 #include "report/rigid_printer.hpp"
 #include "support/json.hpp"
@@ -568,6 +571,190 @@ void print_canonical_json(const mechanics::CanonicalEquations& c, std::ostream& 
     out << "], \"conserved\": " << (c.conserved ? "true" : "false") << "}\n";
 }
 
+
+// The section "Integrals and reduction" (Mei, ch. 5), for a model given by its energies: the
+// cyclic coordinates and their momenta, Routh's reduction, Jacobi's last multiplier and count,
+// the singular sets of M. Computed here, for the report only: Routh's β symbols and the
+// simplifications make symbols, which must not precede the kernel's lowering.
+struct Reduction {
+    std::vector<mechanics::rigid::CyclicCoordinate> cyclic;
+    mechanics::rigid::RouthReduction routh;
+    mechanics::rigid::LastMultiplier multiplier;
+    mechanics::rigid::JacobiCount count;
+};
+
+Reduction reduction_of(const model::Model& model, const mechanics::Equations& eqs) {
+    Reduction r;
+    r.cyclic = mechanics::rigid::cyclic_coordinates(model, eqs);
+    r.routh = mechanics::rigid::routh_reduction(model, eqs, r.cyclic);
+    r.multiplier = mechanics::rigid::last_multiplier(model, eqs);
+    std::size_t proven = 0;
+    for (const auto& c : r.cyclic) proven += c.proven ? 1 : 0;
+    r.count = mechanics::rigid::jacobi_count(model, eqs, r.multiplier, proven);
+    return r;
+}
+
+const char* multiplier_verdict(mechanics::rigid::MultiplierStatus s) {
+    switch (s) {
+        case mechanics::rigid::MultiplierStatus::proven: return "a last multiplier (proven)";
+        case mechanics::rigid::MultiplierStatus::not_multiplier: return "not a last multiplier";
+        case mechanics::rigid::MultiplierStatus::undecided: return "not proven a last multiplier (undecided)";
+        case mechanics::rigid::MultiplierStatus::not_applicable: return "not examined";
+    }
+    return "";
+}
+
+std::string joined(const std::vector<std::string>& names) {
+    std::string out;
+    for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
+    return out.empty() ? "none" : out;
+}
+
+// Jacobi's count in words (the same sentence in every format).
+std::string jacobi_sentence(const mechanics::rigid::JacobiCount& j, const mechanics::rigid::LastMultiplier& m) {
+    if (m.status == mechanics::rigid::MultiplierStatus::not_applicable) return "not formed (" + m.reason + ")";
+    std::string s = fmt::format(
+        "{} first-order equations ({}); {} independent integral{} known ({}); with a last multiplier Jacobi's "
+        "theorem asks {} (2n − {}): {} missing",
+        j.equations, j.autonomous ? "autonomous" : "F depends on t", j.integrals.size(),
+        j.integrals.size() == 1 ? "" : "s", joined(j.integrals), j.needed, j.autonomous ? 2 : 1, j.missing);
+    if (j.cyclic > 0)
+        s += fmt::format("; Routh's reduction by the {} cyclic coordinate{} leaves {} equations, which ask {} with "
+                         "the {} other integral{}: {} missing (the cyclic coordinates then follow by quadratures)",
+                         j.cyclic, j.cyclic == 1 ? "" : "s", j.reduced_equations, j.reduced_needed,
+                         j.integrals.size() - j.cyclic, j.integrals.size() - j.cyclic == 1 ? "" : "s",
+                         j.reduced_missing);
+    s += !j.multiplier ? "; no last multiplier is known, so the count gives no quadrature"
+         : j.integrable ? "; integrable by quadratures"
+                        : "; not shown integrable by quadratures";
+    return s;
+}
+
+void print_reduction_text(const model::Model& model, const mechanics::Equations& eqs, const Reduction& r,
+                          std::ostream& out) {
+    out << "\nIntegrals and reduction (Mei, ch. 5)\n";
+    out << "  Cyclic coordinates (absent from L = T − V and the forces, Q_c = 0):";
+    if (r.cyclic.empty()) out << " none";
+    out << "\n";
+    for (const auto& c : r.cyclic)
+        out << "    " << c.coordinate << ": p_" << c.coordinate << " = ∂L/∂" << c.coordinate
+            << "_dot = " << text(display_form(c.momentum)) << "  ("
+            << (c.proven ? "conserved, proven along the equations" : "not proven constant: not kept") << ")\n";
+    if (r.routh.done) {
+        out << "  Routh's reduction, R = L − Σ β_c q̇_c with q̇_c from p_c = β_c (Whittaker §38's sign):\n";
+        for (std::size_t k = 0; k < r.routh.cyclic.size(); ++k)
+            out << "    " << r.routh.cyclic[k].coordinate << "_dot = " << text(display_form(r.routh.velocities[k]))
+                << "\n";
+        out << "    R = " << text(r.routh.routhian) << "\n"
+            << "    reduced equations d/dt ∂R/∂q̇_r − ∂R/∂q_r = Q_r:\n";
+        for (const auto& e : r.routh.equations)
+            out << "      " << e.coordinate << ": " << text(e.lhs) << " = " << text(display_form(e.rhs)) << "\n";
+    } else if (!r.cyclic.empty()) {
+        out << "  Routh's reduction: not formed (" << r.routh.reason << ")\n";
+    }
+    out << "  Jacobi's last multiplier μ = det M";
+    if (r.multiplier.status == mechanics::rigid::MultiplierStatus::not_applicable) {
+        out << ": " << multiplier_verdict(r.multiplier.status) << " (" << r.multiplier.reason << ")\n";
+    } else {
+        out << " = " << text(display_form(r.multiplier.mu)) << "\n    " << multiplier_verdict(r.multiplier.status)
+            << ": " << r.multiplier.reason << "\n";
+    }
+    out << "  Jacobi's count: " << jacobi_sentence(r.count, r.multiplier) << "\n";
+    out << "  Singular sets of M (det M = 0; the coordinates fail there, a simulation stops before them):";
+    if (eqs.singular_sets.empty()) out << " none";
+    out << "\n";
+    for (const auto& set : eqs.singular_sets)
+        out << "    " << set.condition << "  (" << text(set.indicator) << " to the power " << set.order
+            << " divides det M)\n";
+    (void)model;
+}
+
+void print_reduction_latex(const model::Model& model, const mechanics::Equations& eqs, const Reduction& r,
+                           std::ostream& out) {
+    out << "\\subsection*{Integrals and reduction}\nCyclic coordinates (absent from $L = T - V$ and the forces):";
+    if (r.cyclic.empty()) out << " none.\n";
+    else out << "\n\\begin{align*}\n";
+    for (const auto& c : r.cyclic)
+        out << "p_{" << latex(model.coordinates[c.index].q) << "} &= " << latex(display_form(c.momentum))
+            << " &&\\text{" << (c.proven ? "conserved (proven)" : "not proven constant") << "}"
+            << (&c == &r.cyclic.back() ? "\n" : "\\\\\n");
+    if (!r.cyclic.empty()) out << "\\end{align*}\n";
+    if (r.routh.done) {
+        out << "Routh's function $R = L - \\sum_c \\beta_c \\dot q_c$, $\\dot q_c$ from $p_c = \\beta_c$:\n"
+               "\\begin{align*}\n";
+        for (std::size_t k = 0; k < r.routh.cyclic.size(); ++k)
+            out << "\\dot{" << latex(model.coordinates[r.routh.cyclic[k].index].q) << "} &= "
+                << latex(display_form(r.routh.velocities[k])) << "\\\\\n";
+        out << "R &= " << latex(r.routh.routhian);
+        for (const auto& e : r.routh.equations)
+            out << "\\\\\n\\varepsilon_{" << latex_escape(e.coordinate) << "}(R) = " << latex(e.lhs) << " &= "
+                << latex(display_form(e.rhs));
+        out << "\n\\end{align*}\n";
+    } else if (!r.cyclic.empty()) {
+        out << "Routh's reduction not formed (" << latex_escape(r.routh.reason) << ").\n";
+    }
+    out << "\nJacobi's last multiplier $\\mu = \\det M$";
+    if (r.multiplier.status != mechanics::rigid::MultiplierStatus::not_applicable)
+        out << "$\\; = " << latex(display_form(r.multiplier.mu)) << "$";
+    out << ": " << latex_escape(multiplier_verdict(r.multiplier.status)) << " (" << latex_escape(r.multiplier.reason)
+        << ").\n\nJacobi's count: " << latex_escape(jacobi_sentence(r.count, r.multiplier)) << ".\n\nSingular sets of $M$:";
+    if (eqs.singular_sets.empty()) out << " none.\n";
+    else out << "\n\\begin{align*}\n";
+    for (const auto& set : eqs.singular_sets)
+        out << latex(set.indicator) << " &= 0 &&\\text{(order " << set.order << " in $\\det M$)}"
+            << (&set == &eqs.singular_sets.back() ? "\n" : "\\\\\n");
+    if (!eqs.singular_sets.empty()) out << "\\end{align*}\n";
+}
+
+void print_reduction_json(const mechanics::Equations& eqs, const Reduction& r, std::ostream& out) {
+    out << "  \"reduction\": {\"cyclic\": [";
+    for (std::size_t k = 0; k < r.cyclic.size(); ++k)
+        out << (k ? ", " : "") << "{\"coordinate\": " << json_string(r.cyclic[k].coordinate)
+            << ", \"momentum\": " << json_string(text(r.cyclic[k].momentum))
+            << ", \"proven\": " << (r.cyclic[k].proven ? "true" : "false") << "}";
+    out << "], \"routhian\": ";
+    if (r.routh.done) {
+        out << "{\"R\": " << json_string(text(r.routh.routhian)) << ", \"beta\": [";
+        for (std::size_t k = 0; k < r.routh.beta.size(); ++k) out << (k ? ", " : "") << json_string(r.routh.beta[k].get_name());
+        out << "], \"velocities\": {";
+        for (std::size_t k = 0; k < r.routh.cyclic.size(); ++k)
+            out << (k ? ", " : "") << json_string(r.routh.cyclic[k].coordinate + "_dot") << ": "
+                << json_string(text(r.routh.velocities[k]));
+        out << "}, \"equations\": [";
+        for (std::size_t k = 0; k < r.routh.equations.size(); ++k)
+            out << (k ? ", " : "") << "{\"coordinate\": " << json_string(r.routh.equations[k].coordinate)
+                << ", \"lhs\": " << json_string(text(r.routh.equations[k].lhs))
+                << ", \"rhs\": " << json_string(text(r.routh.equations[k].rhs)) << "}";
+        out << "]}";
+    } else {
+        out << "null";
+    }
+    const char* status = "";
+    switch (r.multiplier.status) {
+        case mechanics::rigid::MultiplierStatus::proven: status = "proven"; break;
+        case mechanics::rigid::MultiplierStatus::not_multiplier: status = "not_multiplier"; break;
+        case mechanics::rigid::MultiplierStatus::undecided: status = "undecided"; break;
+        case mechanics::rigid::MultiplierStatus::not_applicable: status = "not_applicable"; break;
+    }
+    out << ", \"last_multiplier\": {\"mu\": "
+        << (r.multiplier.status == mechanics::rigid::MultiplierStatus::not_applicable ? std::string("null")
+                                                                                        : json_string(text(r.multiplier.mu)))
+        << ", \"status\": " << json_string(status) << ", \"reason\": " << json_string(r.multiplier.reason) << "}";
+    const auto& j = r.count;
+    out << ", \"jacobi_count\": {\"equations\": " << j.equations << ", \"autonomous\": " << (j.autonomous ? "true" : "false")
+        << ", \"integrals\": [";
+    for (std::size_t k = 0; k < j.integrals.size(); ++k) out << (k ? ", " : "") << json_string(j.integrals[k]);
+    out << "], \"needed\": " << j.needed << ", \"missing\": " << j.missing << ", \"cyclic\": " << j.cyclic
+        << ", \"reduced_equations\": " << j.reduced_equations << ", \"reduced_needed\": " << j.reduced_needed
+        << ", \"reduced_missing\": " << j.reduced_missing << ", \"multiplier\": " << (j.multiplier ? "true" : "false")
+        << ", \"integrable\": " << (j.integrable ? "true" : "false") << "}, \"singular_sets\": [";
+    for (std::size_t k = 0; k < eqs.singular_sets.size(); ++k)
+        out << (k ? ", " : "") << "{\"condition\": " << json_string(eqs.singular_sets[k].condition)
+            << ", \"indicator\": " << json_string(text(eqs.singular_sets[k].indicator))
+            << ", \"order\": " << eqs.singular_sets[k].order << "}";
+    out << "]}\n";
+}
+
 }  // namespace
 
 void print_derivation(const model::Model& model, const mechanics::Equations& eqs, DerivationFormat format,
@@ -577,15 +764,23 @@ void print_derivation(const model::Model& model, const mechanics::Equations& eqs
     // a Lagrangian system and prints as one.
     if (model.rigid && model.rigid->formulation != scene::RigidFormulationKind::euler_angles)
         return print_rigid_derivation(model, eqs, format, out);
+    std::optional<Reduction> reduction;
+    if (model.kind() == model::ModelKind::energies || model.rigid) reduction = reduction_of(model, eqs);
     switch (format) {
         case DerivationFormat::text:
             print_text(model, eqs, out);
+            if (reduction) print_reduction_text(model, eqs, *reduction, out);
             if (canonical) print_canonical_text(model, *canonical, out);
             return;
         case DerivationFormat::latex: {
             std::ostringstream body;
             print_latex(model, eqs, body);
             std::string doc = body.str();
+            if (reduction) {
+                std::ostringstream extra;
+                print_reduction_latex(model, eqs, *reduction, extra);
+                doc.insert(doc.rfind("\\end{document}"), extra.str());
+            }
             if (canonical) {
                 std::ostringstream extra;
                 print_canonical_latex(model, *canonical, extra);
@@ -598,6 +793,12 @@ void print_derivation(const model::Model& model, const mechanics::Equations& eqs
             std::ostringstream body;
             print_json(model, eqs, body);
             std::string doc = body.str();
+            if (reduction) {
+                std::ostringstream extra;
+                print_reduction_json(eqs, *reduction, extra);
+                const std::size_t end = doc.rfind("\n}");
+                doc.insert(end, ",\n" + extra.str().substr(0, extra.str().size() - 1));
+            }
             if (canonical) {
                 std::ostringstream extra;
                 print_canonical_json(*canonical, extra);

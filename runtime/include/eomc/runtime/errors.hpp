@@ -12,7 +12,7 @@ namespace eomc::runtime {
 
 class IntegrationError : public std::runtime_error {
  public:
-  enum class Kind { step_underflow, step_budget, non_finite };
+  enum class Kind { step_underflow, step_budget, non_finite, singular_set };
   static constexpr std::size_t no_component = static_cast<std::size_t>(-1);
 
   IntegrationError(Kind kind, double t, const std::string& message, std::size_t component = no_component)

@@ -115,6 +115,17 @@ concept ProjectingKernel = Kernel<K, S> && requires(S t, S* x, const typename K:
   K::template project<S>(t, x, p);
 };
 
+// A kernel whose mass matrix is singular on some set of states (gimbal lock of Euler angles):
+// indicators s_k(t, x) of the sets s_k = 0, with their powers in det M; a simulation stops when
+// the state comes close to one.
+template <class K, class S = double>
+concept SingularSetKernel = Kernel<K, S> && requires(S t, const S* x, S* out, const typename K::Parameters& p) {
+  { K::n_singular_sets } -> std::convertible_to<int>;
+  requires kernel_detail::array_of<decltype(K::singular_set_names), const char*, std::size_t(K::n_singular_sets)>;
+  requires kernel_detail::array_of<decltype(K::singular_set_orders), int, std::size_t(K::n_singular_sets)>;
+  K::template singular_sets<S>(t, x, out, p);
+};
+
 // Event functions g_i(t, x) (scene [events]) with each one's direction (+1 up, -1 down, 0 both,
 // as runtime::EventDirection) and whether it stops the integration.
 template <class K, class S = double>
