@@ -403,7 +403,7 @@ BOOST_AUTO_TEST_CASE(orbit_formulations_axis) {
     const Result b = run(eomc_bench(leo_j2, dir / "out2", std::string(orbit_sweep) + " --reference-tolerance 1e-22"), dir);
     BOOST_TEST_REQUIRE(b.status == 0, b.err);
     const auto spread_of = [](const std::string& out) {
-        const std::string key = "away in position";
+        const std::string key = "away in (x, y, z)";
         const auto end = out.find(key);
         BOOST_REQUIRE(end != std::string::npos);
         const auto start = out.rfind(" ends ", end);
