@@ -15,12 +15,16 @@
 //   template <class S> void reference(S t, S* out, const Model::Parameters& p);
 //   inline constexpr const char* reference_source;             where the closed form comes from
 //
-// Orbit formulations (`eomc bench` on an [orbit] scene) run one such program per formulation and
-// judge them all by the Cartesian position at t_end against one Cowell reference:
-//   --reference-only              (Cowell kernel) print the float128 reference position and exit
-//   --reference-position X,Y,Z    the error of a run is its position's distance from this point
-// The position is the state's x, y, z (Cowell) or else the outputs named x, y, z (element
-// formulations).
+// Formulations (`eomc bench` on an [orbit] or a [rigid_body] scene) run one such program per
+// formulation and judge them all by a few columns at t_end against one reference formulation's:
+//   --judge A,B,...               the judged columns: each a state component's name, else an
+//                                 output's (default x,y,z: an orbit's Cartesian position, the state
+//                                 of Cowell's, outputs of the element formulations; a rigid body's
+//                                 p,q,r,gamma1,gamma2,gamma3)
+//   --reference-only              (the reference kernel) print the judged columns of a float128 run and exit
+//   --reference-values V1,...     the error of a run is the Euclidean distance of its judged columns
+//                                 from these
+//   --drift-invariants A,...      the drift is measured on these invariants only (default: all)
 
 #include "bench_config.hpp"
 
@@ -77,7 +81,7 @@ constexpr bool separable = rt::SeparableKernel<K>;
 // (runtime::Projecting) after every accepted step.
 constexpr bool projects = rt::ProjectingKernel<K>;
 
-// --- an orbit's Cartesian position ----------------------------------------------------------------
+// --- the judged columns ----------------------------------------------------------------------------
 
 constexpr bool same_name(const char* a, const char* b) {
   while (*a != '\0' && *a == *b) ++a, ++b;
@@ -85,43 +89,39 @@ constexpr bool same_name(const char* a, const char* b) {
 }
 
 template <std::size_t N>
-constexpr int index_of(const std::array<const char*, N>& names, const char* name) {
+int index_of(const std::array<const char*, N>& names, const std::string& name) {
   for (std::size_t i = 0; i < N; ++i)
-    if (same_name(names[i], name)) return static_cast<int>(i);
+    if (same_name(names[i], name.c_str())) return static_cast<int>(i);
   return -1;
 }
 
-template <class M>
-constexpr std::array<int, 3> output_position_index() {
+// A column a run is judged by at t_end: a state component, or else an output.
+struct Column {
+  bool in_state;
+  int index;
+};
+
+template <class M = K>
+int output_index(const std::string& name) {
   if constexpr (rt::KernelWithOutputs<M, Q>)
-    return {index_of(M::output_names, "x"), index_of(M::output_names, "y"), index_of(M::output_names, "z")};
+    return index_of(M::output_names, name);
   else
-    return {-1, -1, -1};
+    return -1;
 }
 
-constexpr std::array<int, 3> state_xyz{index_of(K::state_names, "x"), index_of(K::state_names, "y"),
-                                       index_of(K::state_names, "z")};
-constexpr std::array<int, 3> output_xyz = output_position_index<K>();
-constexpr bool all_found(const std::array<int, 3>& i) { return i[0] >= 0 && i[1] >= 0 && i[2] >= 0; }
-constexpr bool position_in_state = all_found(state_xyz);
-constexpr bool has_position = position_in_state || all_found(output_xyz);
-
-// The Cartesian position at (t, x), evaluated in float128 from the given state (so that no
-// round-off of the conversion enters the error).
+// The judged values at (t, x), evaluated in float128 from the given state (so that no round-off of
+// a conversion enters the error).
 template <class M = K>
-std::array<Q, 3> position_of(double t, const double* x, const typename M::Parameters& p) {
-  std::array<Q, 3> r{};
-  std::array<Q, n_state> xq{};
-  std::copy(x, x + n_state, xq.begin());
-  if constexpr (position_in_state) {
-    for (int k = 0; k < 3; ++k) r[k] = xq[state_xyz[k]];
-  } else if constexpr (has_position) {
-    std::array<Q, M::n_outputs> out{};
-    M::outputs(Q(t), xq.data(), out.data(), p);
-    for (int k = 0; k < 3; ++k) r[k] = out[output_xyz[k]];
+std::vector<Q> judged_values(Q t, const Q* x, const std::vector<Column>& columns, const typename M::Parameters& p) {
+  std::vector<Q> r;
+  if constexpr (rt::KernelWithOutputs<M, Q>) {
+    std::array<Q, (M::n_outputs > 0 ? M::n_outputs : 1)> out{};
+    const bool need_outputs = std::any_of(columns.begin(), columns.end(), [](const Column& c) { return !c.in_state; });
+    if (need_outputs) M::outputs(t, x, out.data(), p);
+    for (const Column& c : columns) r.push_back(c.in_state ? x[c.index] : out[c.index]);
   } else {
     (void)t, (void)p;
-    throw std::logic_error("the kernel has no position x, y, z in its state or its outputs");
+    for (const Column& c : columns) r.push_back(x[c.index]);
   }
   return r;
 }
@@ -137,8 +137,10 @@ struct Options {
   int repeats = 3;                   // ... and are at least this many
   double max_run_time = 2.0;         // a fixed-step sweep stops once one run takes longer
   double reference_tolerance = 1e-26;
-  bool reference_only = false;                   // print the orbit reference and exit
-  std::optional<std::array<Q, 3>> reference_position;  // judge runs by their position against this
+  bool reference_only = false;                   // print the reference's judged values and exit
+  std::vector<std::string> judged{"x", "y", "z"};  // the columns compared at t_end
+  std::optional<std::vector<Q>> reference_values;  // judge runs by their judged columns against these
+  std::vector<std::string> drift_invariants;     // the invariants whose drift is measured; empty: all
 };
 
 [[noreturn]] void usage(const std::string& message) {
@@ -165,15 +167,13 @@ double number(const std::string& text, const char* option) {
   return v;
 }
 
-// X,Y,Z in full float128 precision (as --reference-only prints them).
-std::array<Q, 3> position_list(const std::string& text) {
-  const std::vector<std::string> items = split(text);
-  if (items.size() != 3) usage("--reference-position: expected X,Y,Z, not '" + text + "'");
-  std::array<Q, 3> r{};
-  for (std::size_t k = 0; k < 3; ++k) {
+// V1,...,Vn in full float128 precision (as --reference-only prints them).
+std::vector<Q> value_list(const std::string& text) {
+  std::vector<Q> r;
+  for (const std::string& item : split(text)) {
     bool ok = false;
-    r[k] = rt::float128_from_string(items[k], &ok);
-    if (!ok || !isfinite(r[k])) usage("--reference-position: '" + items[k] + "' is not a number");
+    r.push_back(rt::float128_from_string(item, &ok));
+    if (!ok || !isfinite(r.back())) usage("--reference-values: '" + item + "' is not a number");
   }
   return r;
 }
@@ -196,9 +196,15 @@ Options parse(int argc, char** argv) {
     else if (arg == "--repeats") o.repeats = static_cast<int>(number(value, "--repeats"));
     else if (arg == "--max-run-time") o.max_run_time = number(value, "--max-run-time");
     else if (arg == "--reference-tolerance") o.reference_tolerance = number(value, "--reference-tolerance");
-    else if (arg == "--reference-position") o.reference_position = position_list(value);
+    else if (arg == "--reference-values") o.reference_values = value_list(value);
+    else if (arg == "--judge") o.judged = split(value);
+    else if (arg == "--drift-invariants") o.drift_invariants = split(value);
     else usage("unknown option " + arg);
   }
+  if (o.judged.empty()) usage("--judge: no column");
+  if (o.reference_values && o.reference_values->size() != o.judged.size())
+    usage("--reference-values: " + std::to_string(o.reference_values->size()) + " values for " +
+          std::to_string(o.judged.size()) + " judged columns");
   if (o.tolerances.empty())
     for (int k = 6; k <= 30; ++k) o.tolerances.push_back(std::pow(10.0, -k / 2.0));
   if (o.steps.empty())
@@ -212,7 +218,14 @@ const P parameters{};
 
 State initial_state() { return State(K::initial_state.begin(), K::initial_state.end()); }
 
-// Largest change of any invariant along the run, relative to its initial value (absolute when
+// Which invariants the drift is measured on (--drift-invariants; default all).
+std::array<bool, K::n_invariants> drift_measured = [] {
+  std::array<bool, K::n_invariants> all{};
+  all.fill(true);
+  return all;
+}();
+
+// Largest change of any measured invariant along the run, relative to its initial value (absolute when
 // that is 0), sampled at every point the observer sees.
 class DriftMeter {
  public:
@@ -226,6 +239,7 @@ class DriftMeter {
         return;
       }
       for (std::size_t k = 0; k < v.size(); ++k) {
+        if (!drift_measured[k]) continue;
         const double scale = initial_[k] != 0.0 ? std::abs(initial_[k]) : 1.0;
         const double d = std::abs(v[k] - initial_[k]) / scale;
         if (!(d <= max_)) max_ = d;  // a NaN sticks
@@ -574,7 +588,7 @@ double error_of(const State& x, const Reference& ref) {
   return e;
 }
 
-// --- the orbit reference ------------------------------------------------------------------------------
+// --- the formulations' reference ------------------------------------------------------------------------------
 
 // float128_run, but stopped by a terminal event (an orbit's re_entry, in its direction), which the
 // runtime locates on DOP853's dense output (runtime/events.hpp): an orbit that does not last to
@@ -610,38 +624,40 @@ std::array<Q, n_state> float128_run_unless_terminal(double t_end, double tol) {
   }
 }
 
-Q distance(const std::array<Q, 3>& a, const std::array<Q, 3>& b) {
+Q distance(const std::vector<Q>& a, const std::vector<Q>& b) {
   using std::sqrt;
   Q d2 = Q(0);
-  for (std::size_t k = 0; k < 3; ++k) d2 += (a[k] - b[k]) * (a[k] - b[k]);
+  for (std::size_t k = 0; k < a.size(); ++k) d2 += (a[k] - b[k]) * (a[k] - b[k]);
   return sqrt(d2);
 }
 
-// `--reference-only` (on the Cowell kernel): the position at t_end of a float128 DOP853 run from
-// the kernel's initial Cartesian state, and how far a run 1000 times looser ends from it (its
-// error is below that). Printed as a note and the line reference_position,X,Y,Z,SPREAD.
-template <class M = K>
-int print_orbit_reference(const Options& o) {
-  if constexpr (!position_in_state) {
-    (void)o;
-    usage("--reference-only needs a kernel whose state holds the position x, y, z (Cowell's)");
-  } else {
-    const auto tight = float128_run_unless_terminal(o.t_end, o.reference_tolerance);
-    const auto loose = float128_run(o.t_end, o.reference_tolerance * 1e3);
-    std::array<Q, 3> r{}, r_loose{};
-    for (int k = 0; k < 3; ++k) r[k] = tight[state_xyz[k]], r_loose[k] = loose[state_xyz[k]];
-    const Q spread = distance(r, r_loose);
-    std::printf("# reference: %s in float128 (113-bit), DOP853 at rtol = atol = %.0e from the scene's initial "
-                "Cartesian state; a run at %.0e ends %.2g away in position (a bound on the reference's error)\n",
-                M::scene_name, o.reference_tolerance, o.reference_tolerance * 1e3, static_cast<double>(spread));
-    std::printf("reference_position,%s,%s,%s,%s\n", rt::to_string(r[0]).c_str(), rt::to_string(r[1]).c_str(),
-                rt::to_string(r[2]).c_str(), rt::to_string(spread, 6).c_str());
-  }
+std::vector<Q> run_judged(const std::array<Q, n_state>& x, double t_end, const std::vector<Column>& columns) {
+  return judged_values(Q(t_end), x.data(), columns, parameters);
+}
+
+// `--reference-only` (on the reference formulation's kernel): the judged columns at t_end of a
+// float128 DOP853 run from the kernel's initial state, and how far a run 1000 times looser ends
+// from it (its error is below that). Printed as a note and the line reference_values,V1,...,Vn,SPREAD.
+int print_reference(const Options& o, const std::vector<Column>& columns) {
+  const std::vector<Q> r = run_judged(float128_run_unless_terminal(o.t_end, o.reference_tolerance), o.t_end, columns);
+  const std::vector<Q> r_loose = run_judged(float128_run(o.t_end, o.reference_tolerance * 1e3), o.t_end, columns);
+  const Q spread = distance(r, r_loose);
+  std::string names;
+  for (const std::string& n : o.judged) names += (names.empty() ? "" : ", ") + n;
+  std::printf("# reference: %s in float128 (113-bit), DOP853 at rtol = atol = %.0e from the kernel's initial state; a "
+              "run at %.0e ends %.2g away in (%s) (a bound on the reference's error)\n",
+              K::scene_name, o.reference_tolerance, o.reference_tolerance * 1e3, static_cast<double>(spread),
+              names.c_str());
+  std::printf("reference_values");
+  for (const Q& v : r) std::printf(",%s", rt::to_string(v).c_str());
+  std::printf(",%s\n", rt::to_string(spread, 6).c_str());
   return 0;
 }
 
-double position_error(const State& x, double t_end, const std::array<Q, 3>& reference) {
-  return static_cast<double>(distance(position_of(t_end, x.data(), parameters), reference));
+double judged_error(const State& x, double t_end, const std::vector<Column>& columns, const std::vector<Q>& reference) {
+  std::array<Q, n_state> xq{};
+  std::copy(x.begin(), x.end(), xq.begin());
+  return static_cast<double>(distance(run_judged(xq, t_end, columns), reference));
 }
 
 // --- timing and output ------------------------------------------------------------------------------
@@ -725,22 +741,39 @@ int main(int argc, char** argv) {
       usage("unknown method " + name);
   }
 
+  // The judged columns, and the measured invariants, by name.
+  std::vector<Column> columns;
+  if (o.reference_only || o.reference_values) {
+    for (const std::string& name : o.judged) {
+      const int in_state = index_of(K::state_names, name), in_outputs = output_index(name);
+      if (in_state < 0 && in_outputs < 0) usage("--judge: the kernel has no state component or output '" + name + "'");
+      columns.push_back(in_state >= 0 ? Column{true, in_state} : Column{false, in_outputs});
+    }
+  }
+  if (!o.drift_invariants.empty()) {
+    drift_measured.fill(false);
+    for (const std::string& name : o.drift_invariants) {
+      const int k = index_of(K::invariant_names, name);
+      if (k < 0) usage("--drift-invariants: the kernel has no invariant '" + name + "'");
+      drift_measured[static_cast<std::size_t>(k)] = true;
+    }
+  }
+
   if (o.reference_only) {
     try {
-      return print_orbit_reference(o);
+      return print_reference(o, columns);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "bench driver: the reference run failed: %s\n", e.what());
       return 1;
     }
   }
-  if (o.reference_position && !has_position) usage("--reference-position: the kernel has no position x, y, z");
 
   std::size_t total = 1, done = 0;  // the reference counts as one unit
   for (const Method& m : methods) total += m.kind == Kind::adaptive ? o.tolerances.size() : o.steps.size();
   Progress bar(total);
   bar.show(done++, "reference solution");
   Reference ref;
-  if (!o.reference_position) {
+  if (!o.reference_values) {
     try {
       ref = make_reference(o);
     } catch (const std::exception& e) {
@@ -754,8 +787,8 @@ int main(int argc, char** argv) {
 
   // Errors this small are round-off: a fixed-step sweep that no longer improves there is done.
   double scale = 1.0;
-  if (o.reference_position)
-    for (const Q& v : *o.reference_position) scale = std::max(scale, static_cast<double>(abs(v)));
+  if (o.reference_values)
+    for (const Q& v : *o.reference_values) scale = std::max(scale, static_cast<double>(abs(v)));
   else
     for (const Q& v : ref.x) scale = std::max(scale, static_cast<double>(abs(v)));
   const double round_off_region = 1e-8 * scale;
@@ -775,7 +808,7 @@ int main(int argc, char** argv) {
         const auto start = Clock::now();
         out = m.run(o.t_end, setting, true);
         observed_s = seconds_since(start);
-        error = o.reference_position ? position_error(out.x, o.t_end, *o.reference_position) : error_of(out.x, ref);
+        error = o.reference_values ? judged_error(out.x, o.t_end, columns, *o.reference_values) : error_of(out.x, ref);
         if (!std::isfinite(error)) throw std::runtime_error("non-finite final state");
       } catch (const std::exception& e) {
         // Too large a step (a fixed-step method blowing up, an implicit stage iteration that does

@@ -19,6 +19,7 @@
 #include "host/bench.hpp"
 #include "host/orbit_bench.hpp"
 #include "host/pipeline.hpp"
+#include "host/rigid_bench.hpp"
 #include "host/simulate.hpp"
 #include "mechanics/inverse/inverse_problem.hpp"
 #include "mechanics/relative/equilibria.hpp"
@@ -246,16 +247,21 @@ void bench_command(const Pipeline& p, const Options& o) {
     const std::string header = host::kernel_header(p, nullptr, &ir);
     host::BenchRequest r = cli::bench_request(p, header, ir, o.scene_path, o.out_dir, o.bench);
     const std::vector<std::string> formulations = cli::comma_list(o.bench.formulations);
-    if (!o.bench.formulations.empty() && !p.model.orbit)
+    if (!o.bench.formulations.empty() && !p.model.orbit && !p.model.rigid)
         throw InputError(SourcePos{"--formulations"},
-                         fmt::format("{} has no [orbit]; --formulations compares the formulations of an orbit scene",
+                         fmt::format("{} has no [orbit] or [rigid_body]; --formulations compares the formulations of "
+                                     "an orbit or a rigid-body scene",
                                      o.scene_path));
     if (!formulations.empty() && !o.front.orbit_formulation.empty())
         throw InputError(SourcePos{"--formulations"},
                          "give the formulations either by --formulations or by --orbit-formulation, not both");
+    if (!formulations.empty() && !o.front.rigid_formulation.empty())
+        throw InputError(SourcePos{"--formulations"},
+                         "give the formulations either by --formulations or by --rigid-formulation, not both");
     if (!o.bench.formulations.empty() && formulations.empty())
         throw InputError(SourcePos{"--formulations"}, "the list is empty");
     if (p.model.orbit) host::add_orbit_formulations(r, o.scene_path, formulations, o.front.orbit_formulation);
+    if (p.model.rigid) host::add_rigid_formulations(r, o.scene_path, formulations, o.front.rigid_formulation);
     host::print_bench_table(host::bench(r), std::cout);
 }
 

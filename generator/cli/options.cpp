@@ -220,10 +220,13 @@ void add_bench_options(CLI::App* cmd, BenchOptions& o) {
     cmd->add_option("--formulations", o.formulations,
                       "orbit scenes: comma-separated formulations to compare by their position at t_end against a "
                       "float128 Cowell run (default: all built: " +
-                          std::string(fmt::format("{}", fmt::join(scene::orbit_formulation_names, ", "))) + ")");
+                          std::string(fmt::format("{}", fmt::join(scene::orbit_formulation_names, ", "))) +
+                          "); rigid-body scenes: by ω and γ at t_end against a float128 Euler-Poisson run, and by "
+                          "the drift of the energy (default: all built: " +
+                          std::string(fmt::format("{}", fmt::join(scene::rigid_formulation_names, ", "))) + ")");
     cmd->add_option("--reference-tolerance", o.reference_tolerance,
-                      "orbit scenes: rtol = atol of the float128 Cowell reference (default 1e-26; checked against a run "
-                      "1000 times looser)");
+                      "orbit and rigid-body scenes: rtol = atol of the float128 reference run (Cowell, Euler-Poisson; "
+                      "default 1e-26; checked against a run 1000 times looser)");
 }
 
 host::BenchRequest bench_request(const host::Pipeline& p, const std::string& header, const codegen::KernelIR& ir,

@@ -51,7 +51,7 @@ struct BenchOptions {
 
 void add_bench_options(CLI::App* cmd, BenchOptions& o);
 // The request of a bench run on p's kernel `header` printed from `ir` (an orbit scene's formulation axis is added by
-// host::add_orbit_formulations).
+// host::add_orbit_formulations, a rigid-body scene's by host::add_rigid_formulations).
 host::BenchRequest bench_request(const host::Pipeline& p, const std::string& header, const codegen::KernelIR& ir,
                                  const std::string& scene_path, const std::string& out_dir, const BenchOptions& o);
 

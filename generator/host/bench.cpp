@@ -233,11 +233,12 @@ std::string gnuplot_script(const BenchRequest& request, const BenchResult& resul
     return s;
 }
 
-// Two panels, log-log, one curve per formulation and method: the error of the position at t_end
-// against the median wall time of a run, and against its rhs evaluations. Colour: formulation;
-// point and dash: method.
+// Two panels, log-log, one curve per formulation and method: the error of the judged columns at
+// t_end against the median wall time of a run, and against its rhs evaluations; a third, the drift
+// of the measured invariants against the wall time, when the axis names them. Colour:
+// formulation; point and dash: method.
 // Errors above `error_cap` are left out of the plot (they are in the CSV and the table).
-std::string orbit_gnuplot_script(const BenchRequest& request, const BenchResult& result, double error_cap,
+std::string formulation_gnuplot_script(const BenchRequest& request, const BenchResult& result, double error_cap,
                                  const std::string& terminal, const fs::path& output) {
     static const char* colors[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",
                                    "#bcbd22", "#17becf", "#ff7f0e"};
@@ -264,31 +265,39 @@ std::string orbit_gnuplot_script(const BenchRequest& request, const BenchResult&
         // gap in its curve.
         s += fmt::format("$c{} << EOD\n", c);
         for (const BenchRow* r : rows)
-            s += fmt::format("{} {} {}\n", positive(r->seconds), positive(static_cast<double>(r->rhs_evals)),
-                             r->error <= error_cap ? positive(r->error) : "NaN");
+            s += fmt::format("{} {} {} {}\n", positive(r->seconds), positive(static_cast<double>(r->rhs_evals)),
+                             r->error <= error_cap ? positive(r->error) : "NaN", positive(r->drift));
         s += "EOD\n";
     }
-    s += fmt::format("set multiplot layout 1,2 title {}\n",
-                     gnuplot_quoted(gnuplot_text(fmt::format(
-                         "{}: position error at t = {:.6g} against a float128 Cowell run (runs that lost the orbit, "
-                         "error > its radius, left out)",
-                         request.scene_name, request.t_end))));
-    s += "set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\nset grid\nset key bottom left font ',9'\n"
-         "set ylabel 'position error at the end time'\n";
+    const FormulationAxis& axis = request.axis;
+    const bool drift_panel = !axis.drift_invariants.empty();
+    s += fmt::format("set multiplot layout 1,{} title {}\n", drift_panel ? 3 : 2,
+                     gnuplot_quoted(gnuplot_text(fmt::format("{}: {} error at t = {:.6g} against a float128 {} run ({}, "
+                                                             "left out)",
+                                                             request.scene_name, axis.judged_what, request.t_end,
+                                                             axis.reference, axis.lost))));
+    s += "set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\nset grid\nset key bottom left font ',9'\n";
+    s += fmt::format("set ylabel {}\n", gnuplot_quoted(gnuplot_text(axis.judged_what + " error at the end time")));
     if (std::isfinite(error_cap)) s += fmt::format("set yrange [:{:.3g}]\n", 2.0 * error_cap);
-    const auto panel = [&](const char* xlabel, int column) {
+    const auto panel = [&](const char* xlabel, int column, int y) {
         std::string p = fmt::format("set xlabel '{}'\nplot ", xlabel);
         for (std::size_t c = 0; c < curves.size(); ++c) {
             const std::size_t f = index(formulations, curves[c].first), m = index(methods, curves[c].second);
-            p += fmt::format("{}$c{} using {}:3 with linespoints lw 1.5 pt {} dt {} lc rgb '{}' title '{} {}'",
-                             c ? ", \\\n     " : "", c, column, m % 13 + 1, m % 5 + 1, colors[f % 10],
+            p += fmt::format("{}$c{} using {}:{} with linespoints lw 1.5 pt {} dt {} lc rgb '{}' title '{} {}'",
+                             c ? ", \\\n     " : "", c, column, y, m % 13 + 1, m % 5 + 1, colors[f % 10],
                              gnuplot_text(curves[c].first), gnuplot_text(curves[c].second));
         }
         return p + "\n";
     };
     if (!curves.empty()) {
-        s += panel("wall time per run (s, median)", 1);
-        s += panel("rhs evaluations per run", 2);
+        s += panel("wall time per run (s, median)", 1, 3);
+        s += panel("rhs evaluations per run", 2, 3);
+        if (drift_panel) {
+            s += "unset yrange\n";
+            s += fmt::format("set ylabel {}\n", gnuplot_quoted(gnuplot_text(fmt::format(
+                                                  "max relative drift of {}", fmt::join(axis.drift_invariants, ", ")))));
+            s += panel("wall time per run (s, median)", 1, 4);
+        }
     }
     s += "unset multiplot\n";
     return s;
@@ -412,70 +421,76 @@ void write_outputs(const BenchRequest& request, BenchResult& result, const std::
     }
 }
 
-// The Cowell reference of an orbit bench: the position at t_end and its spread, from the cache
-// when this kernel, end time and tolerance have been run before (it takes minutes on long runs).
-struct OrbitReference {
-    std::string position;  // X,Y,Z in full float128 precision
+// The reference of a formulation bench: its judged columns at t_end and their spread, from the
+// cache when this kernel, end time, tolerance and columns have been run before (it takes minutes
+// on long runs).
+struct FormulationReference {
+    std::string values;  // V1,...,Vn in full float128 precision
     double spread = 0.0;
     std::string note;
 };
 
-OrbitReference orbit_reference(const BenchRequest& request, const fs::path& driver) {
-    const fs::path cached = driver.parent_path() / fmt::format("{}.reference-{:.17g}-{:.3g}.txt", driver.filename().string(),
-                                                              request.t_end, request.reference_tolerance);
+FormulationReference formulation_reference(const BenchRequest& request, const fs::path& driver) {
+    const std::string judged = join(request.axis.judged, ",");
+    const fs::path cached =
+        driver.parent_path() / fmt::format("{}.reference-{:.17g}-{:.3g}-{}.txt", driver.filename().string(), request.t_end,
+                                           request.reference_tolerance, join(request.axis.judged, "_"));
     std::string text;
     if (fs::exists(cached)) {
         text = read_text(cached);
     } else {
-        std::cerr << "computing the float128 Cowell reference for " << request.scene_name << " over t = 0 .. "
-                  << fmt::format("{:.6g}", request.t_end) << " (once; it is cached as " << cached.string() << ")\n";
+        std::cerr << "computing the float128 " << request.axis.reference << " reference for " << request.scene_name
+                  << " over t = 0 .. " << fmt::format("{:.6g}", request.t_end) << " (once; it is cached as "
+                  << cached.string() << ")\n";
         text = run_driver({driver.string(), "--reference-only", "--t-end", fmt::format("{:.17g}", request.t_end),
-                           "--reference-tolerance", fmt::format("{:.17g}", request.reference_tolerance)});
+                           "--reference-tolerance", fmt::format("{:.17g}", request.reference_tolerance), "--judge",
+                           judged});
         write_file_atomically(cached, text);
     }
-    OrbitReference ref;
+    FormulationReference ref;
     std::istringstream lines(text);
     for (std::string line; std::getline(lines, line);) {
         if (line.rfind("# ", 0) == 0) {
             ref.note = line.substr(2);
-        } else if (line.rfind("reference_position,", 0) == 0) {
+        } else if (line.rfind("reference_values,", 0) == 0) {
             const std::vector<std::string> f = split(line, ',');
-            if (f.size() != 5) break;
-            ref.position = f[1] + "," + f[2] + "," + f[3];
-            ref.spread = parse_double(f[4]);
+            if (f.size() != request.axis.judged.size() + 2) break;
+            ref.values = join(std::vector<std::string>(f.begin() + 1, f.end() - 1), ",");
+            ref.spread = parse_double(f.back());
         }
     }
-    if (ref.position.empty() || ref.note.empty())
-        throw std::runtime_error("the reference run wrote no position (" + cached.string() + "):\n" + text);
+    if (ref.values.empty() || ref.note.empty())
+        throw std::runtime_error("the reference run wrote no values (" + cached.string() + "):\n" + text);
     return ref;
 }
 
-// Step counts for fixed-step methods on an orbit: 8 .. 2048 per revolution in half octaves (fewer
-// than 8 steps per revolution only measure divergence).
-std::vector<double> orbit_steps(const BenchRequest& request) {
+// Step counts for fixed-step methods: 8 .. 2048 per period (an orbit's revolution, a body's turn)
+// in half octaves (fewer than 8 steps per period only measure divergence).
+std::vector<double> period_steps(const BenchRequest& request) {
     std::vector<double> steps;
-    const double orbits = request.t_end / request.orbit_period;
-    for (int k = 6; k <= 22; ++k) steps.push_back(std::max(1.0, std::round(orbits * std::pow(2.0, k / 2.0))));
+    const double periods = request.t_end / request.axis.period;
+    for (int k = 6; k <= 22; ++k) steps.push_back(std::max(1.0, std::round(periods * std::pow(2.0, k / 2.0))));
     steps.erase(std::unique(steps.begin(), steps.end()), steps.end());
     return steps;
 }
 
-BenchResult orbit_bench(const BenchRequest& request) {
+BenchResult formulation_bench(const BenchRequest& request) {
     BenchResult result;
+    const FormulationAxis& axis = request.axis;
+    result.table_levels = axis.table_levels;
     const std::vector<std::string> methods =
         request.methods.empty() ? std::vector<std::string>{"dop853", "dopri5", "rk4"} : request.methods;
-    const std::vector<double> steps =
-        request.steps.empty() && request.orbit_period > 0.0 ? orbit_steps(request) : request.steps;
+    const std::vector<double> steps = request.steps.empty() && axis.period > 0.0 ? period_steps(request) : request.steps;
 
-    // The reference: the request's own kernel (Cowell) in float128.
+    // The reference: the request's own kernel (the axis's reference formulation) in float128.
     const fs::path reference_driver = driver_for(request, result.cache_hit);
     result.driver_path = reference_driver.string();
-    const OrbitReference ref = orbit_reference(request, reference_driver);
+    const FormulationReference ref = formulation_reference(request, reference_driver);
     result.reference_spread = ref.spread;
     result.notes.push_back(ref.note);
     result.notes.insert(result.notes.end(), request.skipped.begin(), request.skipped.end());
 
-    std::string csv = std::string(bench_orbit_csv_header) + "\n";
+    std::string csv = bench_formulation_csv_header(axis) + "\n";
     for (const BenchFormulation& f : request.formulations) {
         bool hit = false;
         const BenchRequest kernel = with_kernel(request, f);
@@ -483,7 +498,8 @@ BenchResult orbit_bench(const BenchRequest& request) {
         std::cerr << "formulation " << f.name << "\n";
         std::vector<std::string> argv{driver.string()};
         for (std::string& a : sweep_arguments(kernel, methods, steps)) argv.push_back(std::move(a));
-        argv.insert(argv.end(), {"--reference-position", ref.position});
+        argv.insert(argv.end(), {"--judge", join(axis.judged, ","), "--reference-values", ref.values});
+        if (!axis.drift_invariants.empty()) argv.insert(argv.end(), {"--drift-invariants", join(axis.drift_invariants, ",")});
         collect(run_driver(argv), f.name, f.name + ": ", result, csv);
     }
 
@@ -496,18 +512,24 @@ BenchResult orbit_bench(const BenchRequest& request) {
                                            ref.spread * 100.0 <= best ? fmt::format("{:.2g} times below", best / ref.spread)
                                                                       : std::string("not 100 times below"),
                                            best));
-    // An error as large as the orbit only says that the run lost it (coarse steps fly off to 1e8
-    // km, or fall in): such runs are left out of the plot, whose scale stays with the others.
+    // An error as large as the judged vector itself only says that the run lost it (an orbit's
+    // coarse steps fly off to 1e8 km, or fall in): such runs are left out of the plot, whose scale
+    // stays with the others.
     double radius2 = 0.0;
-    for (const std::string& c : split(ref.position, ',')) radius2 += parse_double(c) * parse_double(c);
+    for (const std::string& c : split(ref.values, ',')) radius2 += parse_double(c) * parse_double(c);
     const double error_cap = std::sqrt(radius2);
     write_outputs(request, result, csv, [&](const std::string& terminal, const fs::path& output) {
-        return orbit_gnuplot_script(request, result, error_cap, terminal, output);
+        return formulation_gnuplot_script(request, result, error_cap, terminal, output);
     });
     return result;
 }
 
 }  // namespace
+
+std::string bench_formulation_csv_header(const FormulationAxis& axis) {
+    return fmt::format("formulation,method,library,kind,setting,{},{},rhs_evals,steps,rejected,wall_seconds,repetitions",
+                       axis.error_column, axis.drift_column);
+}
 
 std::string bench_config_source(const BenchRequest& request) {
     const bool has_reference = !request.reference_body.empty();
@@ -530,7 +552,7 @@ std::string bench_config_source(const BenchRequest& request) {
 
 BenchResult bench(const BenchRequest& request) {
     validate(request);
-    if (!request.formulations.empty()) return orbit_bench(request);
+    if (!request.formulations.empty()) return formulation_bench(request);
     BenchResult result;
     const fs::path driver = driver_for(request, result.cache_hit);
     result.driver_path = driver.string();
@@ -545,18 +567,19 @@ BenchResult bench(const BenchRequest& request) {
 }
 
 void print_bench_table(const BenchResult& result, std::ostream& out) {
-    // Orbit benches: one line per formulation and method, at position errors of a unit (a km in
-    // the bundled scenes), a thousandth (a metre) and a millionth (a millimetre).
-    const bool orbit = std::any_of(result.rows.begin(), result.rows.end(),
+    // Formulation benches: one line per formulation and method, at the axis's error levels (an
+    // orbit's position errors of a unit, a km in the bundled scenes, a thousandth and a millionth).
+    const bool axis = std::any_of(result.rows.begin(), result.rows.end(),
                                    [](const BenchRow& r) { return !r.formulation.empty(); });
     std::vector<std::pair<std::string, std::string>> lines;
     for (const auto& r : result.rows) {
         const std::pair<std::string, std::string> key{r.formulation, r.method};
         if (std::find(lines.begin(), lines.end(), key) == lines.end()) lines.push_back(key);
     }
-    const std::vector<double> targets = orbit ? std::vector<double>{1.0, 1e-3, 1e-6} : std::vector<double>{1e-6, 1e-9, 1e-12};
-    const int width = orbit ? 20 : 18;
-    std::string s = orbit ? fmt::format("{:<12} {:<8} {:>4}  {:>10}", "formulation", "method", "runs", "best error")
+    const std::vector<double> targets =
+        !result.table_levels.empty() ? result.table_levels : std::vector<double>{1e-6, 1e-9, 1e-12};
+    const int width = axis ? 20 : 18;
+    std::string s = axis ? fmt::format("{:<14} {:<8} {:>4}  {:>10}", "formulation", "method", "runs", "best error")
                           : fmt::format("{:<30} {:<7} {:>4}  {:>10}", "method", "library", "runs", "best error");
     for (double t : targets) s += fmt::format("  {:>{}}", fmt::format("to {:.0e}: ms, rhs", t), width);
     s += fmt::format("  {:>12}\n", "drift (best)");
@@ -566,7 +589,7 @@ void print_bench_table(const BenchResult& result, std::ostream& out) {
             if (r.formulation == formulation && r.method == method) rows.push_back(&r);
         const BenchRow* best = *std::min_element(rows.begin(), rows.end(),
                                                  [](const BenchRow* a, const BenchRow* b) { return a->error < b->error; });
-        s += orbit ? fmt::format("{:<12} {:<8} {:>4}  {:>10.2e}", formulation, method, rows.size(), best->error)
+        s += axis ? fmt::format("{:<14} {:<8} {:>4}  {:>10.2e}", formulation, method, rows.size(), best->error)
                    : fmt::format("{:<30} {:<7} {:>4}  {:>10.2e}", method, rows.front()->library, rows.size(), best->error);
         for (double t : targets) {
             // The cheapest run (wall time) whose error is at most t.
@@ -574,7 +597,7 @@ void print_bench_table(const BenchResult& result, std::ostream& out) {
             for (const BenchRow* r : rows)
                 if (r->error <= t && (!cheapest || r->seconds < cheapest->seconds)) cheapest = r;
             s += cheapest ? fmt::format("  {:>{}}",
-                                        fmt::format("{:.3g} {:>{}}", cheapest->seconds * 1e3, cheapest->rhs_evals, orbit ? 9 : 7),
+                                        fmt::format("{:.3g} {:>{}}", cheapest->seconds * 1e3, cheapest->rhs_evals, axis ? 9 : 7),
                                         width)
                           : fmt::format("  {:>{}}", "-", width);
         }

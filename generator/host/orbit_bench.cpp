@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <ginac/ginac.h>
 
+#include "host/formulation_bench.hpp"
 #include "host/pipeline.hpp"
 #include "scene/scene.hpp"
 #include "support/diagnostic.hpp"
@@ -34,38 +35,11 @@ double osculating_period(const model::Model& m) {
 
 void add_orbit_formulations(BenchRequest& r, const std::string& scene_path, const std::vector<std::string>& asked,
                             const std::string& orbit_formulation) {
-    std::vector<std::string> names = asked;
-    if (names.empty() && !orbit_formulation.empty()) names = {orbit_formulation};
-    if (names.empty()) names.assign(scene::orbit_formulation_names.begin(), scene::orbit_formulation_names.end());
-    for (const auto& name : names) scene::check_orbit_formulation(name, SourcePos{"--formulations"});
-    const auto formulation = [&](const std::string& name) {
-        FrontEndOptions options;
-        options.orbit_formulation = name;
-        options.flag = "--formulations";
-        return front_end(scene_path, options);
-    };
-    const Pipeline cowell = formulation("cowell");
-    r.header_text = kernel_header(cowell);
-    r.struct_name = cowell.model.struct_name;
-    r.scene_name = scene::parse_scene_file(scene_path).name;  // not a formulation's kernel name
-    r.reference_body.clear();
-    r.orbit_period = osculating_period(cowell.model);
-    const bool all_built = asked.empty() && orbit_formulation.empty();
-    for (const auto& name : names) {
-        try {
-            const Pipeline f = name == "cowell" ? cowell : formulation(name);
-            r.formulations.push_back({name, name == "cowell" ? r.header_text : kernel_header(f), f.model.struct_name,
-                                      f.model.name, !depends_on_time(f)});
-        } catch (const InputError& e) {
-            // Asked for by name: bad input. Among "all built": a formulation that does not take
-            // this scene (mean with drag) is left out, and the table says why.
-            if (!all_built) throw;
-            r.skipped.push_back(fmt::format("{}: left out: {}", name, e.message()));
-        }
-    }
-    if (r.formulations.empty())
-        throw InputError(SourcePos{"--formulations"},
-                         "no formulation takes this scene: " + fmt::format("{}", fmt::join(r.skipped, "; ")));
+    r.axis = FormulationAxis{};  // Cowell's Cartesian position, its invariants, errors of 1, 1e-3, 1e-6
+    const FormulationFamily orbit{scene::orbit_formulation_names, &FrontEndOptions::orbit_formulation,
+                                  scene::check_orbit_formulation};
+    const Pipeline cowell = add_formulations(r, scene_path, orbit, asked, orbit_formulation);
+    r.axis.period = osculating_period(cowell.model);
 }
 
 }  // namespace eomc::host

@@ -85,10 +85,12 @@ Pipeline front_end(const std::string& scene_path, const FrontEndOptions& options
     scene::Scene scene = scene::parse_scene_file(scene_path);
     if (!options.orbit_formulation.empty())
         scene::set_orbit_formulation(scene, options.orbit_formulation,
-                                     SourcePos{std::string(options.flag) + " " + options.orbit_formulation});
+                                     SourcePos{std::string(options.flag ? options.flag : "--orbit-formulation") + " " +
+                                               options.orbit_formulation});
     if (!options.rigid_formulation.empty())
         scene::set_rigid_formulation(scene, options.rigid_formulation,
-                                     SourcePos{"--rigid-formulation " + options.rigid_formulation});
+                                     SourcePos{std::string(options.flag ? options.flag : "--rigid-formulation") + " " +
+                                               options.rigid_formulation});
     Pipeline p{model::build_model(scene), {}, std::nullopt, options.variational};
     for (const auto& w : p.model.warnings) std::cerr << format_warning(w) << "\n";
     if (clock) clock->lap("parse");

@@ -40,7 +40,7 @@ struct FrontEndOptions {
     std::string orbit_formulation;   // --orbit-formulation; "" = the scene's own
     std::string rigid_formulation;   // --rigid-formulation; "" = the scene's own
     bool variational = false;        // --variational
-    const char* flag = "--orbit-formulation";  // the option that chose the formulation, for messages
+    const char* flag = nullptr;  // the option that chose the formulation, for messages (nullptr: the one above)
 };
 
 // Parse, build and derive (and form Hamilton's equations when asked). Throws InputError for a

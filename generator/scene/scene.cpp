@@ -1185,6 +1185,8 @@ RigidFormulationKind parse_rigid_formulation(std::string_view name, const Source
                                                      : fmt::format("did you mean '{}'?", near)));
 }
 
+void check_rigid_formulation(const std::string& name, const SourcePos& where) { parse_rigid_formulation(name, where); }
+
 void set_rigid_formulation(Scene& scene, const std::string& name, const SourcePos& where) {
     if (!scene.rigid_body)
         throw InputError(where, fmt::format("{} has no [rigid_body]; only a rigid-body scene has a formulation to "

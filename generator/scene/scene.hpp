@@ -314,6 +314,8 @@ void set_orbit_formulation(Scene& scene, const std::string& name, const SourcePo
 
 // The rigid-body formulation called `name`, as parse_orbit_formulation does for orbits.
 RigidFormulationKind parse_rigid_formulation(std::string_view name, const SourcePos& where);
+// parse_rigid_formulation, for a name that is only checked (--formulations).
+void check_rigid_formulation(const std::string& name, const SourcePos& where);
 // `--rigid-formulation NAME`, as set_orbit_formulation: the scene's name gains "_NAME". A scene
 // without [rigid_body] is refused at `where`.
 void set_rigid_formulation(Scene& scene, const std::string& name, const SourcePos& where);
