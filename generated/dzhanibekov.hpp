@@ -9,7 +9,7 @@
 //   forcing                           0 ->       0 (0 temporaries)
 //   rhs (u̇ in closed form)          13 ->      13 (0 temporaries)
 //   jacobian                          2 ->       2 (0 temporaries)
-//   invariants                       20 ->      20 (0 temporaries)
+//   invariants                       24 ->      22 (2 temporaries)
 #pragma once
 
 #include <array>
@@ -29,14 +29,14 @@ struct Dzhanibekov {
     static constexpr int velocity_offset = 6;
     static constexpr int n_velocities = 0;
     static constexpr int n_parameters = 0;
-    static constexpr int n_invariants = 3;
+    static constexpr int n_invariants = 4;
     static constexpr int n_outputs = 0;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = false;
     static constexpr const char* scene_name = "dzhanibekov";
     static constexpr std::array<const char*, n_state> state_names{ "p", "q", "r", "gamma1", "gamma2", "gamma3" };
     static constexpr std::array<const char*, n_parameters> parameter_names{  };
-    static constexpr std::array<const char*, n_invariants> invariant_names{ "energy", "area", "geometric" };
+    static constexpr std::array<const char*, n_invariants> invariant_names{ "energy", "area", "geometric", "integral_2_1" };
     static constexpr std::array<const char*, n_outputs> output_names{  };
     static constexpr std::array<double, n_state> initial_state{ 0, 1, 0.01, 0.6, 0, 0.8 };
 
@@ -142,9 +142,12 @@ struct Dzhanibekov {
         const S gamma1 = x[3];
         const S gamma2 = x[4];
         const S gamma3 = x[5];
-        out[0] = p_*p_ + S(5)/S(2)*r*r + S(3)/S(2)*q*q;
+        const S w0 = r*r;
+        const S w1 = q*q;
+        out[0] = p_*p_ + S(5)/S(2)*w0 + S(3)/S(2)*w1;
         out[1] = S(2)*gamma1*p_ + S(5)*gamma3*r + S(3)*gamma2*q;
         out[2] = gamma1*gamma1 + gamma2*gamma2 + gamma3*gamma3;
+        out[3] = w1 + S(5)*w0;
     }
 
     // Quantities written beside the state (none for this model), in output_names order.
@@ -189,6 +192,13 @@ struct Dzhanibekov {
         std::array<S, n_invariants> all;
         invariants(t, x, all.data(), p);
         return all[2];
+    }
+
+    template <class S>
+    static S integral_2_1(S t, const S* x, const Parameters& p) {
+        std::array<S, n_invariants> all;
+        invariants(t, x, all.data(), p);
+        return all[3];
     }
 
 };

@@ -9,7 +9,7 @@
 //   forcing                           0 ->       0 (0 temporaries)
 //   rhs (u̇ in closed form)          24 ->      24 (0 temporaries)
 //   jacobian                         24 ->      18 (6 temporaries)
-//   invariants                      114 ->      84 (8 temporaries)
+//   invariants                       28 ->      26 (2 temporaries)
 #pragma once
 
 #include <array>
@@ -29,14 +29,14 @@ struct EulerPoinsot {
     static constexpr int velocity_offset = 6;
     static constexpr int n_velocities = 0;
     static constexpr int n_parameters = 3;
-    static constexpr int n_invariants = 8;
+    static constexpr int n_invariants = 4;
     static constexpr int n_outputs = 0;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = false;
     static constexpr const char* scene_name = "euler_poinsot";
     static constexpr std::array<const char*, n_state> state_names{ "p", "q", "r", "gamma1", "gamma2", "gamma3" };
     static constexpr std::array<const char*, n_parameters> parameter_names{ "I1", "I2", "I3" };
-    static constexpr std::array<const char*, n_invariants> invariant_names{ "energy", "area", "geometric", "integral_4_1", "integral_4_2", "integral_4_3", "integral_4_4", "integral_2_5" };
+    static constexpr std::array<const char*, n_invariants> invariant_names{ "energy", "area", "geometric", "integral_2_1" };
     static constexpr std::array<const char*, n_outputs> output_names{  };
     static constexpr std::array<double, n_state> initial_state{ 0.4, 0, 0.8, 0.6, 0, 0.8 };
 
@@ -157,21 +157,11 @@ struct EulerPoinsot {
         const S I2 = S(p.I2);
         const S I3 = S(p.I3);
         const S w0 = q*q;
-        const S w1 = p_*p_;
-        const S w2 = r*r;
-        const S w3 = gamma1*gamma1;
-        const S w4 = gamma2*gamma2;
-        const S w5 = gamma3*gamma3;
-        const S w6 = w0*w2;
-        const S w7 = r*r*r*r;
-        out[0] = S(1)/S(2)*I1*w1 + S(1)/S(2)*I3*w2 + S(1)/S(2)*I2*w0;
+        const S w1 = r*r;
+        out[0] = S(1)/S(2)*I1*p_*p_ + S(1)/S(2)*I2*w0 + S(1)/S(2)*I3*w1;
         out[1] = I1*gamma1*p_ + I2*gamma2*q + I3*gamma3*r;
-        out[2] = w3 + w4 + w5;
-        out[3] = S(5)*w1*w2 - S(5)*w6 + w0*w1 - S(25)*w7;
-        out[4] = S(5)*gamma3*r*w0 + S(10)*gamma1*p_*w2 + S(3)*gamma2*q*q*q + S(2)*gamma1*p_*w0 + S(25)*gamma3*r*r*r + S(15)*gamma2*q*w2;
-        out[5] = q*q*q*q + S(10)*w6 + S(25)*w7;
-        out[6] = w0*w5 + w0*w4 + S(5)*w2*w5 + S(5)*w2*w4 + w0*w3 + S(5)*w2*w3;
-        out[7] = w0 + S(5)*w2;
+        out[2] = gamma1*gamma1 + gamma2*gamma2 + gamma3*gamma3;
+        out[3] = w0 + S(5)*w1;
     }
 
     // Quantities written beside the state (none for this model), in output_names order.
@@ -219,38 +209,10 @@ struct EulerPoinsot {
     }
 
     template <class S>
-    static S integral_4_1(S t, const S* x, const Parameters& p) {
+    static S integral_2_1(S t, const S* x, const Parameters& p) {
         std::array<S, n_invariants> all;
         invariants(t, x, all.data(), p);
         return all[3];
-    }
-
-    template <class S>
-    static S integral_4_2(S t, const S* x, const Parameters& p) {
-        std::array<S, n_invariants> all;
-        invariants(t, x, all.data(), p);
-        return all[4];
-    }
-
-    template <class S>
-    static S integral_4_3(S t, const S* x, const Parameters& p) {
-        std::array<S, n_invariants> all;
-        invariants(t, x, all.data(), p);
-        return all[5];
-    }
-
-    template <class S>
-    static S integral_4_4(S t, const S* x, const Parameters& p) {
-        std::array<S, n_invariants> all;
-        invariants(t, x, all.data(), p);
-        return all[6];
-    }
-
-    template <class S>
-    static S integral_2_5(S t, const S* x, const Parameters& p) {
-        std::array<S, n_invariants> all;
-        invariants(t, x, all.data(), p);
-        return all[7];
     }
 
 };

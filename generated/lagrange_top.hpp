@@ -9,7 +9,7 @@
 //   forcing                           0 ->       0 (0 temporaries)
 //   rhs (u̇ in closed form)          29 ->      28 (1 temporaries)
 //   jacobian                         22 ->      10 (4 temporaries)
-//   invariants                       82 ->      51 (6 temporaries)
+//   invariants                       27 ->      27 (0 temporaries)
 //   events                            3 ->       3 (0 temporaries)
 #pragma once
 
@@ -30,14 +30,14 @@ struct LagrangeTop {
     static constexpr int velocity_offset = 6;
     static constexpr int n_velocities = 0;
     static constexpr int n_parameters = 4;
-    static constexpr int n_invariants = 13;
+    static constexpr int n_invariants = 4;
     static constexpr int n_outputs = 0;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = false;
     static constexpr const char* scene_name = "lagrange_top";
     static constexpr std::array<const char*, n_state> state_names{ "p", "q", "r", "gamma1", "gamma2", "gamma3" };
     static constexpr std::array<const char*, n_parameters> parameter_names{ "A", "C", "P", "z0" };
-    static constexpr std::array<const char*, n_invariants> invariant_names{ "energy", "area", "geometric", "integral_4_1", "integral_4_2", "integral_4_3", "integral_4_4", "integral_3_5", "integral_3_6", "integral_3_7", "integral_3_8", "integral_2_9", "integral_1_10" };
+    static constexpr std::array<const char*, n_invariants> invariant_names{ "energy", "area", "geometric", "integral_1_1" };
     static constexpr std::array<const char*, n_outputs> output_names{  };
     static constexpr std::array<double, n_state> initial_state{ 0.2, 0, 4, 0, 0.5, 0.8660254037844386 };
 
@@ -160,25 +160,10 @@ struct LagrangeTop {
         const S C = S(p.C);
         const S P = S(p.P);
         const S z0 = S(p.z0);
-        const S w0 = r*r;
-        const S w1 = p_*p_;
-        const S w2 = q*q;
-        const S w3 = gamma1*gamma1 + gamma2*gamma2 + gamma3*gamma3;
-        const S w4 = S(2)*gamma3 + S(3)*w2 + S(3)*w1;
-        const S w5 = S(5)*gamma1*p_ + S(2)*gamma3*r + S(5)*gamma2*q;
-        out[0] = S(1)/S(2)*A*w2 + P*gamma3*z0 + S(1)/S(2)*A*w1 + S(1)/S(2)*C*w0;
+        out[0] = S(1)/S(2)*C*r*r + P*gamma3*z0 + S(1)/S(2)*A*p_*p_ + S(1)/S(2)*A*q*q;
         out[1] = A*gamma1*p_ + A*gamma2*q + C*gamma3*r;
-        out[2] = w3;
-        out[3] = w0*w4;
-        out[4] = w0*w5;
-        out[5] = r*r*r*r;
-        out[6] = w0*w3;
-        out[7] = r*w4;
-        out[8] = r*w5;
-        out[9] = r*r*r;
-        out[10] = r*w3;
-        out[11] = w0;
-        out[12] = r;
+        out[2] = gamma1*gamma1 + gamma2*gamma2 + gamma3*gamma3;
+        out[3] = r;
     }
 
     // Quantities written beside the state (none for this model), in output_names order.
@@ -245,73 +230,10 @@ struct LagrangeTop {
     }
 
     template <class S>
-    static S integral_4_1(S t, const S* x, const Parameters& p) {
+    static S integral_1_1(S t, const S* x, const Parameters& p) {
         std::array<S, n_invariants> all;
         invariants(t, x, all.data(), p);
         return all[3];
-    }
-
-    template <class S>
-    static S integral_4_2(S t, const S* x, const Parameters& p) {
-        std::array<S, n_invariants> all;
-        invariants(t, x, all.data(), p);
-        return all[4];
-    }
-
-    template <class S>
-    static S integral_4_3(S t, const S* x, const Parameters& p) {
-        std::array<S, n_invariants> all;
-        invariants(t, x, all.data(), p);
-        return all[5];
-    }
-
-    template <class S>
-    static S integral_4_4(S t, const S* x, const Parameters& p) {
-        std::array<S, n_invariants> all;
-        invariants(t, x, all.data(), p);
-        return all[6];
-    }
-
-    template <class S>
-    static S integral_3_5(S t, const S* x, const Parameters& p) {
-        std::array<S, n_invariants> all;
-        invariants(t, x, all.data(), p);
-        return all[7];
-    }
-
-    template <class S>
-    static S integral_3_6(S t, const S* x, const Parameters& p) {
-        std::array<S, n_invariants> all;
-        invariants(t, x, all.data(), p);
-        return all[8];
-    }
-
-    template <class S>
-    static S integral_3_7(S t, const S* x, const Parameters& p) {
-        std::array<S, n_invariants> all;
-        invariants(t, x, all.data(), p);
-        return all[9];
-    }
-
-    template <class S>
-    static S integral_3_8(S t, const S* x, const Parameters& p) {
-        std::array<S, n_invariants> all;
-        invariants(t, x, all.data(), p);
-        return all[10];
-    }
-
-    template <class S>
-    static S integral_2_9(S t, const S* x, const Parameters& p) {
-        std::array<S, n_invariants> all;
-        invariants(t, x, all.data(), p);
-        return all[11];
-    }
-
-    template <class S>
-    static S integral_1_10(S t, const S* x, const Parameters& p) {
-        std::array<S, n_invariants> all;
-        invariants(t, x, all.data(), p);
-        return all[12];
     }
 
 };

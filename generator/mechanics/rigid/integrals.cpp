@@ -1,5 +1,6 @@
 #include "mechanics/rigid/integrals.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -30,17 +31,29 @@ RigidIntegrals search_rigid_integrals(const model::Model& model, const EulerPois
     for (std::size_t i = 0; i < 3; ++i) in.state.push_back(body.gamma[i]);
     for (std::size_t i = 0; i < 3; ++i) in.field.push_back(system.omega_rate[i].subs(exact).expand());
     for (std::size_t i = 0; i < 3; ++i) in.field.push_back(system.gamma_rate[i].subs(exact).expand());
-    in.degree = degree;
     const ex* area = nullptr;
     for (const auto& inv : system.integrals) {
         in.known.push_back({inv.name, inv.value.subs(exact).expand()});
         if (inv.name == "area") area = &inv.value;
     }
     if (area) in.conditions.push_back({"area", area->subs(exact).expand(), 0});
+    // Degree by degree, each new integral joining the known ones: a product of integrals found
+    // at a lower degree (|Iω|²·H for a free body) is then no new integral at a higher one.
     try {
-        out.found = search_polynomial_integrals(in);
+        for (unsigned d = 1; d <= degree; ++d) {
+            in.degree = d;
+            for (auto& f : search_polynomial_integrals(in)) {
+                const bool repeated = std::any_of(out.found.begin(), out.found.end(), [&](const FoundIntegral& g) {
+                    return g.conditional == f.conditional && (g.value - f.value).expand().is_zero();
+                });
+                if (repeated) continue;
+                if (!f.conditional) in.known.push_back({fmt::format("found_{}", out.found.size() + 1), f.value});
+                out.found.push_back(std::move(f));
+            }
+        }
     } catch (const std::invalid_argument& e) {
         out.not_searched = e.what();
+        out.found.clear();
         return out;
     }
     // The state at t = 0, to decide whether it lies on a conditional integral's level.
