@@ -274,3 +274,30 @@ BOOST_AUTO_TEST_CASE(the_derivation_prints_the_section_in_every_format) {
     std::ofstream(dir / "s.json") << printed(sleigh, sleigh_eqs, eomc::report::DerivationFormat::json);
     BOOST_TEST(std::system(("python3 -m json.tool " + (dir / "s.json").string() + " > /dev/null").c_str()) == 0);
 }
+
+// Jacobi's last multiplier over every bundled scene given by its energies (Whittaker §119): det M
+// is one exactly when no force outside L depends on the velocities. Scenes with constraint rows
+// or a free carrier have another first-order form (not examined), a damped particle's −c v is
+// the one velocity-dependent force among them.
+BOOST_AUTO_TEST_CASE(det_m_is_a_last_multiplier_of_every_bundled_lagrangian_scene) {
+    namespace fs = std::filesystem;
+    std::size_t proven = 0;
+    for (const auto& entry : fs::directory_iterator(fs::path(EOMC_SOURCE_DIR) / "scenes")) {
+        const auto model = test_support::bundled_model(entry.path().stem().string());
+        if (model.kind() != eomc::model::ModelKind::energies) continue;
+        const auto eqs = eomc::mechanics::derive(model);
+        const auto mu = eomc::mechanics::rigid::last_multiplier(model, eqs);
+        BOOST_TEST_CONTEXT(model.name) {
+            using Status = eomc::mechanics::rigid::MultiplierStatus;
+            if (!model.constraints.empty() || model.free_carrier()) {
+                BOOST_TEST((mu.status == Status::not_applicable));
+            } else if (model.name == "damped_particle") {
+                BOOST_TEST((mu.status == Status::not_multiplier));
+            } else {
+                BOOST_TEST((mu.status == Status::proven), mu.reason);
+                ++proven;
+            }
+        }
+    }
+    BOOST_TEST(proven >= 10u);
+}
