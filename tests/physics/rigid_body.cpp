@@ -613,7 +613,7 @@ BOOST_AUTO_TEST_CASE(gravity_gradient_pitch_periods) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Gyroscope with a static imbalance (tests/physics/static_imbalance_gyroscope.toml; Mei §2.5):
+// Gyroscope with a static imbalance (scenes/static_imbalance_gyroscope.toml; Mei §2.5):
 // started at the slow regular precession of Lagrange's top, φ advances at exactly
 // φ̇ = 2Pℓ/(Cn + √(C²n² − 4A cos θ Pℓ)) = 4.90500003608854e-5 rad/s, which is m g ℓ/(C n) =
 // 4.905e-5 up to its relative correction A cos θ Pℓ/(Cn)² (1 + O(that)) = 7.3575e-9.
