@@ -488,6 +488,17 @@ BenchResult formulation_bench(const BenchRequest& request) {
     const FormulationReference ref = formulation_reference(request, reference_driver);
     result.reference_spread = ref.spread;
     result.notes.push_back(ref.note);
+    if (!axis.exact.empty()) {
+        // The float128 run against the closed form: the reference is checked, not trusted.
+        const std::vector<std::string> values = split(ref.values, ',');
+        double distance = 0.0, size = 0.0;
+        for (std::size_t k = 0; k < axis.exact.size() && k < values.size(); ++k) {
+            distance = std::max(distance, std::abs(parse_double(values[k]) - axis.exact[k]));
+            size = std::max(size, std::abs(axis.exact[k]));
+        }
+        result.notes.push_back(fmt::format("the reference agrees with {} to {:.2g} (max-norm; {:.2g} relative)",
+                                           axis.exact_source, distance, size > 0 ? distance / size : distance));
+    }
     result.notes.insert(result.notes.end(), request.skipped.begin(), request.skipped.end());
 
     std::string csv = bench_formulation_csv_header(axis) + "\n";

@@ -62,6 +62,10 @@ struct FormulationAxis {
     // 2048 steps per period; 0: unknown (the driver's own default).
     double period = 0.0;
     std::string lost = "runs that lost the orbit, error > its radius";  // what an error above |reference| means
+    // The judged columns at t_end in closed form, when the scene has one (a free rigid body: the
+    // Euler–Poinsot motion), which the float128 reference is checked against; empty otherwise.
+    std::vector<double> exact;
+    std::string exact_source;
 };
 
 struct BenchRequest {

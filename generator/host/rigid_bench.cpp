@@ -1,6 +1,9 @@
 #include "host/rigid_bench.hpp"
 
+#include <array>
 #include <cmath>
+
+#include "eomc/runtime/rigid/euler_poinsot.hpp"
 
 #include "host/formulation_bench.hpp"
 #include "host/pipeline.hpp"
@@ -17,6 +20,29 @@ double turn_period(const model::Model& m) {
     double w2 = 0.0;
     for (double w : m.rigid->omega0) w2 += w * w;
     return w2 > 0.0 ? 2.0 * M_PI / std::sqrt(w2) : 0.0;
+}
+
+// A free body (no weight, no rotor, principal axes) moves in closed form (Euler–Poinsot,
+// runtime/rigid/euler_poinsot.hpp): (ω, γ) at t_end, at the parameters' defaults, for the axis to
+// check its float128 reference against.
+void add_free_body_solution(BenchRequest& r, const model::Model& m) {
+    const model::RigidBody& body = *m.rigid;
+    if (!body.principal || !body.weight.is_zero()) return;
+    for (const auto& k : body.gyrostat)
+        if (!k.is_zero()) return;
+    const GiNaC::exmap defaults = m.parameter_defaults();
+    std::array<double, 3> inertia{};
+    for (unsigned i = 0; i < 3; ++i) {
+        const GiNaC::ex v = body.inertia(i, i).subs(defaults).evalf();
+        if (!GiNaC::is_a<GiNaC::numeric>(v)) return;
+        inertia[i] = GiNaC::ex_to<GiNaC::numeric>(v).to_double();
+    }
+    const auto exact = runtime::FreeRigidBody::from(inertia, body.omega0, body.attitude0).at(r.t_end);
+    const auto& e = exact.quaternion;
+    // γ = R(e)ᵀ e_Z, the third row of the attitude matrix.
+    r.axis.exact = {exact.omega[0], exact.omega[1], exact.omega[2], 2 * (e[1] * e[3] - e[0] * e[2]),
+                    2 * (e[2] * e[3] + e[0] * e[1]), e[0] * e[0] - e[1] * e[1] - e[2] * e[2] + e[3] * e[3]};
+    r.axis.exact_source = "the exact Euler-Poinsot motion (Jacobi's elliptic functions; runtime/rigid/euler_poinsot.hpp)";
 }
 
 }  // namespace
@@ -38,6 +64,7 @@ void add_rigid_formulations(BenchRequest& r, const std::string& scene_path, cons
                                   scene::check_rigid_formulation};
     const Pipeline euler_poisson = add_formulations(r, scene_path, rigid, asked, rigid_formulation);
     r.axis.period = turn_period(euler_poisson.model);
+    add_free_body_solution(r, euler_poisson.model);
 }
 
 }  // namespace eomc::host

@@ -580,3 +580,26 @@ t_end = 1.0
     BOOST_TEST(rows.count("euler_poisson") == 1u);
     BOOST_TEST(rows.count("quaternion") == 1u);
 }
+
+// A free body has a closed form (Euler–Poinsot): the float128 reference is checked against it, and
+// the two agree to the closed form's own double rounding (a few ulps of |ω| ~ 1 after ~10 turns of
+// elliptic-function evaluation: 1e-13 leaves room), far below any error the bench measures.
+BOOST_AUTO_TEST_CASE(free_body_reference_checked_against_the_closed_form) {
+    const fs::path dir = scratch("free_body");
+    const Result r = run(eomc_bench(std::string(EOMC_SOURCE_DIR) + "/scenes/euler_poinsot.toml", dir / "out",
+                                    "--t-end 20 --methods dop853 --tolerances 1e-8 --formulations euler_poisson"),
+                         dir);
+    BOOST_TEST_REQUIRE(r.status == 0, r.err);
+    const std::string marker = "note: the reference agrees with the exact Euler-Poinsot motion";
+    const std::size_t at = r.out.find(marker);
+    BOOST_TEST_REQUIRE(at != std::string::npos, r.out);
+    const std::size_t to = r.out.find(" to ", at + marker.size());
+    BOOST_TEST_REQUIRE(to != std::string::npos);
+    const double distance = std::stod(r.out.substr(to + 4));
+    BOOST_TEST(distance < 1e-13, r.out);
+    // A heavy top has no closed form to check against.
+    BOOST_TEST(run(eomc_bench(kovalevskaya, dir / "heavy", "--t-end 1 --methods dop853 --tolerances 1e-6 "
+                                                           "--formulations euler_poisson"),
+                   dir)
+                   .out.find("Euler-Poinsot") == std::string::npos);
+}
