@@ -13,6 +13,7 @@
 //   explicit rates jacobian           0 ->       0 (0 temporaries)
 //   invariants                      129 ->      49 (8 temporaries)
 //   outputs                          24 ->      16 (4 temporaries)
+//   singular_sets                     1 ->       1 (0 temporaries)
 #pragma once
 
 #include <array>
@@ -41,7 +42,7 @@ struct StaticImbalanceGyroscope {
     static constexpr const char* scene_name = "static_imbalance_gyroscope";
     static constexpr std::array<const char*, n_state> state_names{ "phi", "theta", "psi", "phi_dot", "theta_dot", "psi_dot" };
     static constexpr std::array<const char*, n_parameters> parameter_names{ "A", "C", "P", "l" };
-    static constexpr std::array<const char*, n_invariants> invariant_names{ "energy", "area", "integral_1_1" };
+    static constexpr std::array<const char*, n_invariants> invariant_names{ "energy", "momentum_phi", "integral_1_1" };
     static constexpr std::array<const char*, n_outputs> output_names{ "p", "q", "r", "gamma1", "gamma2", "gamma3" };
     static constexpr std::array<double, n_state> initial_state{ 0, 1.0471975511965979, 0, 4.905000036088537e-05, 0, 1999.999975475 };
 
@@ -104,7 +105,7 @@ struct StaticImbalanceGyroscope {
         const S w4 = cos(psi);
         const S w5 = phi_dot*w2*w3 + theta_dot*w4;
         const S w6 = -theta_dot*w3 + phi_dot*w2*w4;
-        out[0] = -theta_dot*(A*w0*w3*w5 - C*w1*w2 + A*w0*w4*w6 - C*phi_dot*w0*w2 + A*phi_dot*w0*w2*w3*w3 + A*phi_dot*w0*w2*w4*w4);
+        out[0] = theta_dot*(C*phi_dot*w0*w2 - A*w0*w4*w6 - A*w0*w3*w5 - A*phi_dot*w0*w2*w4*w4 - A*phi_dot*w0*w2*w3*w3 + C*w1*w2);
         out[1] = -C*phi_dot*w1*w2 + P*l*w2 + A*phi_dot*w0*w4*w6 + A*phi_dot*w0*w3*w5;
         out[2] = C*phi_dot*theta_dot*w2;
     }
@@ -158,7 +159,7 @@ struct StaticImbalanceGyroscope {
         const S w5 = phi_dot*w3*w4 - theta_dot*w2;
         const S w6 = phi_dot*w2*w3 + theta_dot*w4;
         const S w7 = C*w0*w1 + A*w2*w3*w6 + A*w3*w4*w5;
-        out[0] = -S(1)/S(2)*A*w5*w5 - S(1)/S(2)*A*w6*w6 + P*l*w0 + C*psi_dot*w1 + A*theta_dot*(w4*w6 - w2*w5) + phi_dot*w7 - S(1)/S(2)*C*w1*w1;
+        out[0] = -S(1)/S(2)*A*w5*w5 - S(1)/S(2)*A*w6*w6 + P*l*w0 + C*psi_dot*w1 - A*theta_dot*(-w4*w6 + w2*w5) + phi_dot*w7 - S(1)/S(2)*C*w1*w1;
         out[1] = w7;
         out[2] = w1;
     }
@@ -199,7 +200,7 @@ struct StaticImbalanceGyroscope {
     }
 
     template <class S>
-    static S area(S t, const S* x, const Parameters& p) {
+    static S momentum_phi(S t, const S* x, const Parameters& p) {
         std::array<S, n_invariants> all;
         invariants(t, x, all.data(), p);
         return all[1];
@@ -210,6 +211,21 @@ struct StaticImbalanceGyroscope {
         std::array<S, n_invariants> all;
         invariants(t, x, all.data(), p);
         return all[2];
+    }
+
+    // Where det M = 0 (a coordinate singularity, as the gimbal lock of Euler angles): indicators
+    // s_k(t, x) of the sets s_k = 0, each with its power in det M; a simulation stops before them.
+    static constexpr int n_singular_sets = 1;
+    static constexpr std::array<const char*, n_singular_sets> singular_set_names{ "sin(theta) = 0" };
+    static constexpr std::array<int, n_singular_sets> singular_set_orders{ 2 };
+
+    template <class S>
+    static void singular_sets(S t, const S* x, S* out, const Parameters& p) {
+        (void)t;
+        (void)p;
+        using std::sin;
+        const S theta = x[1];
+        out[0] = sin(theta);
     }
 
 
@@ -249,7 +265,7 @@ struct StaticImbalanceGyroscope {
         out_M[6] = w7;
         out_M[7] = S(0);
         out_M[8] = C;
-        out_f[0] = -theta_dot*(-C*phi_dot*w0*w4 + A*w10*w4*w5 + A*phi_dot*w0*w3*w4 + A*phi_dot*w0*w4*w6 + A*w2*w4*w9 - C*w0*w8);
+        out_f[0] = theta_dot*(-A*w2*w4*w9 + C*phi_dot*w0*w4 - A*phi_dot*w0*w4*w6 - A*w10*w4*w5 - A*phi_dot*w0*w3*w4 + C*w0*w8);
         out_f[1] = A*phi_dot*w2*w4*w9 - C*phi_dot*w0*w8 + P*l*w0 + A*phi_dot*w10*w4*w5;
         out_f[2] = C*phi_dot*theta_dot*w0;
     }

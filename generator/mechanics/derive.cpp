@@ -64,8 +64,11 @@ Equations derive(const model::Model& model) {
         case model::ModelKind::rigid:
             // In Euler angles the body is a Lagrangian system like any other; the other formulations
             // start from Euler's and Poisson's equations.
-            if (model.rigid->formulation == scene::RigidFormulationKind::euler_angles)
-                return with_integrals(model, derive_lagrange(model));
+            if (model.rigid->formulation == scene::RigidFormulationKind::euler_angles) {
+                Equations eqs = with_integrals(model, derive_lagrange(model));
+                rigid::add_body_integrals_in_angles(model, eqs);
+                return eqs;
+            }
             return rigid::derive_rigid(model);
     }
     throw std::logic_error("derive: unknown model kind");

@@ -206,6 +206,12 @@ struct Model {
                          : ModelKind::energies;
     }
     bool keeps(Effect e) const { return keep[static_cast<int>(e)]; }
+    // Lagrange's equations of a T and V in the coordinates: a scene given by its energies, or a
+    // rigid body in Euler angles (whose T and V the model writes in φ, θ, ψ).
+    bool lagrangian_in_coordinates() const {
+        return kind() == ModelKind::energies ||
+               (rigid && rigid->formulation == scene::RigidFormulationKind::euler_angles);
+    }
     bool free_carrier() const { return carrier && carrier->free; }
     // The velocities u in the order of M's rows: the coordinates', then the quasi-velocities.
     std::vector<std::string> velocity_names() const;

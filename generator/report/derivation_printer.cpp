@@ -765,7 +765,7 @@ void print_derivation(const model::Model& model, const mechanics::Equations& eqs
     if (model.rigid && model.rigid->formulation != scene::RigidFormulationKind::euler_angles)
         return print_rigid_derivation(model, eqs, format, out);
     std::optional<Reduction> reduction;
-    if (model.kind() == model::ModelKind::energies || model.rigid) reduction = reduction_of(model, eqs);
+    if (model.lagrangian_in_coordinates()) reduction = reduction_of(model, eqs);
     switch (format) {
         case DerivationFormat::text:
             print_text(model, eqs, out);

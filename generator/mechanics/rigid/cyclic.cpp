@@ -18,7 +18,7 @@ std::vector<CyclicCoordinate> cyclic_coordinates(const model::Model& model, cons
     std::vector<CyclicCoordinate> out;
     // A free carrier's quasi-velocities have no Lagrangian momenta of their own here, and the
     // prover (proven_constant) works on coordinates alone.
-    if (model.kind() != model::ModelKind::energies || !model.quasi_velocities.empty()) return out;
+    if (!model.lagrangian_in_coordinates() || !model.quasi_velocities.empty()) return out;
     const std::size_t n = model.coordinates.size();
     if (eqs.equations.size() != n || model.generalized_forces.size() != n) return out;
     const ex L = eqs.T - eqs.V;

@@ -39,7 +39,12 @@ EulerPoisson euler_poisson(const model::RigidBody& body);
 GiNaC::ex rate_along(const EulerPoisson& system, const model::RigidBody& body, const GiNaC::ex& h);
 
 // The equations of a rigid-body model: Euler's three (I ω̇ = f) as the Equations record holds
-// them, with the proven integrals; in the euler_angles formulation, Lagrange's in φ, θ, ψ.
+// them, with the proven integrals (not for the euler_angles formulation: Lagrange's in φ, θ, ψ).
 Equations derive_rigid(const model::Model& model);
+
+// A body in Euler angles: the area integral and the searched ones, proven along the Euler–Poisson
+// field, written in the angles and added to Lagrange's equations' invariants; one that is already
+// there (K·γ is the cyclic φ's momentum) is named there instead.
+void add_body_integrals_in_angles(const model::Model& model, Equations& eqs);
 
 }  // namespace eomc::mechanics::rigid

@@ -1,5 +1,6 @@
 #include "mechanics/rigid/formulation.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <string>
@@ -136,12 +137,6 @@ FirstOrderForm euler_angles_form(const model::Model& model, const Equations& eqs
     const char* names[6] = {"p", "q", "r", "gamma1", "gamma2", "gamma3"};
     for (std::size_t i = 0; i < 3; ++i) form.outputs.push_back({names[i], w[i]});
     for (std::size_t i = 0; i < 3; ++i) form.outputs.push_back({names[3 + i], g[i]});
-    // The area integral K·γ = p_φ (φ is cyclic): proven along the Euler–Poisson field, carried here.
-    const EulerPoisson s = euler_poisson(body);
-    for (const auto& inv : s.integrals)
-        if (inv.name == "area") form.invariants.push_back({inv.name, inv.value.subs(to_state), inv.description});
-    for (const auto& inv : tracked_invariants(search_rigid_integrals(model, s, default_search_degree)))
-        form.invariants.push_back({inv.name, inv.value.subs(to_state), inv.description});
     return form;
 }
 

@@ -138,7 +138,7 @@ ex expanded_determinant(const GiNaC::matrix& A) {
 std::vector<SingularSet> singular_sets(const model::Model& model, const Equations& eqs) {
     std::vector<SingularSet> out;
     const unsigned n = eqs.mass_matrix.rows();
-    if (model.kind() != model::ModelKind::energies || !model.quasi_velocities.empty() || n == 0 || n > 5) return out;
+    if (!model.lagrangian_in_coordinates() || !model.quasi_velocities.empty() || n == 0 || n > 5) return out;
     bool varies = false;
     std::size_t size = 0;
     for (unsigned i = 0; i < n; ++i)
@@ -168,7 +168,7 @@ std::vector<SingularSet> singular_sets(const model::Model& model, const Equation
 
 LastMultiplier last_multiplier(const model::Model& model, const Equations& eqs) {
     LastMultiplier m;
-    if (model.kind() != model::ModelKind::energies || !model.quasi_velocities.empty()) {
+    if (!model.lagrangian_in_coordinates() || !model.quasi_velocities.empty()) {
         m.reason = "a free carrier's quasi-velocities: the state is not (q, q̇)";
         return m;
     }
