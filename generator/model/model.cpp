@@ -441,13 +441,18 @@ void build_rigid_body(const scene::Scene& scene, SymbolTable& symbols, Model& mo
                                          symbols.declare(std::string(names[k]) + "_dot", SymbolKind::velocity),
                                          symbols.declare(std::string(names[k]) + "_ddot", SymbolKind::acceleration),
                                          q0[k], u0[k]});
-        // L = ½ ωᵀIω + k·ω − P r_c·γ with ω and γ in the angles (Goldstein, §4.9; FORMULAS' ZXZ
-        // convention, γ = (sin θ sin ψ, sin θ cos ψ, cos θ)): the Lagrangian chapter derives the rest.
+        // L = ½ ωᵀIω + k·ω − P r_c·γ with ω and γ in the angles (Goldstein, Classical Mechanics,
+        // 3rd ed., §4.9, eq. 4.87, for the ZXZ angles; γ = (sin θ sin ψ, sin θ cos ψ, cos θ)): the
+        // Lagrangian chapter derives the rest.
         const ex th = model.coordinates[1].q, ps = model.coordinates[2].q;
         const ex phd = model.coordinates[0].q_dot, thd = model.coordinates[1].q_dot, psd = model.coordinates[2].q_dot;
         const Vec3 omega{phd * sin(th) * sin(ps) + thd * cos(ps), phd * sin(th) * cos(ps) - thd * sin(ps),
                          phd * cos(th) + psd};
         const Vec3 vertical{sin(th) * sin(ps), sin(th) * cos(ps), cos(th)};
+        for (unsigned i = 0; i < 3; ++i) {
+            body.in_angles[body.omega[i]] = omega[i];
+            body.in_angles[body.gamma[i]] = vertical[i];
+        }
         ex T = 0, V = 0;
         for (unsigned i = 0; i < 3; ++i) {
             for (unsigned j = 0; j < 3; ++j) T += body.inertia(i, j) * omega[i] * omega[j] / 2;

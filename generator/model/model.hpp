@@ -151,6 +151,9 @@ struct RigidBody {
     std::array<double, 3> vertical0{0, 0, 1};     // γ(0) = R(0)ᵀ e_Z
     scene::RigidFormulationKind formulation = scene::RigidFormulationKind::euler_poisson;
     SourcePos formulation_pos, initial_pos, pos;
+    // The euler_angles formulation: ω and γ in the ZXZ angles and their rates (the model's
+    // coordinates φ, θ, ψ); empty maps otherwise.
+    GiNaC::exmap in_angles;
 
     Vec3 omega_vector() const { return {omega[0], omega[1], omega[2]}; }
     Vec3 gamma_vector() const { return {gamma[0], gamma[1], gamma[2]}; }

@@ -58,19 +58,13 @@ namespace eomc::mechanics::rigid {
 
 void add_body_integrals_in_angles(const model::Model& model, Equations& eqs) {
     const model::RigidBody& body = *model.rigid;
-    const ex ph = model.coordinates[0].q_dot, th = model.coordinates[1].q, ps = model.coordinates[2].q;
-    const ex thd = model.coordinates[1].q_dot, psd = model.coordinates[2].q_dot;
-    const Vec3 w{ph * sin(th) * sin(ps) + thd * cos(ps), ph * sin(th) * cos(ps) - thd * sin(ps), ph * cos(th) + psd};
-    const Vec3 g{sin(th) * sin(ps), sin(th) * cos(ps), cos(th)};
-    GiNaC::exmap to_angles;
-    for (std::size_t i = 0; i < 3; ++i) to_angles[body.omega[i]] = w[i], to_angles[body.gamma[i]] = g[i];
     const EulerPoisson s = euler_poisson(body);
     std::vector<Invariant> carried;
     for (const auto& inv : s.integrals)
         if (inv.name == "area") carried.push_back(inv);
     for (auto& inv : tracked_invariants(search_rigid_integrals(model, s, default_search_degree))) carried.push_back(inv);
     for (const auto& inv : carried) {
-        const ex value = inv.value.subs(to_angles);
+        const ex value = inv.value.subs(body.in_angles);
         const auto same = std::find_if(eqs.invariants.begin(), eqs.invariants.end(),
                                        [&](const Invariant& known) { return simplified(known.value - value).is_zero(); });
         if (same == eqs.invariants.end()) eqs.invariants.push_back({inv.name, value, inv.description});

@@ -125,18 +125,13 @@ FirstOrderForm euler_angles_form(const model::Model& model, const Equations& eqs
     FirstOrderForm form = lagrange_form(model, eqs);
     form.description = "Lagrange's equations of the heavy rigid body in the ZXZ Euler angles (φ precession, θ nutation, "
                        "ψ spin), x = (φ, θ, ψ, φ̇, θ̇, ψ̇); M is singular at sin θ = 0 (gimbal lock).";
-    const ex ph = model.coordinates[0].q_dot, th = model.coordinates[1].q, ps = model.coordinates[2].q;
-    const ex thd = model.coordinates[1].q_dot, psd = model.coordinates[2].q_dot;
-    const Vec3 w{ph * sin(th) * sin(ps) + thd * cos(ps), ph * sin(th) * cos(ps) - thd * sin(ps), ph * cos(th) + psd};
-    const Vec3 g{sin(th) * sin(ps), sin(th) * cos(ps), cos(th)};
-    GiNaC::exmap to_state;
-    for (std::size_t i = 0; i < 3; ++i) to_state[body.omega[i]] = w[i], to_state[body.gamma[i]] = g[i];
-    // The Lagrangian chapter proved the energy integral; the events are stated in p, q, r, gamma.
+    // The events are stated in p, q, r, gamma1..3: written in the angles, as the outputs.
     form.events.clear();
-    for (const auto& e : model.events) form.events.push_back({e.name, e.when.subs(to_state), e.direction, e.terminal});
+    for (const auto& e : model.events)
+        form.events.push_back({e.name, e.when.subs(body.in_angles), e.direction, e.terminal});
     const char* names[6] = {"p", "q", "r", "gamma1", "gamma2", "gamma3"};
-    for (std::size_t i = 0; i < 3; ++i) form.outputs.push_back({names[i], w[i]});
-    for (std::size_t i = 0; i < 3; ++i) form.outputs.push_back({names[3 + i], g[i]});
+    for (std::size_t i = 0; i < 6; ++i)
+        form.outputs.push_back({names[i], (i < 3 ? body.omega[i] : body.gamma[i - 3]).subs(body.in_angles)});
     return form;
 }
 
