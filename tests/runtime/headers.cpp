@@ -86,7 +86,7 @@ BOOST_AUTO_TEST_CASE(api_instantiates_for_double_and_long_double) {
   exercise<long double>();
 }
 
-// Unilateral contact (contact/): the LCP solvers.
+// Unilateral contact (contact/): the LCP solvers, the impact laws.
 template <class S>
 void exercise_contact() {
   rt::LcpMatrix<S> M(2, 2);
@@ -97,6 +97,10 @@ void exercise_contact() {
   BOOST_TEST((lemke.status == rt::LcpStatus::solved));
   BOOST_TEST((rt::solve_lcp_by_enumeration<S>(M, q).status == rt::LcpStatus::solved));
   BOOST_TEST(rt::lcp_solutions_by_enumeration<S>(M, q).size() == 1u);
+  const rt::LcpVector<S> u = -q, e = rt::LcpVector<S>::Constant(2, S(0.5));
+  const rt::LcpMatrix<S> mass = rt::LcpMatrix<S>::Identity(2, 2);
+  BOOST_TEST(rt::newton_impact<S>(mass, M, e, u).P.size() == 2);
+  BOOST_TEST(rt::sequential_impacts<S>(mass, M, e, u).P.size() == 2);
 }
 
 BOOST_AUTO_TEST_CASE(contact_instantiates_for_double_and_long_double) {
