@@ -187,7 +187,7 @@ BOOST_AUTO_TEST_CASE(p_matrices_match_enumeration) {
   for (Eigen::Index n = 2; n <= 8; ++n)
     for (int trial = 0; trial < 20; ++trial) {
       // Non-symmetric P-matrices: positive definite (SPD plus skew) and strictly diagonally
-      // dominant with positive diagonal (Cottle–Pang–Stone §3.3).
+      // dominant with positive diagonal (both have all principal minors positive).
       Mat<double> M;
       if (trial % 2 == 0) {
         const Mat<double> K = random_matrix<double>(rng, n, n);

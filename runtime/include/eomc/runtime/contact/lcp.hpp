@@ -9,18 +9,18 @@
 //
 // solve_lcp is Lemke's complementary pivoting algorithm (C. E. Lemke, "Bimatrix equilibrium
 // points and mathematical programming", Management Sci. 11 (1965) 681–689; R. W. Cottle,
-// J.-S. Pang, R. E. Stone, The Linear Complementarity Problem, Academic Press 1992, §4.4,
-// Algorithm 4.4.5). An artificial variable z₀ with covering vector d = (1, …, 1) makes
-// w = q + d z₀ + M z feasible at z = 0; then one pivot after another keeps one complementary pair
-// (w_i, z_i) both non-basic and brings in the complement of the variable that just left, until z₀
-// leaves (a solution) or the entering column has no positive entry (a secondary ray).
+// J.-S. Pang, R. E. Stone, The Linear Complementarity Problem, Academic Press 1992, §4.4). An
+// artificial variable z₀ with covering vector d = (1, …, 1) makes w = q + d z₀ + M z feasible at
+// z = 0; then one pivot after another keeps one complementary pair (w_i, z_i) both non-basic and
+// brings in the complement of the variable that just left, until z₀ leaves (a solution) or the
+// entering column has no positive entry (a secondary ray).
 // Degenerate ratio tests are resolved by the lexicographic rule (Cottle–Pang–Stone §4.9): the row
 // minimising (b̄_i, β_i) / ā_i lexicographically, β_i the row of the basis inverse, is unique and
-// no basis repeats, so the method terminates on any data (Theorem 4.4.4 with §4.9).
+// no basis repeats, so the method terminates on any data.
 //
-// What termination means (Cottle–Pang–Stone Theorems 4.4.9, 4.4.13): for a P-matrix M (all
-// principal minors positive; symmetric positive definite M among them) Lemke's method always ends
-// in the unique solution; for a copositive-plus M (positive semidefinite among them) a ray
+// What termination means (Cottle–Pang–Stone §4.4): for a P-matrix M (all principal minors
+// positive; symmetric positive definite M among them) Lemke's method always ends in the unique
+// solution; for a copositive-plus M (positive semidefinite among them) a ray
 // termination proves that LCP(M, q) has no solution.
 //
 // The tableau is worked on M and q scaled to unit max-norm (z is invariant up to one factor, see
@@ -29,9 +29,8 @@
 // M_αα z_α = −q_α on the unscaled data, which removes the rounding accumulated over the pivots;
 // the recomputed z is kept when it satisfies the complementarity conditions at least as well.
 //
-// lcp_solutions_by_enumeration visits all 2ⁿ complementary bases (Cottle–Pang–Stone §1.3: the
-// solutions of LCP(M, q) with M_αα nonsingular are exactly the feasible complementary basic
-// solutions); it is the oracle of the tests and a solver for n up to about 10.
+// lcp_solutions_by_enumeration visits all 2ⁿ complementary bases (the solutions of LCP(M, q) with
+// M_αα nonsingular are exactly the feasible complementary basic solutions); it is the oracle of the tests and a solver for n up to about 10.
 
 #include <algorithm>
 #include <cmath>
