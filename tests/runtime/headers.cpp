@@ -85,3 +85,38 @@ BOOST_AUTO_TEST_CASE(api_instantiates_for_double_and_long_double) {
   exercise<double>();
   exercise<long double>();
 }
+
+// Unilateral contact (contact/): the LCP solvers, the impact laws, Moreau–Jean time stepping.
+template <class S>
+void exercise_contact() {
+  rt::LcpMatrix<S> M(2, 2);
+  M << S(2), S(1), S(1), S(2);
+  rt::LcpVector<S> q(2);
+  q << S(-5), S(-6);
+  const rt::LcpResult<S> lemke = rt::solve_lcp<S>(M, q);
+  BOOST_TEST((lemke.status == rt::LcpStatus::solved));
+  BOOST_TEST((rt::solve_lcp_by_enumeration<S>(M, q).status == rt::LcpStatus::solved));
+  BOOST_TEST(rt::lcp_solutions_by_enumeration<S>(M, q).size() == 1u);
+  const rt::LcpVector<S> u = -q, e = rt::LcpVector<S>::Constant(2, S(0.5));
+  const rt::LcpMatrix<S> mass = rt::LcpMatrix<S>::Identity(2, 2);
+  BOOST_TEST(rt::newton_impact<S>(mass, M, e, u).P.size() == 2);
+  BOOST_TEST(rt::sequential_impacts<S>(mass, M, e, u).P.size() == 2);
+  rt::LcpVector<S> q1 = rt::LcpVector<S>::Constant(1, S(1)), u1 = rt::LcpVector<S>::Zero(1);
+  const rt::LcpVector<S> e1 = rt::LcpVector<S>::Constant(1, S(0.5));
+  const auto one = [](S, const rt::LcpVector<S>&) { return rt::LcpMatrix<S>::Identity(1, 1); };
+  const auto weight = [](S, const rt::LcpVector<S>&, const rt::LcpVector<S>&) {
+    return rt::LcpVector<S>::Constant(1, S(-10));
+  };
+  const auto gap = [](S, const rt::LcpVector<S>& x) { return x; };
+  const long steps = rt::integrate_moreau_jean<S>(one, weight, gap, one, e1, S(0), S(1), S(0.01), q1, u1,
+                                                  [](S, const rt::LcpVector<S>&, const rt::LcpVector<S>&,
+                                                     const rt::MoreauJeanStep<S>&) {});
+  BOOST_TEST(steps == 100);
+  // Two impacts with e = 1/2 by t = 1: the energy (10 at the start) down to about e⁴ of it.
+  BOOST_TEST(S(0.5) * u1[0] * u1[0] + S(10) * q1[0] < S(1));
+}
+
+BOOST_AUTO_TEST_CASE(contact_instantiates_for_double_and_long_double) {
+  exercise_contact<double>();
+  exercise_contact<long double>();
+}

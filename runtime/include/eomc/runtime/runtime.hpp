@@ -3,6 +3,9 @@
 // Umbrella header of the eomc runtime.
 
 #include "eomc/runtime/checker.hpp"
+#include "eomc/runtime/contact/impact.hpp"
+#include "eomc/runtime/contact/lcp.hpp"
+#include "eomc/runtime/contact/moreau_jean.hpp"
 #include "eomc/runtime/control/error_checker.hpp"
 #include "eomc/runtime/control/initial_step.hpp"
 #include "eomc/runtime/control/step_adjuster.hpp"
