@@ -147,7 +147,11 @@ BOOST_AUTO_TEST_CASE(bouncing_ball_zeno_then_rest) {
 }
 
 // ---- a pendulum of length l: M = m l², f = −m g l sin θ ---------------------------------------
-constexpr double pend_l = 0.5, pend_m = 1.0, pend_e = 0.6;
+// e = 0.6 for the leaning pendulum. The amplitudes of the brief for the vertical wall (59.34°,
+// 40.54°, 28.07°) are those of e = 0.7: energy after impact k is e^(2k) of the drop's, so
+// 1 − cos A_k = e^(2k) (1 − cos 90°), and cos 59.336° = 1 − 0.49; with e = 0.6 they would be
+// 50.21°, 29.49°, 17.57°. The vertical-wall case runs with 0.7; the first impact does not depend on e.
+constexpr double pend_l = 0.5, pend_m = 1.0, pend_e = 0.6, vertical_e = 0.7;
 double pendulum_force(double theta) { return -pend_m * grav * pend_l * std::sin(theta); }
 
 // The complete elliptic integral K(k) by the arithmetic-geometric mean: K = π / (2 AGM(1, √(1 − k²))).
@@ -162,7 +166,7 @@ double elliptic_k(double k) {
 }
 
 BOOST_AUTO_TEST_CASE(pendulum_against_a_vertical_wall) {
-  const auto sys = one_dof(pend_m * pend_l * pend_l, pendulum_force, 0.0, pend_e);
+  const auto sys = one_dof(pend_m * pend_l * pend_l, pendulum_force, 0.0, vertical_e);
   rt::State<double> x{pi / 2, 0.0};
   Run rec;
   const auto out = run(sys, x, 0.0, 8.0, rec);
@@ -209,7 +213,15 @@ BOOST_AUTO_TEST_CASE(pendulum_leaning_on_a_wall_zeno_then_contact) {
   BOOST_TEST_MESSAGE("Zeno at " << zeno[0].t << ", error " << zeno[0].t - t_inf << ", extrapolation bound "
                                 << zeno[0].extrapolation_error << ", r = " << zeno[0].ratio << " after "
                                 << of_kind(out, ct::ContactEventKind::impact).size() << " impacts");
-  BOOST_TEST(std::abs(zeno[0].t - t_inf) <= zeno[0].extrapolation_error + 1e-10);
+  // Besides the extrapolation's own estimate, t∞ carries the integrator's error in the impact
+  // states: near the limit t∞ ≈ t_k + 2 v_k⁺ / (a (1 − e)), a = g/l sin 10° the gap's deceleration,
+  // and each of the impacts passes on a speed error of at most rtol |θ̇|max + atol (|θ̇| ≤ 2.2 rad/s
+  // here, the speed at the first impact).
+  const std::size_t fired = of_kind(out, ct::ContactEventKind::impact).size();
+  const double a = grav / pend_l * std::sin(wall);
+  const double integration = 2.0 / (a * (1.0 - pend_e)) * double(fired) * (tight.rtol * 2.2 + tight.atol);
+  BOOST_TEST_MESSAGE("bound " << zeno[0].extrapolation_error + integration);
+  BOOST_TEST(std::abs(zeno[0].t - t_inf) <= zeno[0].extrapolation_error + integration);
   // λ is the wall's generalized force on θ, a torque about the pivot (gap in radians, W = 1):
   // at rest against the wall λ = m g l sin 10°, so λ/m = g l sin 10° in m²/s².
   BOOST_TEST(x[0] == wall, boost::test_tools::tolerance(4 * eps));
@@ -255,9 +267,12 @@ BOOST_AUTO_TEST_CASE(particle_leaves_a_smooth_sphere) {
   BOOST_TEST(std::abs(cos_theta - 0.704892966360856) <= 1e-10);
   BOOST_TEST(!out.active[0]);
   BOOST_TEST(x[2] * x[0] > 0.0);
-  // Through the contact phase the particle stayed on the sphere to round-off (the projection).
-  for (std::size_t i = 0; i <= at; ++i)
+  // Through the contact phase the particle stayed on the sphere to round-off (the projection after
+  // every step); the separation state comes from the dense output inside a step, off the sphere by
+  // the step's local error, below rtol R + atol.
+  for (std::size_t i = 0; i < at; ++i)
     BOOST_TEST(std::abs(std::hypot(rec.x[i][0], rec.x[i][1]) - R) <= 8 * eps * R);
+  BOOST_TEST(std::abs(std::hypot(rec.x[at][0], rec.x[at][1]) - R) <= tight.rtol * R + tight.atol);
 }
 
 // ---- §6.7 ratchet: ÿ = −4y, the kinematic constraint ẏ ≥ 0 ----------------------------------
