@@ -85,3 +85,25 @@ BOOST_AUTO_TEST_CASE(api_instantiates_for_double_and_long_double) {
   exercise<double>();
   exercise<long double>();
 }
+
+// Unilateral contact (contact/): the LCP solvers, the impact laws.
+template <class S>
+void exercise_contact() {
+  rt::LcpMatrix<S> M(2, 2);
+  M << S(2), S(1), S(1), S(2);
+  rt::LcpVector<S> q(2);
+  q << S(-5), S(-6);
+  const rt::LcpResult<S> lemke = rt::solve_lcp<S>(M, q);
+  BOOST_TEST((lemke.status == rt::LcpStatus::solved));
+  BOOST_TEST((rt::solve_lcp_by_enumeration<S>(M, q).status == rt::LcpStatus::solved));
+  BOOST_TEST(rt::lcp_solutions_by_enumeration<S>(M, q).size() == 1u);
+  const rt::LcpVector<S> u = -q, e = rt::LcpVector<S>::Constant(2, S(0.5));
+  const rt::LcpMatrix<S> mass = rt::LcpMatrix<S>::Identity(2, 2);
+  BOOST_TEST(rt::newton_impact<S>(mass, M, e, u).P.size() == 2);
+  BOOST_TEST(rt::sequential_impacts<S>(mass, M, e, u).P.size() == 2);
+}
+
+BOOST_AUTO_TEST_CASE(contact_instantiates_for_double_and_long_double) {
+  exercise_contact<double>();
+  exercise_contact<long double>();
+}

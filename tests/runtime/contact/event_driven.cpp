@@ -304,3 +304,53 @@ BOOST_AUTO_TEST_CASE(ratchet_kinematic_constraint) {
   BOOST_TEST(x[1] == 0.0);
   BOOST_TEST(out.lambda[0] == 4.0 * mass * x[0], boost::test_tools::tolerance(4 * eps));
 }
+
+// ---- several contacts: a rod (length L, q = (y, φ)) falling flat onto the floor ---------------
+// Both ends touch at once: the impact and the contact phase go through the LCP (solve_lcp).
+// By symmetry φ stays 0 and the centre bounces like the ball: the same impact times and Zeno point
+// from the same drop height, each end takes half the impulse, and at rest λ = (m g/2, m g/2).
+BOOST_AUTO_TEST_CASE(rod_falling_flat_two_contacts) {
+  static constexpr double L = 1.0, mass = ball_mass, inertia = mass * L * L / 12.0;
+  ct::ContactSystem<double> sys;
+  sys.dof = 2;
+  sys.contacts = {{ball_e, ct::GapLevel::position}, {ball_e, ct::GapLevel::position}};
+  sys.mass = [](double, const Vec&, Mat& M) { M << mass, 0.0, 0.0, inertia; };
+  sys.force = [](double, const Vec&, const Vec&, Vec& f) { f << -mass * grav, 0.0; };
+  // The ends' heights y ∓ (L/2) sin φ.
+  sys.gaps = [](double, const Vec& q, const Vec&, Vec& g) {
+    g << q[0] - 0.5 * L * std::sin(q[1]), q[0] + 0.5 * L * std::sin(q[1]);
+  };
+  sys.rows = [](double, const Vec& q, const Vec& u, Mat& W, Vec& b) {
+    const double c = 0.5 * L * std::cos(q[1]), s = 0.5 * L * std::sin(q[1]);
+    W << 1.0, -c, 1.0, c;
+    b << s * u[1] * u[1], -s * u[1] * u[1];
+  };
+  rt::State<double> x{ball_h0, 0.0, 0.0, 0.0};
+  Run rec;
+  const auto out = run(sys, x, 0.0, 5.0, rec);
+  const auto hits = of_kind(out, ct::ContactEventKind::impact);
+  BOOST_REQUIRE_GE(hits.size(), 2u);
+  // Impact k reports both ends, each with half the ball's impulse.
+  BOOST_TEST(hits[0].contact == 0u);
+  BOOST_TEST(hits[1].contact == 1u);
+  BOOST_TEST(hits[1].t == hits[0].t);
+  BOOST_TEST(std::abs(hits[0].t - 0.638550856814101) <= ball_time_bound(0.638550856814101, 1) + 1e-14);
+  for (const auto& h : hits) {
+    BOOST_TEST(h.rate_after == -ball_e * h.rate_before, boost::test_tools::tolerance(1e-13));
+    BOOST_TEST(h.impulse == 0.5 * mass * (1.0 + ball_e) * -h.rate_before, boost::test_tools::tolerance(1e-13));
+    BOOST_TEST(h.carnot == h.energy_change, boost::test_tools::tolerance(1e-13));
+  }
+  const auto zeno = of_kind(out, ct::ContactEventKind::zeno);
+  BOOST_REQUIRE_EQUAL(zeno.size(), 1u);
+  BOOST_TEST_MESSAGE("rod: Zeno at " << zeno[0].t << ", error " << zeno[0].t - 3.61845485527991 << " after "
+                                     << hits.size() << " impact records");
+  const int fired = int(hits.size() / 2);
+  BOOST_TEST(std::abs(zeno[0].t - 3.61845485527991) <=
+             ball_time_bound(3.61845485527991, fired) * (1.0 + 2.0 / (1.0 - ball_e)) + zeno[0].extrapolation_error);
+  BOOST_TEST(out.active[0]);
+  BOOST_TEST(out.active[1]);
+  BOOST_TEST(out.lambda[0] == 0.5 * mass * grav, boost::test_tools::tolerance(1e-13));
+  BOOST_TEST(out.lambda[1] == 0.5 * mass * grav, boost::test_tools::tolerance(1e-13));
+  BOOST_TEST(std::abs(x[0]) <= 1e-15);
+  BOOST_TEST(std::abs(x[1]) <= 1e-15);
+}

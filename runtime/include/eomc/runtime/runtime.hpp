@@ -3,6 +3,8 @@
 // Umbrella header of the eomc runtime.
 
 #include "eomc/runtime/checker.hpp"
+#include "eomc/runtime/contact/impact.hpp"
+#include "eomc/runtime/contact/lcp.hpp"
 #include "eomc/runtime/control/error_checker.hpp"
 #include "eomc/runtime/control/initial_step.hpp"
 #include "eomc/runtime/control/step_adjuster.hpp"

@@ -53,6 +53,7 @@
 #include <limits>
 #include <memory>
 #include <stdexcept>
+#include <string>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -62,16 +63,12 @@
 
 #include "eomc/runtime/checker.hpp"
 #include "eomc/runtime/constraints.hpp"
+#include "eomc/runtime/contact/lcp.hpp"
 #include "eomc/runtime/control/error_checker.hpp"
 #include "eomc/runtime/control/initial_step.hpp"
 #include "eomc/runtime/events.hpp"
 #include "eomc/runtime/state.hpp"
 #include "eomc/runtime/stepper/concepts.hpp"
-
-#if __has_include("eomc/runtime/contact/lcp.hpp")
-#include "eomc/runtime/contact/lcp.hpp"
-#define EOMC_RUNTIME_CONTACT_HAS_LCP 1
-#endif
 
 namespace eomc::runtime::contact {
 
@@ -160,13 +157,12 @@ Vector<S> solve_contact_lcp(const Matrix<S>& A, const Vector<S>& c) {
     z[0] = c[0] < S(0) ? -c[0] / A(0, 0) : S(0);
     return z;
   }
-#ifdef EOMC_RUNTIME_CONTACT_HAS_LCP
-  const auto r = solve_lcp<S>(A, c);
-  if (!r.solved()) throw std::runtime_error("event_driven: the contact LCP has no solution (Lemke)");
+  // A Delassus matrix is positive semidefinite: Lemke's method then ends in a solution unless the
+  // LCP is infeasible (Cottle, Pang, Stone, The Linear Complementarity Problem, 1992, Thm 4.4.13).
+  const LcpResult<S> r = solve_lcp<S>(A, c);
+  if (r.status != LcpStatus::solved)
+    throw std::runtime_error(std::string("integrate_event_driven: the contact LCP failed: ") + to_string(r.status));
   return r.z;
-#else
-  throw std::logic_error("event_driven: several closed contacts need contact/lcp.hpp (solve_lcp)");
-#endif
 }
 
 // The blocks of a ContactSystem at one state, and the solves the driver builds from them.
@@ -217,7 +213,9 @@ class ContactModel {
     c = Wc * ldlt_.solve(f_);
     for (std::size_t i = 0; i < set.size(); ++i) c[Eigen::Index(i)] += b_[set[i]];
   }
+  // M⁻¹ B for a vector or a matrix B.
   Vector<S> solve_mass(const Vector<S>& v) const { return ldlt_.solve(v); }
+  Matrix<S> solve_mass(const Matrix<S>& B) const { return ldlt_.solve(B); }
 
   // u̇ and λ (m, zero off the active set) with g̈_A = 0 held (constraints.hpp's Schur solve).
   void accelerations(S t, const State<S>& x, const std::vector<bool>& active, Vector<S>& udot, Vector<S>& lambda) {
