@@ -3,6 +3,7 @@
 // Umbrella header of the eomc runtime.
 
 #include "eomc/runtime/checker.hpp"
+#include "eomc/runtime/contact/event_driven.hpp"
 #include "eomc/runtime/contact/impact.hpp"
 #include "eomc/runtime/contact/lcp.hpp"
 #include "eomc/runtime/contact/moreau_jean.hpp"

@@ -1,0 +1,591 @@
+#pragma once
+
+// The event-driven hybrid driver for unilateral constraints (Mei, Special Topics in Analytical
+// Mechanics, ch. 6): smooth phases integrated by an adaptive stepper, separated by events located
+// on its dense output, after the scheme of F. Pfeiffer, C. Glocker, Multibody Dynamics with
+// Unilateral Contacts, Wiley 1996, ch. 6 (the phases, the indicators g_α for open and λ_α for
+// closed contacts, the contact-phase LCP) and ch. 7 (Newton's impact law as an LCP).
+//
+//   M(t, q) u̇ = f(t, q, u) + Wᵀ λ,   q̇ = u,   g_α(t, q) ≥ 0,  W_α = ∂g_α/∂q,  g̈_α = W_α u̇ + b_α.
+//
+// Phases and transitions:
+//  * free flight (no active contact): u̇ = M⁻¹ f; the indicators are the gaps g_α, an event is a
+//    gap going down through zero, located with Brent's method on the dense output (events.hpp).
+//  * impact (g_α = 0, ġ_α⁻ < 0): Newton's law on the set I of closed contacts. One contact in
+//    closed form, P = −(1 + e) ġ⁻ / G with G = W M⁻¹ Wᵀ (Pfeiffer-Glocker (7.9)); several by
+//    the LCP 0 ≤ P ⊥ G P + (1 + E) ġ⁻ ≥ 0 (ibid. §7.2), i.e. W u⁺ + E ġ⁻ ≥ 0. u⁺ = u⁻ + M⁻¹WᵀP.
+//    Energy: ΔT = ½ G P² + ġ⁻ P = −((1 − e)/(1 + e)) ½ Δuᵀ M Δu, Carnot's theorem for a Newton
+//    impact (Mei ch. 6; Pfeiffer-Glocker §7.3), recorded beside the measured ΔT.
+//  * contact phase: the closed contacts with ġ ≈ 0 enter the acceleration-level LCP
+//    g̈ = G λ + (W M⁻¹ f + b) ≥ 0, λ ≥ 0, λ·g̈ = 0 (Pfeiffer-Glocker (6.19)); those with λ > 0
+//    are the active set A. Between transitions A is fixed: g̈_A = 0 is solved as the bilateral
+//    system of constraints.hpp (schur_solve), so λ_A(t, x) is smooth, and the indicators of the
+//    active contacts are λ_α: separation is λ_α going down through zero, located like a gap. (An
+//    LCP in every right-hand side would clamp λ at zero and give the locator no sign change.)
+//    After every accepted step the state is projected back onto g_A = 0, ġ_A = 0 in the M-metric
+//    (project_onto_constraints; Hairer-Lubich-Wanner, GNI §IV.4).
+//  * grazing: a gap that only touches zero is no sign change and is not located; a located gap
+//    reaching zero with ġ ≈ 0 is no impact: the LCP decides between contact and free flight, and
+//    the locator's signs are read afresh there, so it does not fire again at the same time.
+//  * Zeno: the impact times t_k of one contact accumulating geometrically (the ratios of successive
+//    intervals r_k = Δt_k / Δt_{k−1} in (0, 1) and agreeing to zeno_rtol (1 − r) over zeno_ratios
+//    ratios) are summed as a geometric series, t∞ = t_k + Δt_k r / (1 − r) (Aitken's Δ² on the
+//    t_k). Its error is about Δt_k δr / (1 − r)², δr the ratios' spread: the impacts go on until
+//    that falls below the integrator's tolerance in t (rtol |t| + atol), or stops falling, which is
+//    where the round-off of the impact times (ε |q| / |ġ⁻| each) outweighs the ratios' drift (a
+//    pendulum leaning on a wall: r_k → e only as the bounces shrink). Then the state moves there: each
+//    coordinate extrapolated by the same series from the last two post-impact states, then
+//    projected onto g_α = 0, ġ_α = 0 (for the bouncing ball exactly rest on the floor). The contact
+//    phase follows. (The accumulation point of the bouncing ball: Mei ch. 6; K.H. Johansson,
+//    M. Egerstedt, J. Lygeros, S. Sastry, "On the regularization of Zeno hybrid automata", Systems
+//    & Control Letters 38 (1999) 141-150.)
+//  * kinematic (velocity-level) unilateral constraints φ_α(t, q, u) ≥ 0, linear in u, with
+//    φ̇_α = W_α u̇ + b_α (Mei §6.7, the ratchet): no impact (φ reaching zero needs no velocity
+//    jump); their contact phase holds φ_A = 0 at velocity level through the same LCP, projection
+//    of u only.
+//
+// Assumptions: q̇ = u (so W_α is also ∂ġ_α/∂u), scleronomic gaps (ġ_α = W_α u; moving walls are
+// not covered), forward time. Kinematic contacts take no part in impacts.
+
+#include <cmath>
+#include <cstddef>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+#include "eomc/runtime/checker.hpp"
+#include "eomc/runtime/constraints.hpp"
+#include "eomc/runtime/contact/lcp.hpp"
+#include "eomc/runtime/control/error_checker.hpp"
+#include "eomc/runtime/control/initial_step.hpp"
+#include "eomc/runtime/events.hpp"
+#include "eomc/runtime/state.hpp"
+#include "eomc/runtime/stepper/concepts.hpp"
+
+namespace eomc::runtime::contact {
+
+template <class S>
+using Matrix = ConstraintMatrix<S>;
+template <class S>
+using Vector = ConstraintVector<S>;
+
+// Where a unilateral constraint acts: a gap g(t, q) ≥ 0 (impacts), or a kinematic constraint
+// φ(t, q, u) ≥ 0 (velocity level, no impacts).
+enum class GapLevel { position, velocity };
+
+template <class S>
+struct Contact {
+  S restitution = S(0);  // Newton's coefficient e in [0, 1]
+  GapLevel level = GapLevel::position;
+};
+
+// The system as callables (a generated kernel provides the same blocks). Outputs are presized:
+//   mass(t, q, M)              M, n × n symmetric positive definite;
+//   force(t, q, u, f)          f, n: every force but the contact reactions (gyroscopic terms too);
+//   gaps(t, q, u, g)           g, m: g_α(t, q) for position contacts, φ_α(t, q, u) for kinematic;
+//   rows(t, q, u, W, b)        W, m × n and b, m: g̈_α = W_α u̇ + b_α (φ̇_α = W_α u̇ + b_α).
+template <class S>
+struct ContactSystem {
+  int dof = 0;
+  std::vector<Contact<S>> contacts;
+  std::function<void(S, const Vector<S>&, Matrix<S>&)> mass;
+  std::function<void(S, const Vector<S>&, const Vector<S>&, Vector<S>&)> force;
+  std::function<void(S, const Vector<S>&, const Vector<S>&, Vector<S>&)> gaps;
+  std::function<void(S, const Vector<S>&, const Vector<S>&, Matrix<S>&, Vector<S>&)> rows;
+};
+
+template <class S>
+struct EventDrivenOptions {
+  // A gap counts as closed at |g| ≤ closed_gap, a velocity as resting at |ġ| ≤ resting_rate (and a
+  // kinematic constraint as closed at |φ| ≤ resting_rate). 0 derives them: closed_gap = atol +
+  // 100 ε (1 + |q|∞) (a located gap is zero to round-off; other contacts closed within the
+  // integrator's tolerance), resting_rate = 1000 ε (1 + |u|∞) (an e = 0 impact leaves ġ⁺ at
+  // round-off of the impact velocity).
+  S closed_gap = S(0), resting_rate = S(0);
+  // Zeno detection: zeno_ratios consecutive interval ratios in (0, 1) agreeing to zeno_rtol (1 − r)
+  // mark a geometric accumulation (a pendulum's intervals tending to its half period have a spread
+  // of order 1 − r and never qualify); the extrapolation then waits for its error estimate.
+  bool detect_zeno = true;
+  int zeno_ratios = 3;
+  S zeno_rtol = S(1e-2);
+  std::size_t max_impacts = 100000;  // impacts allowed in one call (a Zeno run without detection)
+};
+
+enum class ContactEventKind { impact, contact, separation, zeno };
+
+template <class S>
+struct ContactEvent {
+  ContactEventKind kind = ContactEventKind::impact;
+  std::size_t contact = 0;
+  S t = S(0);
+  // impact: ġ⁻, ġ⁺ of this contact, its impulse P (a generalized impulse, the units of W's dual),
+  // the kinetic energy change of the whole impact T⁺ − T⁻ and Carnot's −((1 − e)/(1 + e)) ½ ΔuᵀMΔu
+  // (with the e of the contact that fired; exact when every contact of the impact shares it).
+  S rate_before = S(0), rate_after = S(0), impulse = S(0), energy_change = S(0), carnot = S(0);
+  // contact: λ_α where the contact phase starts (a generalized force, M u̇ = f + Wᵀλ).
+  S lambda = S(0);
+  // zeno: the ratio r of the series and the extrapolation's sensitivity bound Δt_k δr / (1 − r)²,
+  // δr the spread of the agreeing ratios.
+  S ratio = S(0), extrapolation_error = S(0);
+};
+
+template <class S>
+struct EventDrivenOutcome {
+  Stats stats;
+  S t = S(0);
+  std::vector<ContactEvent<S>> events;
+  std::vector<bool> active;  // the active set at the end
+  Vector<S> lambda;          // λ at the end (zero off the active set)
+};
+
+namespace detail {
+
+// The complementarity problem 0 ≤ z ⊥ A z + c ≥ 0 with A symmetric positive definite (a Delassus
+// matrix G): one row in closed form, several by Lemke's method (contact/lcp.hpp).
+template <class S>
+Vector<S> solve_contact_lcp(const Matrix<S>& A, const Vector<S>& c) {
+  if (c.size() == 1) {
+    Vector<S> z(1);
+    z[0] = c[0] < S(0) ? -c[0] / A(0, 0) : S(0);
+    return z;
+  }
+  // A Delassus matrix is positive semidefinite: Lemke's method then ends in a solution unless the
+  // LCP is infeasible (Cottle, Pang, Stone, The Linear Complementarity Problem, 1992, Thm 4.4.13).
+  const LcpResult<S> r = solve_lcp<S>(A, c);
+  if (r.status != LcpStatus::solved)
+    throw std::runtime_error(std::string("integrate_event_driven: the contact LCP failed: ") + to_string(r.status));
+  return r.z;
+}
+
+// The blocks of a ContactSystem at one state, and the solves the driver builds from them.
+template <class S>
+class ContactModel {
+ public:
+  explicit ContactModel(const ContactSystem<S>& sys)
+      : sys_(sys), n_(sys.dof), m_(static_cast<int>(sys.contacts.size())), q_(n_), u_(n_), M_(n_, n_), f_(n_),
+        g_(m_), W_(m_, n_), b_(m_) {}
+
+  int dof() const { return n_; }
+  int contacts() const { return m_; }
+  const Contact<S>& contact(int a) const { return sys_.contacts[std::size_t(a)]; }
+  bool kinematic(int a) const { return contact(a).level == GapLevel::velocity; }
+
+  // M, f, g, W, b at (t, x) and the LDLT of M.
+  void evaluate(S t, const State<S>& x) {
+    split(x);
+    sys_.mass(t, q_, M_);
+    sys_.force(t, q_, u_, f_);
+    sys_.gaps(t, q_, u_, g_);
+    sys_.rows(t, q_, u_, W_, b_);
+    ldlt_.compute(M_);
+  }
+  void gaps_only(S t, const State<S>& x) {
+    split(x);
+    sys_.gaps(t, q_, u_, g_);
+  }
+
+  const Vector<S>& q() const { return q_; }
+  const Vector<S>& u() const { return u_; }
+  const Matrix<S>& M() const { return M_; }
+  const Vector<S>& g() const { return g_; }
+  const Matrix<S>& W() const { return W_; }
+  const Vector<S>& b() const { return b_; }
+  // The contact's closing rate: ġ_α = W_α u for a gap, φ_α itself for a kinematic constraint.
+  S rate(int a) const { return kinematic(a) ? g_[a] : S(W_.row(a).dot(u_)); }
+
+  Matrix<S> rows_of(const std::vector<int>& set) const {
+    Matrix<S> out(Eigen::Index(set.size()), n_);
+    for (std::size_t i = 0; i < set.size(); ++i) out.row(Eigen::Index(i)) = W_.row(set[i]);
+    return out;
+  }
+  // G = W_C M⁻¹ W_Cᵀ and W_C M⁻¹ f + b_C, the contact-phase LCP's data on the set C.
+  void delassus(const std::vector<int>& set, Matrix<S>& G, Vector<S>& c) const {
+    const Matrix<S> Wc = rows_of(set);
+    G = Wc * ldlt_.solve(Matrix<S>(Wc.transpose()));
+    c = Wc * ldlt_.solve(f_);
+    for (std::size_t i = 0; i < set.size(); ++i) c[Eigen::Index(i)] += b_[set[i]];
+  }
+  // M⁻¹ B for a vector or a matrix B.
+  Vector<S> solve_mass(const Vector<S>& v) const { return ldlt_.solve(v); }
+  Matrix<S> solve_mass(const Matrix<S>& B) const { return ldlt_.solve(B); }
+
+  // u̇ and λ (m, zero off the active set) with g̈_A = 0 held (constraints.hpp's Schur solve).
+  void accelerations(S t, const State<S>& x, const std::vector<bool>& active, Vector<S>& udot, Vector<S>& lambda) {
+    evaluate(t, x);
+    lambda.setZero(m_);
+    std::vector<int> set;
+    for (int a = 0; a < m_; ++a)
+      if (active[std::size_t(a)]) set.push_back(a);
+    if (set.empty()) {
+      udot = ldlt_.solve(f_);
+      return;
+    }
+    Vector<S> r(Eigen::Index(set.size())), la;
+    for (std::size_t i = 0; i < set.size(); ++i) r[Eigen::Index(i)] = -b_[set[i]];
+    schur_solve<S>(M_, f_, rows_of(set), r, udot, la);
+    for (std::size_t i = 0; i < set.size(); ++i) lambda[set[i]] = la[Eigen::Index(i)];
+  }
+
+  // Puts x back on g_α = 0 (gaps) and ġ_α = 0 / φ_α = 0 for the rows with on[α], in the M-metric.
+  void project(S t, State<S>& x, const std::vector<bool>& on) {
+    std::unique_ptr<bool[]> projected(new bool[std::size_t(m_)]), holonomic(new bool[std::size_t(m_)]);
+    bool any = false;
+    for (int a = 0; a < m_; ++a) {
+      projected[std::size_t(a)] = on[std::size_t(a)];
+      holonomic[std::size_t(a)] = !kinematic(a);
+      any = any || on[std::size_t(a)];
+    }
+    if (!any) return;
+    const ConstraintLayout layout{n_, n_, n_, m_};
+    const auto residuals = [&](S tt, const S* xp, S* f, S* phi) {
+      split(xp);
+      sys_.gaps(tt, q_, u_, g_);
+      sys_.rows(tt, q_, u_, W_, b_);
+      for (int a = 0; a < m_; ++a) {
+        f[a] = kinematic(a) ? S(0) : g_[a];
+        phi[a] = rate(a);
+      }
+    };
+    const auto jacobian = [&](S tt, const S* xp, S* out) {
+      split(xp);
+      sys_.rows(tt, q_, u_, W_, b_);
+      for (int a = 0; a < m_; ++a)
+        for (int k = 0; k < n_; ++k) out[a * n_ + k] = W_(a, k);
+    };
+    const auto mass = [&](S tt, const S* xp, S* out) {
+      split(xp);
+      sys_.mass(tt, q_, M_);
+      for (int i = 0; i < n_; ++i)
+        for (int k = 0; k < n_; ++k) out[i * n_ + k] = M_(i, k);
+    };
+    project_onto_constraints<S>(t, x.data(), layout, projected.get(), holonomic.get(), residuals, jacobian, mass);
+  }
+
+  S kinetic_energy(const Vector<S>& u) const { return S(0.5) * u.dot(M_ * u); }
+
+ private:
+  void split(const State<S>& x) { split(x.data()); }
+  void split(const S* x) {
+    for (int k = 0; k < n_; ++k) {
+      q_[k] = x[k];
+      u_[k] = x[n_ + k];
+    }
+  }
+
+  const ContactSystem<S>& sys_;
+  int n_, m_;
+  Vector<S> q_, u_;
+  Matrix<S> M_;
+  Vector<S> f_, g_;
+  Matrix<S> W_;
+  Vector<S> b_;
+  Eigen::LDLT<Matrix<S>> ldlt_;
+};
+
+}  // namespace detail
+
+// Integrates the system from (t0, x) to t1 > t0, x = (q, u) of 2n, through free flight, impacts,
+// contact phases and Zeno accumulations (see the top of this file). stepper: an adaptive stepper
+// with dense output (Dopri5, Dop853), reset at every transition. observer(t, x, λ, active) at t0,
+// after every accepted step and after every transition; λ is Vector<S> of m, active a
+// std::vector<bool>. Returns the events in time order, the counters and the final mode; x is the
+// state at t1. Throws IntegrationError like the other adaptive drivers, std::runtime_error past
+// max_impacts.
+template <template <class> class Stepper, class S, class Obs>
+  requires AdaptiveStepper<Stepper<S>> && DenseOutputStepper<Stepper<S>>
+EventDrivenOutcome<S> integrate_event_driven(Stepper<S>& stepper, const ContactSystem<S>& sys, State<S>& x,
+                                             std::type_identity_t<S> t0, std::type_identity_t<S> t1,
+                                             const Tolerances& tol, Obs&& observer,
+                                             const EventDrivenOptions<S>& options = {}, const Limits& limits = {}) {
+  using std::abs;
+  validate(tol);
+  const int n = sys.dof, m = static_cast<int>(sys.contacts.size());
+  if (n <= 0 || x.size() != std::size_t(2 * n))
+    throw std::invalid_argument("integrate_event_driven: x must hold q and u, 2 dof values");
+  if (!(t1 >= t0)) throw std::invalid_argument("integrate_event_driven: t1 must not precede t0");
+  if (options.zeno_ratios < 1) throw std::invalid_argument("integrate_event_driven: zeno_ratios must be >= 1");
+  for (const Contact<S>& c : sys.contacts)
+    if (!(c.restitution >= S(0) && c.restitution <= S(1)))
+      throw std::invalid_argument("integrate_event_driven: restitution must lie in [0, 1]");
+
+  detail::ContactModel<S> model(sys);
+  EventDrivenOutcome<S> out;
+  std::vector<bool> active(std::size_t(m), false);
+  Vector<S> udot(n), lambda = Vector<S>::Zero(m);
+  const S eps = std::numeric_limits<S>::epsilon();
+  std::size_t impacts = 0;
+
+  // Per contact: its impact times and post-impact states since it last left a contact phase.
+  struct History {
+    std::vector<S> t;
+    State<S> x_last, x_prev;
+    S estimate = std::numeric_limits<S>::infinity();  // the last Zeno error estimate
+  };
+  std::vector<History> history(std::size_t(m), History{});
+
+  const auto inf_norm = [](const Vector<S>& v) { return v.size() ? S(v.cwiseAbs().maxCoeff()) : S(0); };
+  const auto gap_tol = [&]() {
+    return options.closed_gap > S(0) ? options.closed_gap
+                                     : S(tol.atol) + S(100) * eps * (S(1) + inf_norm(model.q()));
+  };
+  const auto rate_tol = [&](S scale) {
+    return options.resting_rate > S(0) ? options.resting_rate
+                                       : S(1000) * eps * (S(1) + inf_norm(model.u()) + scale);
+  };
+
+  const auto rates = [&](S t, const State<S>& xs, State<S>& dx) {
+    model.accelerations(t, xs, active, udot, lambda);
+    for (int k = 0; k < n; ++k) {
+      dx[std::size_t(k)] = xs[std::size_t(n + k)];
+      dx[std::size_t(n + k)] = udot[k];
+    }
+  };
+  bool any_active = false;
+  // The indicators: g_α of the open contacts, λ_α of the active ones; each event is one going down.
+  const auto indicators = [&](S t, const State<S>& xs, State<S>& o) {
+    if (any_active) model.accelerations(t, xs, active, udot, lambda);
+    else model.gaps_only(t, xs);
+    for (int a = 0; a < m; ++a) o[std::size_t(a)] = active[std::size_t(a)] ? lambda[a] : model.g()[a];
+  };
+  const auto record = [&](ContactEventKind kind, int a, S t) -> ContactEvent<S>& {
+    ContactEvent<S> e;
+    e.kind = kind;
+    e.contact = std::size_t(a);
+    e.t = t;
+    out.events.push_back(e);
+    return out.events.back();
+  };
+
+  // The contact decision at (t, x): the closed, resting contacts (not `excluded`, which has just
+  // separated) enter the acceleration-level LCP; λ > 0 makes the active set.
+  const auto decide_mode = [&](S t, State<S>& xs, int excluded) {
+    model.evaluate(t, xs);
+    const S gtol = gap_tol(), vtol = rate_tol(S(0));
+    std::vector<int> closed;
+    for (int a = 0; a < m; ++a) {
+      if (a == excluded) continue;
+      const bool gap_closed = model.kinematic(a) || abs(model.g()[a]) <= gtol;
+      if (gap_closed && abs(model.rate(a)) <= vtol) closed.push_back(a);
+    }
+    std::vector<bool> next(std::size_t(m), false);
+    Vector<S> la;
+    if (!closed.empty()) {
+      Matrix<S> G;
+      Vector<S> c;
+      model.delassus(closed, G, c);
+      la = detail::solve_contact_lcp<S>(G, c);
+      for (std::size_t i = 0; i < closed.size(); ++i) next[std::size_t(closed[i])] = la[Eigen::Index(i)] > S(0);
+    }
+    for (int a = 0; a < m; ++a) {
+      const std::size_t ia = std::size_t(a);
+      if (next[ia] && !active[ia]) {
+        S lam = S(0);
+        for (std::size_t i = 0; i < closed.size(); ++i)
+          if (closed[i] == a) lam = la[Eigen::Index(i)];
+        record(ContactEventKind::contact, a, t).lambda = lam;
+        history[ia].t.clear();
+        history[ia].estimate = std::numeric_limits<S>::infinity();
+      } else if (!next[ia] && active[ia] && a != excluded) {
+        record(ContactEventKind::separation, a, t);
+      }
+    }
+    active = next;
+    any_active = false;
+    for (bool on : active) any_active = any_active || on;
+    if (any_active) model.project(t, xs, active);
+  };
+
+  // Geometric accumulation of contact a's impacts: moves (t, x) to the limit and returns true.
+  const auto zeno = [&](S& t, State<S>& xs, int a) {
+    History& hist = history[std::size_t(a)];
+    const std::size_t k = hist.t.size(), need = std::size_t(options.zeno_ratios) + 2;
+    if (!options.detect_zeno || k < need) return false;
+    const auto interval = [&](std::size_t i) { return hist.t[i] - hist.t[i - 1]; };
+    S rmin = S(2), rmax = S(-1);
+    for (std::size_t i = k - std::size_t(options.zeno_ratios); i < k; ++i) {
+      const S r = interval(i) / interval(i - 1);
+      rmin = r < rmin ? r : rmin;
+      rmax = r > rmax ? r : rmax;
+    }
+    const S r = interval(k - 1) / interval(k - 2), dt = interval(k - 1);
+    const S previous = hist.estimate;
+    hist.estimate = std::numeric_limits<S>::infinity();
+    if (!(rmin > S(0) && rmax < S(1) && rmax - rmin <= options.zeno_rtol * (S(1) - r))) return false;
+    const S estimate = dt * (rmax - rmin) / ((S(1) - r) * (S(1) - r));
+    hist.estimate = estimate;
+    if (!(estimate <= S(tol.rtol) * abs(hist.t[k - 1]) + S(tol.atol) || estimate >= previous)) return false;
+    const S factor = r / (S(1) - r), t_inf = hist.t[k - 1] + dt * factor;
+    if (!(t_inf < t1)) return false;
+    // The same series for every coordinate: x∞ = x_k + (x_k − x_{k−1}) r / (1 − r).
+    for (std::size_t i = 0; i < xs.size(); ++i) xs[i] = hist.x_last[i] + (hist.x_last[i] - hist.x_prev[i]) * factor;
+    std::vector<bool> on = active;
+    on[std::size_t(a)] = true;
+    model.evaluate(t_inf, xs);
+    model.project(t_inf, xs, on);
+    ContactEvent<S>& e = record(ContactEventKind::zeno, a, t_inf);
+    e.ratio = r;
+    e.extrapolation_error = estimate;
+    t = t_inf;
+    hist.t.clear();
+    hist.estimate = std::numeric_limits<S>::infinity();
+    return true;
+  };
+
+  // Newton's impact law at (t, x) on the closed gaps, contact a having fired.
+  const auto impact = [&](S& t, State<S>& xs, int a) {
+    if (++impacts > options.max_impacts)
+      throw std::runtime_error("integrate_event_driven: more than max_impacts impacts (an undetected Zeno run?)");
+    model.evaluate(t, xs);
+    const S gtol = gap_tol();
+    std::vector<int> set;
+    for (int c = 0; c < m; ++c)
+      if (!model.kinematic(c) && (c == a || abs(model.g()[c]) <= gtol)) set.push_back(c);
+    const Matrix<S> Wi = model.rows_of(set);
+    const Vector<S> u_minus = model.u(), rate_minus = Wi * u_minus;
+    Matrix<S> G = Wi * model.solve_mass(Matrix<S>(Wi.transpose()));
+    Vector<S> c(Eigen::Index(set.size()));
+    for (std::size_t i = 0; i < set.size(); ++i)
+      c[Eigen::Index(i)] = (S(1) + model.contact(set[i]).restitution) * rate_minus[Eigen::Index(i)];
+    const Vector<S> P = detail::solve_contact_lcp<S>(G, c);
+    const Vector<S> du = model.solve_mass(Vector<S>(Wi.transpose() * P));
+    const Vector<S> u_plus = u_minus + du, rate_plus = Wi * u_plus;
+    const S e = model.contact(a).restitution;
+    const S dT = model.kinetic_energy(u_plus) - model.kinetic_energy(u_minus);
+    const S carnot = -((S(1) - e) / (S(1) + e)) * model.kinetic_energy(du);
+    for (int k = 0; k < n; ++k) xs[std::size_t(n + k)] = u_plus[k];
+    for (std::size_t i = 0; i < set.size(); ++i) {
+      const Eigen::Index ii = Eigen::Index(i);
+      if (set[i] != a && !(P[ii] > S(0))) continue;
+      ContactEvent<S>& ev = record(ContactEventKind::impact, set[i], t);
+      ev.rate_before = rate_minus[ii];
+      ev.rate_after = rate_plus[ii];
+      ev.impulse = P[ii];
+      ev.energy_change = dT;
+      ev.carnot = carnot;
+      History& hist = history[std::size_t(set[i])];
+      hist.t.push_back(t);
+      hist.x_prev = std::move(hist.x_last);
+      hist.x_last = xs;
+    }
+    return zeno(t, xs, a);
+  };
+
+  // A located event of contact a at (t, x): a separation, or a gap closing (impact or graze).
+  const auto transition = [&](S& t, State<S>& xs, int a) {
+    if (active[std::size_t(a)]) {
+      record(ContactEventKind::separation, a, t);
+      active[std::size_t(a)] = false;
+      decide_mode(t, xs, a);
+      return;
+    }
+    model.evaluate(t, xs);
+    const S v = model.rate(a);
+    if (!model.kinematic(a) && v < -rate_tol(abs(v))) impact(t, xs, a);
+    decide_mode(t, xs, -1);
+  };
+
+  const auto observe = [&](S t, const State<S>& xs) {
+    if (any_active) model.accelerations(t, xs, active, udot, lambda);
+    else lambda.setZero(m);
+    observer(t, xs, static_cast<const Vector<S>&>(lambda), static_cast<const std::vector<bool>&>(active));
+  };
+
+  // The start: approaching closed gaps collide, then the contact decision.
+  S t = t0;
+  {
+    model.evaluate(t, x);
+    const S gtol = gap_tol();
+    for (int a = 0; a < m; ++a)
+      if (!model.kinematic(a) && abs(model.g()[a]) <= gtol && model.rate(a) < -rate_tol(S(0))) {
+        impact(t, x, a);
+        break;
+      }
+    decide_mode(t, x, -1);
+  }
+
+  std::vector<EventSpec> specs(std::size_t(m), EventSpec{EventDirection::down, false, EventAction::edit, 0.0});
+  EventLocator<S> locator(specs);
+  locator.start(indicators, t, static_cast<const State<S>&>(x));
+  NoProgressChecker<S> checker(limits);
+  checker.check_state(t, x);
+  observe(t, x);
+  out.t = t1;
+  if (t >= t1) {
+    out.active = active;
+    out.lambda = lambda;
+    return out;
+  }
+
+  const std::size_t evals0 = stepper.rhs_evals();
+  std::size_t extra_evals = 0;
+  S hmax = t1 - t0;
+  if (limits.max_step > 0.0 && S(limits.max_step) < hmax) hmax = S(limits.max_step);
+  // The first step after a transition. A gap just opened by an impact closes again after about
+  // 2 ġ⁺ / |g̈|, which can be far shorter than what the error control would take from the smooth
+  // motion (a small bounce): a step over the whole flight would hold two sign changes of g and
+  // miss the next impact (events.hpp's limitation). The first step ends before the apex, ġ / |g̈|;
+  // from there the gap only falls, and one crossing per step is seen.
+  const auto first_step = [&](S t_from) {
+    checker.check_derivative(t_from, stepper.prepare(rates, x, t_from));
+    S h_first = initial_step(rates, t_from, static_cast<const State<S>&>(x), stepper.derivative(), S(1),
+                             Stepper<S>::error_order, tol, hmax, extra_evals);
+    model.accelerations(t_from, x, active, udot, lambda);
+    const S gtol = gap_tol();
+    for (int a = 0; a < m; ++a) {
+      if (active[std::size_t(a)] || model.kinematic(a) || !(abs(model.g()[a]) <= gtol)) continue;
+      const S v = model.rate(a), acc = S(model.W().row(a).dot(udot)) + model.b()[a];
+      if (v > S(0) && acc < S(0) && v / -acc < h_first) h_first = v / -acc;
+    }
+    return h_first;
+  };
+  S h = first_step(t);
+  checker.set_reference_step(h);
+  std::vector<EventHit<S>> hits;
+  const auto dense = [&](S tau, State<S>& o) { stepper.calc_state(tau, o); };
+
+  while (t < t1) {
+    if (checker.underflows(t, h)) checker.check_step_size(t, h);
+    checker.count_attempt(t);
+    if (h > hmax) h = hmax;
+    const bool last = t + h >= t1;
+    if (last) h = t1 - t;
+    const S t_old = t;
+    if (!stepper.try_step(rates, x, t, h, tol)) {
+      ++out.stats.rejected;
+      continue;
+    }
+    ++out.stats.accepted;
+    if (last) t = t1;
+    checker.check_state(t, x);
+    if (!locator.step(indicators, t_old, t, static_cast<const State<S>&>(x), dense, hits)) {
+      if (any_active) model.project(t, x, active);
+      observe(t, x);
+      continue;
+    }
+    // A transition: the smooth phase ends at the event; the stepper starts afresh after it.
+    t = hits.back().t;
+    x = hits.back().x;
+    transition(t, x, int(hits.back().index));
+    stepper.reset();
+    locator.restart(indicators, t, static_cast<const State<S>&>(x));
+    checker.check_state(t, x);
+    observe(t, x);
+    if (t >= t1) break;
+    h = first_step(t);
+  }
+  out.stats.rhs_evals = stepper.rhs_evals() - evals0 + extra_evals;
+  out.t = t;
+  out.active = active;
+  out.lambda = lambda;
+  return out;
+}
+
+}  // namespace eomc::runtime::contact
