@@ -16,6 +16,7 @@
 #include <ginac/ginac.h>
 
 #include "mechanics/equations.hpp"
+#include "mechanics/unilateral/rows.hpp"
 #include "model/model.hpp"
 
 namespace eomc::mechanics {
@@ -90,6 +91,9 @@ struct FirstOrderForm {
     // solves M u̇ − Wᵀλ = f, W u̇ = −bias (− stabilisation), outputs λ, and its project() puts the
     // state back on the rows that ask for projection.
     std::vector<ConstraintRow> constraints;
+    // Unilateral rows (mechanics/unilateral/rows.hpp): the kernel writes their gaps, W and bias and
+    // restitutions; the host integrates through impacts, contact phases and separations.
+    std::vector<UnilateralRow> unilateral;
     // The encke formulation's reference orbit, reset by project() (absent for every other form).
     std::optional<Rectification> rectification;
 
