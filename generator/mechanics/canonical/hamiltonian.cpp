@@ -126,8 +126,19 @@ CanonicalEquations canonical_equations(const model::Model& model, const Equation
     }
     for (std::size_t s = 0; s < n; ++s) form.explicit_rates.emplace_back(s, out.q_rate[s]);
     for (std::size_t s = 0; s < n; ++s) form.explicit_rates.emplace_back(n + s, out.p_rate[s]);
+    // A rigid body in Euler angles states its events in ω and γ and writes them as outputs
+    // (mechanics/rigid/formulation.cpp's euler_angles form): through the angles, then (q, p).
+    const GiNaC::exmap no_body;
+    const GiNaC::exmap& body = model.rigid ? model.rigid->in_angles : no_body;
     for (const auto& e : model.events)
-        form.events.push_back({e.name, e.when.subs(to_canonical), e.direction, e.terminal});
+        form.events.push_back({e.name, e.when.subs(body).subs(to_canonical), e.direction, e.terminal});
+    if (model.rigid) {
+        const char* names[6] = {"p", "q", "r", "gamma1", "gamma2", "gamma3"};
+        for (std::size_t i = 0; i < 6; ++i) {
+            const GiNaC::symbol& v = i < 3 ? model.rigid->omega[i] : model.rigid->gamma[i - 3];
+            form.outputs.push_back({names[i], v.subs(body).subs(to_canonical)});
+        }
+    }
     if (out.conserved)
         form.invariants.push_back({"energy", out.H, "H(q, p), the Legendre transform of L (the Jacobi integral)"});
     // Every other integral proven on the Lagrangian side (an orbit's h_z) is one of the same
