@@ -49,11 +49,11 @@ InputError error_of(const std::string& toml) {
     return InputError({}, "");
 }
 
-#define CHECK_ERROR(toml, where, text)                                                               \
-    do {                                                                                             \
-        const InputError e_ = error_of(toml);                                                        \
-        BOOST_TEST(eomc::to_string(e_.where()) == (where), eomc::to_string(e_.where()) << ": " << e_.message()); \
-        BOOST_TEST(e_.message().find(text) != std::string::npos, e_.message());                     \
+#define CHECK_ERROR(TOML, WHERE, TEXT)                                                                        \
+    do {                                                                                                      \
+        const InputError e_ = error_of(TOML);                                                                 \
+        BOOST_TEST(eomc::to_string(e_.where()) == (WHERE), eomc::to_string(e_.where()) << ": " << e_.message()); \
+        BOOST_TEST(e_.message().find(TEXT) != std::string::npos, e_.message());                              \
     } while (0)
 
 }  // namespace
@@ -142,12 +142,13 @@ P = 1.0
 inertia = ["1", "1", "0.5"]
 center = ["0", "0", "1"]
 weight = "P"
+initial = { omega = [0.0, 0.0, 1.0], vertical = [0.0, 0.0, 1.0] }
 
 [[unilateral]]
 name = "floor"
 gap = "gamma3"
 )",
-                "u.toml:12:1", "[[unilateral]] is not supported in a [rigid_body] scene");
+                "u.toml:13:1", "[[unilateral]] is not supported in a [rigid_body] scene");
     CHECK_ERROR(R"([scene]
 name = "leo"
 
@@ -177,7 +178,7 @@ y_ddot = "-1"
 name = "floor"
 gap = "y"
 )",
-                "u.toml:9:1", "[[unilateral]] is not supported in a [newtonian] scene");
+                "u.toml:10:1", "[[unilateral]] is not supported in a [newtonian] scene");
     CHECK_ERROR(ball("", "e") + "\n[formulation]\nkind = \"hamiltonian\"\n", "u.toml:16:1",
                 "not supported with [formulation] kind = \"hamiltonian\"");
     CHECK_ERROR(R"([scene]
@@ -195,6 +196,7 @@ motion = "free"
 angular_velocity = ["0", "0", "0"]
 pole_velocity = ["v1", "0", "0"]
 mass = "M"
+inertia = ["1", "1", "1"]
 
 [[body]]
 name = "ball"
@@ -205,5 +207,5 @@ position = ["x", "0", "0"]
 name = "wall"
 gap = "x"
 )",
-                "u.toml:22:1", "not supported with a free carrier");
+                "u.toml:23:1", "not supported with a free carrier");
 }

@@ -50,7 +50,7 @@ const GiNaC::symbol& symbol_named(const Model& model, const std::string& name) {
 
 bool same(const ex& a, const ex& b) { return GiNaC::normal((a - b).expand()).is_zero(); }
 
-const std::string rod = R"(
+const std::string rod = R"toml(
 [scene]
 name = "falling_rod"
 
@@ -73,7 +73,7 @@ V = "m*g*y"
 name = "end"
 gap = "y - l*sin(theta)"
 restitution = "0.5"
-)";
+)toml";
 
 const std::string ratchet = R"(
 [scene]
