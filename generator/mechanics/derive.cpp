@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "mechanics/constraints/constraints.hpp"
+#include "mechanics/unilateral/unilateral.hpp"
 #include "mechanics/inverse/given_equations.hpp"
 #include "mechanics/orbit/formulation.hpp"
 #include "mechanics/orbit/invariants.hpp"
@@ -30,21 +31,32 @@ Equations derive(const model::Model& model) {
     switch (model.kind()) {
         case model::ModelKind::energies: {
             Equations eqs = derive_lagrange(model);
-            if (model.constraints.empty()) return with_integrals(model, std::move(eqs));
+            if (model.constraints.empty() && model.unilateral.empty()) return with_integrals(model, std::move(eqs));
             // The rows stay beside the equations: lhs/rhs, M and f are those of the free system,
             // the reactions Σ λ_α W_αs are added by whoever reads eqs.constraints.
-            eqs.constraints = constraint_rows(model);
+            if (!model.constraints.empty()) eqs.constraints = constraint_rows(model);
+            // The unilateral rows likewise (Mei, ch. 6): off the boundary they do nothing, on it they
+            // react as bilateral rows with λ ≥ 0, and at impacts they change the velocities.
+            eqs.unilateral = unilateral_rows(model);
             // The energy integral was proven for the free system; the ideal reactions (no virtual
             // work: Lur'e, ch. 2; Chetaev 1932 for the kinematic rows) still do work at the rate
             // −Σ λ_α ∂_t f_α or −Σ λ_α b_α along the motion, so the integral survives only when
-            // every row is scleronomic and homogeneous (Mei, §6.6).
-            const bool keeps_energy = reactions_do_no_work(model, eqs.constraints);
+            // every row is scleronomic and homogeneous (Mei, §6.6). A unilateral row's contact-phase
+            // reaction is such a reaction; its impacts lose Carnot's T⁻ − T⁺ whenever e < 1 (Mei,
+            // §6.5), so with unilateral rows the energy is an integral between impacts only.
+            const bool keeps_energy = reactions_do_no_work(model, eqs.constraints) &&
+                                      unilateral_reactions_do_no_work(model, eqs.unilateral);
             for (auto it = eqs.invariants.begin(); it != eqs.invariants.end();) {
                 if (it->name != "energy") {
                     ++it;
                 } else if (keeps_energy) {
-                    it->description += "; the constraints are scleronomic and homogeneous, so their ideal reactions "
-                                       "do no work";
+                    if (!eqs.constraints.empty())
+                        it->description += "; the constraints are scleronomic and homogeneous, so their ideal "
+                                           "reactions do no work";
+                    if (!eqs.unilateral.empty())
+                        it->description += "; the unilateral constraints are scleronomic, so their reactions do no "
+                                           "work in contact: conserved between impacts only, since an impact with "
+                                           "e < 1 loses T- - T+ = ((1 - e)/(1 + e)) (1/2) dqdot^T M dqdot (Carnot)";
                     ++it;
                 } else {
                     it = eqs.invariants.erase(it);

@@ -10,6 +10,7 @@
 #include <ginac/ginac.h>
 
 #include "mechanics/constraints/rows.hpp"
+#include "mechanics/unilateral/rows.hpp"
 #include "model/model.hpp"
 
 namespace eomc::mechanics {
@@ -72,6 +73,9 @@ struct Equations {
     // Bilateral constraint rows ([[constraint]]): the system is M u̇ − Wᵀλ = f, W u̇ = −bias;
     // mass_matrix and forcing above hold M and f without the reactions.
     std::vector<ConstraintRow> constraints;
+    // Unilateral rows ([[unilateral]], Mei ch. 6): gaps f ≥ 0 or φ ≥ 0 with their restitutions. Off
+    // the boundary they do nothing; M and f above are those of the free system.
+    std::vector<UnilateralRow> unilateral;
 };
 
 }  // namespace eomc::mechanics

@@ -639,6 +639,55 @@ static bool vanishes_identically(const ex& e, const Model& model) {
     return true;
 }
 
+// The velocities u (the coordinates' rates, then a free carrier's quasi-velocities).
+static std::vector<GiNaC::symbol> velocity_symbols(const Model& model) {
+    std::vector<GiNaC::symbol> rates;
+    for (const auto& c : model.coordinates) rates.push_back(c.q_dot);
+    for (const auto& v : model.quasi_velocities) rates.push_back(v.symbol);
+    return rates;
+}
+
+// ḟ = ∂_t f + Σ ∂f/∂q_s q̇_s: a holonomic row's velocity form.
+static ex velocity_form(const ex& f, const Model& model) {
+    ex phi = f.diff(model.t);
+    for (const auto& c : model.coordinates) phi += f.diff(c.q) * c.q_dot;
+    return phi;
+}
+
+// A kinematic row φ (bilateral or unilateral, §6.7) must read B(q, t) u + b(q, t): every second
+// derivative in the rates vanishes identically, and it holds at least one rate. `what` names the row
+// ("kinematic constraint 'blade'"); `holonomic_key` is the key a relation of the coordinates alone
+// is written with.
+static void check_linear_in_rates(const ex& phi, const Model& model, const SourcePos& pos, const std::string& what,
+                                  const char* holonomic_key) {
+    const std::vector<GiNaC::symbol> rates = velocity_symbols(model);
+    bool has_rate = false;
+    for (std::size_t j = 0; j < rates.size(); ++j) {
+        const ex first_derivative = phi.diff(rates[j]);
+        if (!vanishes_identically(first_derivative, model)) has_rate = true;
+        for (std::size_t k = j; k < rates.size(); ++k)
+            if (!vanishes_identically(first_derivative.diff(rates[k]), model))
+                throw InputError(pos, fmt::format("the {} is not linear in the rates: its second derivative in '{}' and "
+                                                  "'{}' does not vanish (a row must read B(q, t) q_dot + b(q, t) = 0)",
+                                                  what, rates[j].get_name(), rates[k].get_name()));
+    }
+    if (!has_rate)
+        throw InputError(pos, fmt::format("the {} holds no rate (q_dot); a relation of the coordinates alone is written "
+                                          "{} = \"...\"",
+                                          what, holonomic_key));
+}
+
+// A row's expression at the initial state and the defaults, with the size of its terms; refused at
+// `pos` when it is not a real number there. `level` names it in the message ("f(q0, 0)").
+static std::pair<double, double> row_at_initial_state(const ex& e, const Model& model, const SourcePos& pos,
+                                                      const std::string& name, const char* noun, const char* level) {
+    const auto value_size = at_initial_state(e, model);
+    if (!std::isfinite(value_size.first))
+        throw InputError(pos, fmt::format("the {} '{}' does not evaluate to a real number at the initial state ({})", noun,
+                                          name, level));
+    return value_size;
+}
+
 // [[constraint]] rows: parsed with the scene's symbols and checked (Mei, §6.6; Lur'e, ch. 2).
 static void build_constraints(const scene::Scene& scene, const SymbolTable& symbols, Model& model) {
     if (scene.constraints.empty()) return;
@@ -652,10 +701,6 @@ static void build_constraints(const scene::Scene& scene, const SymbolTable& symb
         throw InputError(first.expression.pos,
                          "[[constraint]] is not supported in an [orbit] scene: an orbit is a free point mass; give "
                          "a constrained system by [lagrangian] or [[body]]");
-    // The velocities u (the coordinates' rates, then a free carrier's quasi-velocities).
-    std::vector<GiNaC::symbol> rates;
-    for (const auto& c : model.coordinates) rates.push_back(c.q_dot);
-    for (const auto& v : model.quasi_velocities) rates.push_back(v.symbol);
     for (const auto& given : scene.constraints) {
         Constraint row;
         row.name = given.name;
@@ -674,35 +719,12 @@ static void build_constraints(const scene::Scene& scene, const SymbolTable& symb
         row.expression = symbols.parse(given.expression, given.holonomic ? configuration : phase, what);
         // The velocity-level row φ: ḟ = ∂_t f + Σ ∂f/∂q_s q̇_s for a holonomic row.
         ex phi = row.expression;
-        if (row.holonomic) {
-            phi = row.expression.diff(model.t);
-            for (const auto& c : model.coordinates) phi += row.expression.diff(c.q) * c.q_dot;
-        } else {
-            // Linear in the rates: every second derivative in them vanishes identically; at least one rate.
-            bool has_rate = false;
-            for (std::size_t j = 0; j < rates.size(); ++j) {
-                const ex first_derivative = row.expression.diff(rates[j]);
-                if (!vanishes_identically(first_derivative, model)) has_rate = true;
-                for (std::size_t k = j; k < rates.size(); ++k)
-                    if (!vanishes_identically(first_derivative.diff(rates[k]), model))
-                        throw InputError(row.pos,
-                                         fmt::format("the kinematic constraint '{}' is not linear in the rates: its "
-                                                     "second derivative in '{}' and '{}' does not vanish (a row must "
-                                                     "read B(q, t) q_dot + b(q, t) = 0)",
-                                                     given.name, rates[j].get_name(), rates[k].get_name()));
-            }
-            if (!has_rate)
-                throw InputError(row.pos, fmt::format("the kinematic constraint '{}' holds no rate (q_dot); a relation "
-                                                      "of the coordinates alone is written holonomic = \"...\"",
-                                                      given.name));
-        }
+        if (row.holonomic) phi = velocity_form(row.expression, model);
+        else check_linear_in_rates(row.expression, model, row.pos, fmt::format("kinematic constraint '{}'", given.name),
+                                   "holonomic");
         // The initial state must satisfy the row (positions and velocities), at the defaults.
         const auto check = [&](const ex& e, const char* level) {
-            const auto [value, size] = at_initial_state(e, model);
-            if (!std::isfinite(value))
-                throw InputError(row.pos, fmt::format("the constraint '{}' does not evaluate to a real number at the "
-                                                      "initial state ({})",
-                                                      given.name, level));
+            const auto [value, size] = row_at_initial_state(e, model, row.pos, given.name, "constraint", level);
             if (std::abs(value) > 1e-9 * size)
                 throw InputError(row.pos, fmt::format("the initial state violates the constraint '{}': {} = {:.6g} "
                                                       "(not 0) at the initial values and the default parameters",
@@ -711,6 +733,51 @@ static void build_constraints(const scene::Scene& scene, const SymbolTable& symb
         if (row.holonomic) check(row.expression, "f(q0, 0)");
         check(phi, row.holonomic ? "df/dt(q0, q0_dot, 0)" : "phi(q0, q0_dot, 0)");
         model.constraints.push_back(std::move(row));
+    }
+}
+
+// [[unilateral]] rows (Mei, ch. 6): a gap f(t, q) >= 0 or a velocity row φ(t, q, u) >= 0 (§6.7),
+// parsed and checked as the [[constraint]] rows are, with Newton's restitution coefficient (a
+// function of the parameters, 0 <= e <= 1 at the defaults), the initial state inside (f >= 0 or
+// φ >= 0), and the contact method. The scene has refused the kinds of scene that take no rows.
+static void build_unilateral(const scene::Scene& scene, const SymbolTable& symbols, Model& model) {
+    model.contact_method =
+        scene.contact.method == "moreau_jean" ? ContactMethod::moreau_jean : ContactMethod::event_driven;
+    model.theta = scene.contact.theta;
+    for (const auto& given : scene.unilateral) {
+        Unilateral row;
+        row.name = given.name;
+        row.holonomic = given.holonomic;
+        row.pos = given.expression.pos;
+        row.restitution_pos = given.restitution.pos;
+        const std::string what =
+            given.holonomic ? fmt::format("the gap of the unilateral constraint '{}' (a function of the coordinates and t "
+                                          "only; give a row in the rates as velocity = \"...\")",
+                                          given.name)
+                            : fmt::format("the unilateral velocity constraint '{}'", given.name);
+        row.expression = symbols.parse(given.expression, given.holonomic ? configuration : phase, what);
+        if (!given.holonomic)
+            check_linear_in_rates(row.expression, model, row.pos,
+                                  fmt::format("unilateral velocity constraint '{}'", given.name), "gap");
+        // Newton's coefficient: parameters only, in [0, 1] at their defaults.
+        row.restitution = symbols.parse(given.restitution, unsigned(SymbolKind::parameter),
+                                        fmt::format("the restitution of the unilateral constraint '{}'", given.name));
+        row.restitution_default = at_defaults(row.restitution, model, given.restitution,
+                                              fmt::format("the restitution of '{}'", given.name));
+        if (!(row.restitution_default >= 0.0 && row.restitution_default <= 1.0))
+            throw InputError(given.restitution.pos,
+                             fmt::format("the restitution of the unilateral constraint '{}' is {:.6g} at the default "
+                                         "parameters; Newton's coefficient must lie between 0 (plastic) and 1 (elastic)",
+                                         given.name, row.restitution_default));
+        // The initial state inside the admissible set: f(q0, 0) >= 0 (or φ >= 0), to round-off.
+        const char* level = given.holonomic ? "f(q0, 0)" : "phi(q0, q0_dot, 0)";
+        const auto [value, size] =
+            row_at_initial_state(row.expression, model, row.pos, given.name, "unilateral constraint", level);
+        if (value < -1e-9 * size)
+            throw InputError(row.pos, fmt::format("the initial state violates the unilateral constraint '{}': {} = {:.6g} "
+                                                  "(must be >= 0) at the initial values and the default parameters",
+                                                  given.name, level, value));
+        model.unilateral.push_back(std::move(row));
     }
 }
 
@@ -839,6 +906,7 @@ Model build_model(const scene::Scene& scene) {
     }
 
     build_constraints(scene, symbols, model);
+    build_unilateral(scene, symbols, model);
 
     if (scene.effects.given && !scene.orbit) {  // an orbit scene's names are perturbations (build_orbit)
         model.keep.fill(false);

@@ -108,6 +108,24 @@ struct Constraint {
     SourcePos pos;                   // the expression's text in the scene
 };
 
+// A unilateral constraint row (scene [[unilateral]]; Mei, ch. 6): a gap f(t, q) >= 0 (§6.2) or a
+// unilateral kinematic constraint φ(t, q, u) = Σ_k B_k(t, q) u_k + b(t, q) >= 0 (§6.7), checked as
+// the bilateral rows are (linear in the rates, at least one). Newton's restitution coefficient e is
+// an expression of the parameters with 0 <= e <= 1 at their defaults. The initial state satisfies
+// f >= 0 (or φ >= 0) at the defaults.
+struct Unilateral {
+    std::string name;
+    bool holonomic = true;          // a gap; false: a velocity row (§6.7)
+    GiNaC::ex expression;           // f (gap) or φ (velocity row)
+    GiNaC::ex restitution;          // e, a function of the parameters
+    double restitution_default = 0; // e at the parameters' defaults
+    SourcePos pos;                  // the expression's text in the scene
+    SourcePos restitution_pos;      // the restitution's text (the table when absent)
+};
+
+// How `eomc simulate` passes the unilateral rows (scene [contact]).
+enum class ContactMethod { event_driven, moreau_jean };
+
 // An orbit scene ([orbit]): a point mass about a central body in inertial Cartesian axes,
 // T = |v|²/2, V = −μ/r − R with R the sum of the kept disturbing functions (acceleration =
 // +∇R; Mei, ch. 2), and the non-conservative accelerations as generalized forces.
@@ -195,6 +213,9 @@ struct Model {
     std::optional<Newtonian> newtonian;  // equations instead of energies (no particles, no T)
     std::vector<Event> events;           // [events], in file order
     std::vector<Constraint> constraints; // [[constraint]], in file order
+    std::vector<Unilateral> unilateral;  // [[unilateral]], in file order
+    ContactMethod contact_method = ContactMethod::event_driven;  // [contact] method
+    double theta = 0.5;                  // [contact] theta (Moreau–Jean's θ-method)
     std::optional<Orbit> orbit;          // an orbit scene: coordinates x, y, z, T and V built from [orbit]
     // A rigid-body scene; in the euler_angles formulation the model also has the coordinates φ, θ,
     // ψ and T, V in them (the Lagrangian chapter derives its equations).

@@ -14,6 +14,7 @@
 #include "mechanics/rigid/last_multiplier.hpp"
 #include "report/inverse_printer.hpp"
 #include "report/rigid_printer.hpp"
+#include "report/unilateral_printer.hpp"
 #include "support/json.hpp"
 #include "symbolic/differentiation.hpp"
 #include "symbolic/expression_text.hpp"
@@ -37,6 +38,14 @@ ex display_form(const ex& e) {
     const ex trig = expanded.subs(GiNaC::pow(GiNaC::sin(u), 2) == 1 - GiNaC::pow(GiNaC::cos(u), 2),
                                   GiNaC::subs_options::algebraic).expand();
     return codegen::count_operations(trig) < codegen::count_operations(expanded) ? trig : expanded;
+}
+
+// The inertial side with u̇ (q̈ and the quasi-velocities' rates) collected, for reading.
+ex collected_lhs(const model::Model& model, const ex& lhs) {
+    GiNaC::lst accelerations;
+    for (const auto& c : model.coordinates) accelerations.append(c.q_ddot);
+    for (const auto& v : model.quasi_velocities) accelerations.append(v.rate);
+    return display_form(lhs).collect(accelerations, true);
 }
 
 namespace {
@@ -83,13 +92,6 @@ const char* effect_formula_latex(Effect e) {
     return "";
 }
 
-// The inertial side with u̇ (q̈ and the quasi-velocities' rates) collected, for reading.
-ex collected_lhs(const model::Model& model, const ex& lhs) {
-    GiNaC::lst accelerations;
-    for (const auto& c : model.coordinates) accelerations.append(c.q_ddot);
-    for (const auto& v : model.quasi_velocities) accelerations.append(v.rate);
-    return display_form(lhs).collect(accelerations, true);
-}
 
 // The applied side of a carrier balance: the load, plus the reaction when the component is held.
 ex carrier_rhs(const mechanics::CarrierEquation& c) { return c.held ? c.applied + c.reaction : c.applied; }
@@ -311,6 +313,7 @@ void print_text(const model::Model& model, const mechanics::Equations& eqs, std:
     for (std::size_t i = 0; i < u.size(); ++i) out << "  f[" << u[i] << "] = " << text(display_form(eqs.forcing[i])) << "\n";
 
     print_constraints_text(model, eqs, out);
+    print_unilateral_text(model, eqs, out);
 
     out << "\nInvariants\n";
     if (eqs.invariants.empty()) out << "  none proven (L depends on t explicitly, or forces do work)\n";
@@ -427,6 +430,7 @@ void print_latex(const model::Model& model, const mechanics::Equations& eqs, std
         out << "\\end{align*}\n";
         if (!lambda) out << "No closed form of $\\lambda$ printed (" << latex_escape(why) << ").\n";
     }
+    print_unilateral_latex(model, eqs, out);
     out << "\\subsection*{Invariants}\n";
     if (eqs.invariants.empty()) out << "None proven.\n";
     for (const auto& inv : eqs.invariants)
@@ -793,6 +797,11 @@ void print_derivation(const model::Model& model, const mechanics::Equations& eqs
             std::ostringstream body;
             print_json(model, eqs, body);
             std::string doc = body.str();
+            if (!eqs.unilateral.empty()) {
+                std::ostringstream extra;
+                print_unilateral_json(model, eqs, extra);
+                doc.insert(doc.rfind("\n}"), ",\n" + extra.str());
+            }
             if (reduction) {
                 std::ostringstream extra;
                 print_reduction_json(eqs, *reduction, extra);

@@ -26,4 +26,7 @@ void print_derivation(const model::Model& model, const mechanics::Equations& eqs
 // otherwise as derived.
 GiNaC::ex display_form(const GiNaC::ex& e);
 
+// An equation's inertial side in display form with the accelerations u̇ collected, for reading.
+GiNaC::ex collected_lhs(const model::Model& model, const GiNaC::ex& lhs);
+
 }  // namespace eomc::report

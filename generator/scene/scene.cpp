@@ -114,7 +114,7 @@ public:
         Scene s;
         check_keys(root_, {"scene", "parameters", "coordinates", "carrier", "body", "lagrangian", "forces",
                            "effects", "simulate", "events", "formulation", "reference", "newtonian", "inverse", "orbit",
-                           "constraint", "rigid_body"},
+                           "constraint", "rigid_body", "unilateral", "contact"},
                    "at the top level");
         read_scene(s);
         read_parameters(s);
@@ -134,6 +134,8 @@ public:
         read_reference(s);
         read_newtonian(s);
         read_inverse(s);
+        read_unilateral(s);
+        read_contact(s);
         check_orbit_structure();
         check_rigid_structure();
         check_newtonian_structure();
@@ -942,56 +944,81 @@ private:
         }
     }
 
+    // An array of tables [[key]] (`title`): its elements, each checked to be a table. Absent: none.
+    std::vector<const toml::table*> table_array(const char* key, const char* title, const char* noun) const {
+        std::vector<const toml::table*> out;
+        const toml::node* node = root_.get(key);
+        if (!node) return out;
+        const toml::array* rows = node->as_array();
+        if (!rows)
+            fail(at(*node), fmt::format("'{}': expected an array of tables ({}), got {}", key, title, type_name(*node)));
+        if (rows->empty())
+            fail(at(*node), fmt::format("'{}': expected at least one {}; an empty array declares no {}", key, title, noun));
+        for (std::size_t i = 0; i < rows->size(); ++i) {
+            const toml::node& element = *rows->get(i);
+            if (!element.is_table())
+                fail(at(element), fmt::format("'{}[{}]': expected a table, got {}", key, i, type_name(element)));
+            out.push_back(element.as_table());
+        }
+        return out;
+    }
+
+    // A row's `name`: an identifier not yet in `seen` (which it joins). `noun` names the row's
+    // kind in the messages; `duplicate` says what an earlier row of that name was.
+    std::string read_row_name(const toml::table& t, const std::string& path, const char* title, const char* noun,
+                              std::map<std::string, std::pair<SourcePos, std::string>>& seen, SourcePos& name_pos) const {
+        const toml::node& name = require(t, "name", title);
+        std::string value = read_string(name, path + ".name");
+        name_pos = at(name);
+        if (!is_identifier(value))
+            fail(at(name), fmt::format("invalid {} name '{}': expected a letter followed by letters, digits or "
+                                       "underscores",
+                                       noun, value));
+        if (const auto it = seen.find(value); it != seen.end())
+            fail(at(name), fmt::format("duplicate {} name '{}' (first declared{} at line {})", noun, value,
+                                       it->second.second, it->second.first.line));
+        seen.emplace(value, std::pair(at(name), std::string()));
+        return value;
+    }
+
+    // Exactly one of the keys `a` and `b` of a row's table: the node and whether it is `a`. Both are
+    // refused at the later one with `both`, neither at the table with `neither`.
+    std::pair<const toml::node*, bool> exactly_one(const toml::table& t, const char* a, const char* b,
+                                                   const std::string& both, const std::string& neither) const {
+        const toml::node* first = t.get(a);
+        const toml::node* second = t.get(b);
+        if (first && second) {
+            const bool second_later = before(at(*first), at(*second));
+            fail(at(second_later ? *second : *first), both);
+        }
+        if (!first && !second) fail(at(t), neither);
+        return {first ? first : second, first != nullptr};
+    }
+
     // [[constraint]]: name = "rod", exactly one of holonomic = "f(q, t)" or kinematic =
     // "B(q, t) q̇ + b(q, t)", and stabilize = "project" (default) | "none" | { alpha = a, beta = b }
     // (Baumgarte). The algebra (which symbols, linearity in the rates, the initial state) is the
     // model's to check.
     void read_constraints(Scene& s) const {
-        const toml::node* node = root_.get("constraint");
-        if (!node) return;
-        const toml::array* rows = node->as_array();
-        if (!rows)
-            fail(at(*node), fmt::format("'constraint': expected an array of tables ([[constraint]]), got {}",
-                                        type_name(*node)));
-        if (rows->empty())
-            fail(at(*node), "'constraint': expected at least one [[constraint]]; an empty array declares no constraint");
-        std::map<std::string, SourcePos> seen;
-        for (std::size_t i = 0; i < rows->size(); ++i) {
-            const toml::node& element = *rows->get(i);
+        const auto rows = table_array("constraint", "[[constraint]]", "constraint");
+        std::map<std::string, std::pair<SourcePos, std::string>> seen;
+        for (std::size_t i = 0; i < rows.size(); ++i) {
             const std::string path = fmt::format("constraint[{}]", i);
-            if (!element.is_table())
-                fail(at(element), fmt::format("'{}': expected a table, got {}", path, type_name(element)));
-            const toml::table& t = *element.as_table();
+            const toml::table& t = *rows[i];
             check_keys(t, {"name", "holonomic", "kinematic", "stabilize"}, "in [[constraint]]");
             Constraint c;
             c.pos = at(t);
-            const toml::node& name = require(t, "name", "[[constraint]]");
-            c.name = read_string(name, path + ".name");
-            c.name_pos = at(name);
-            if (!is_identifier(c.name))
-                fail(at(name), fmt::format("invalid constraint name '{}': expected a letter followed by letters, "
-                                           "digits or underscores",
-                                           c.name));
-            if (const auto it = seen.find(c.name); it != seen.end())
-                fail(at(name), fmt::format("duplicate constraint name '{}' (first declared at line {})", c.name,
-                                           it->second.line));
-            seen.emplace(c.name, at(name));
-            const toml::node* holonomic = t.get("holonomic");
-            const toml::node* kinematic = t.get("kinematic");
-            if (holonomic && kinematic) {
-                const bool kinematic_later = before(at(*holonomic), at(*kinematic));
-                fail(at(kinematic_later ? *kinematic : *holonomic),
-                     fmt::format("constraint '{}' has both 'holonomic' and 'kinematic'; a row is one or the other "
-                                 "(declare two [[constraint]] tables for two rows)",
-                                 c.name));
-            }
-            if (!holonomic && !kinematic)
-                fail(c.pos, fmt::format("constraint '{}' needs 'holonomic = \"f(q, t)\"' or 'kinematic = \"B(q, t) "
-                                        "q_dot + b(q, t)\"'",
-                                        c.name));
-            c.holonomic = holonomic != nullptr;
-            c.expression = c.holonomic ? read_expr(*holonomic, path + ".holonomic")
-                                       : read_expr(*kinematic, path + ".kinematic");
+            c.name = read_row_name(t, path, "[[constraint]]", "constraint", seen, c.name_pos);
+            const auto [expression, holonomic] = exactly_one(
+                t, "holonomic", "kinematic",
+                fmt::format("constraint '{}' has both 'holonomic' and 'kinematic'; a row is one or the other (declare "
+                            "two [[constraint]] tables for two rows)",
+                            c.name),
+                fmt::format("constraint '{}' needs 'holonomic = \"f(q, t)\"' or 'kinematic = \"B(q, t) q_dot + b(q, "
+                            "t)\"'",
+                            c.name));
+            c.holonomic = holonomic;
+            c.expression = read_expr(*expression, path + (holonomic ? ".holonomic" : ".kinematic"));
             c.stabilize_pos = c.pos;
             if (const toml::node* st = t.get("stabilize")) {
                 c.stabilize_pos = at(*st);
@@ -1032,6 +1059,95 @@ private:
                 }
             }
             s.constraints.push_back(std::move(c));
+        }
+    }
+
+    // [[unilateral]]: name = "floor", exactly one of gap = "f(q, t)" (Mei, §6.2) or velocity =
+    // "B(q, t) q̇ + b(q, t)" (§6.7), and restitution = "e" (Newton's coefficient; "0" when absent).
+    // Read as [[constraint]] rows are; names are unique among both kinds. Only a system given by its
+    // energies in coordinates takes them: not an orbit, a rigid body about a point, given equations,
+    // a free carrier or Hamilton's form (whose kernels carry no rows).
+    void read_unilateral(Scene& s) const {
+        const auto rows = table_array("unilateral", "[[unilateral]]", "unilateral constraint");
+        if (rows.empty()) return;
+        const SourcePos first = at(*rows.front());
+        const std::pair<const char*, const char*> refused[] = {
+            {"orbit", "an [orbit] scene: an orbit is a free point mass"},
+            {"rigid_body", "a [rigid_body] scene: its formulations carry no constraint rows"},
+            {"newtonian", "a [newtonian] scene: its equations are given, so there are no energies for the reactions "
+                          "to enter"}};
+        for (const auto& [key, why] : refused)
+            if (root_.get(key))
+                fail(first, fmt::format("[[unilateral]] is not supported in {}; give the system by [lagrangian] or "
+                                        "[[body]]",
+                                        why));
+        if (s.carrier && s.carrier->motion == "free")
+            fail(first, fmt::format("[[unilateral]] is not supported with a free carrier ([carrier] motion = \"free\", "
+                                    "line {}): its quasi-velocities have no impact equations here; give the carrier's "
+                                    "motion (prescribed) or its freedom as coordinates",
+                                    s.carrier->pos.line));
+        if (s.formulation == "hamiltonian")
+            fail(first, fmt::format("[[unilateral]] is not supported with [formulation] kind = \"hamiltonian\" (line "
+                                    "{}): the rows are carried by Lagrange's equations only; use kind = \"lagrangian\"",
+                                    s.formulation_pos.line));
+        std::map<std::string, std::pair<SourcePos, std::string>> seen;
+        for (const Constraint& c : s.constraints) seen.emplace(c.name, std::pair(c.name_pos, std::string(" as a [[constraint]]")));
+        for (std::size_t i = 0; i < rows.size(); ++i) {
+            const std::string path = fmt::format("unilateral[{}]", i);
+            const toml::table& t = *rows[i];
+            check_keys(t, {"name", "gap", "velocity", "restitution"}, "in [[unilateral]]");
+            Unilateral u;
+            u.pos = at(t);
+            u.name = read_row_name(t, path, "[[unilateral]]", "unilateral constraint", seen, u.name_pos);
+            const auto [expression, gap] = exactly_one(
+                t, "gap", "velocity",
+                fmt::format("unilateral constraint '{}' has both 'gap' and 'velocity'; a row is one or the other "
+                            "(declare two [[unilateral]] tables for two rows)",
+                            u.name),
+                fmt::format("unilateral constraint '{}' needs 'gap = \"f(q, t)\"' (f >= 0) or 'velocity = \"B(q, t) "
+                            "q_dot + b(q, t)\"' (phi >= 0)",
+                            u.name));
+            u.holonomic = gap;
+            u.expression = read_expr(*expression, path + (gap ? ".gap" : ".velocity"));
+            if (const toml::node* e = t.get("restitution")) u.restitution = read_expr(*e, path + ".restitution");
+            else u.restitution = Expr{"0", u.pos};
+            s.unilateral.push_back(std::move(u));
+        }
+    }
+
+    // [contact]: method = "event_driven" (default) | "moreau_jean", theta = θ in [0.5, 1]
+    // (Moreau–Jean's θ-method; Acary & Brogliato 2008). Only beside [[unilateral]] rows.
+    void read_contact(Scene& s) const {
+        const toml::node* node = root_.get("contact");
+        if (!node) return;
+        const toml::table& t = as_table(*node, "contact");
+        Contact& c = s.contact;
+        c.pos = c.method_pos = c.theta_pos = at(t);
+        check_keys(t, {"method", "theta"}, "in [contact]");
+        if (s.unilateral.empty())
+            fail(at(t), "[contact] says how to integrate through unilateral constraints, but the scene declares no "
+                        "[[unilateral]] row");
+        if (const toml::node* m = t.get("method")) {
+            c.method = read_string(*m, "contact.method");
+            c.method_pos = at(*m);
+            const std::vector<std::string> names(contact_method_names.begin(), contact_method_names.end());
+            if (std::find(names.begin(), names.end(), c.method) == names.end()) {
+                const std::string near = nearest_name(c.method, names);
+                fail(at(*m), fmt::format("unknown contact method '{}'; {}", c.method,
+                                         near.empty() ? fmt::format("expected one of {}", fmt::join(names, ", "))
+                                                      : fmt::format("did you mean '{}'?", near)));
+            }
+        }
+        if (const toml::node* th = t.get("theta")) {
+            c.theta = read_number(*th, "contact.theta");
+            c.theta_pos = at(*th);
+            if (!(c.theta >= 0.5 && c.theta <= 1.0))
+                fail(at(*th), fmt::format("'contact.theta' must be between 0.5 and 1 (Moreau-Jean's theta-method), got "
+                                          "{}",
+                                          number_text(*th)));
+            if (c.method != "moreau_jean")
+                fail(at(*th), fmt::format("'contact.theta' is Moreau-Jean's; it has no meaning with method = \"{}\"",
+                                          c.method));
         }
     }
 

@@ -234,6 +234,31 @@ struct Constraint {
     SourcePos stabilize_pos; // the stabilize value (the table when absent)
 };
 
+// [[unilateral]]: a unilateral constraint (Mei, ch. 6), either a gap f(q, t) >= 0 (§6.2) or a
+// unilateral kinematic constraint φ(q, q̇, t) >= 0 linear in the rates (§6.7), with Newton's
+// restitution coefficient e (an expression of the parameters, "0" when absent; the model checks
+// 0 <= e <= 1 at the defaults). Names are unique among the unilateral and the bilateral rows.
+struct Unilateral {
+    std::string name;        // an identifier
+    bool holonomic = true;   // `gap = "f"`; false: `velocity = "phi"`
+    Expr expression;         // f or φ
+    Expr restitution;        // e ("0" at the table when absent)
+    SourcePos pos;           // the [[unilateral]] table
+    SourcePos name_pos;      // the name's value
+};
+
+// [contact]: how `eomc simulate` integrates through the unilateral rows: event-driven (free
+// flight, impacts located as events, contact phases) or Moreau–Jean's time stepping with its θ
+// (Acary & Brogliato 2008).
+inline constexpr std::array<std::string_view, 2> contact_method_names{"event_driven", "moreau_jean"};
+
+struct Contact {
+    std::string method = "event_driven";  // one of contact_method_names
+    double theta = 0.5;                   // moreau_jean's θ, in [0.5, 1]
+    SourcePos pos;                        // the [contact] table (unknown when absent)
+    SourcePos method_pos, theta_pos;      // the values (the table when absent)
+};
+
 // Which equations the kernel integrates: Lagrange's (state q, q̇) or Hamilton's (state q, p).
 inline constexpr std::array<std::string_view, 2> formulation_names{"lagrangian", "hamiltonian"};
 // A closed-form solution, for judging integrators (`eomc bench`): the exact state at time t as
@@ -287,6 +312,8 @@ struct Scene {
     Simulate simulate;
     std::vector<Event> events;  // [events], file order
     std::vector<Constraint> constraints;  // [[constraint]], file order
+    std::vector<Unilateral> unilateral;   // [[unilateral]], file order
+    Contact contact;                      // [contact] (defaults when absent)
     std::string formulation = "lagrangian";  // one of formulation_names ([formulation] kind)
     SourcePos formulation_pos;
     std::optional<Reference> reference;

@@ -39,6 +39,11 @@ CanonicalEquations canonical_equations(const model::Model& model, const Equation
                                      "constraint rows are carried by Lagrange's equations only; use kind = "
                                      "\"lagrangian\"",
                                      model.constraints.front().name));
+    if (!model.unilateral.empty())
+        throw InputError(model.unilateral.front().pos,
+                         fmt::format("[[unilateral]] '{}' is not supported with Hamilton's equations: unilateral "
+                                     "rows are carried by Lagrange's equations only; drop --hamiltonian",
+                                     model.unilateral.front().name));
     if (model.free_carrier())
         throw InputError(where, "the canonical equations are not available for a free carrier: its quasi-velocities "
                                 "are not derivatives of coordinates, so they have no conjugate momenta");

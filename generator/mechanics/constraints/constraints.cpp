@@ -117,36 +117,42 @@ void check_independent(const model::Model& model, const std::vector<ConstraintRo
 
 }  // namespace
 
-std::vector<ConstraintRow> constraint_rows(const model::Model& model) {
-    std::vector<ConstraintRow> rows;
-    if (model.constraints.empty()) return rows;
+ConstraintRow constraint_row(const model::Model& model, const std::string& name, bool holonomic, const ex& expression,
+                             const SourcePos& pos) {
     const Velocities v = velocities(model);
     GiNaC::exmap no_rates;
     for (const auto& r : v.rate) no_rates[r] = 0;
+    ConstraintRow row;
+    row.name = name;
+    row.holonomic = holonomic;
+    row.pos = pos;
+    row.lambda = GiNaC::symbol("lambda_" + name, "\\lambda_{" + name + "}");
+    if (holonomic) {
+        // φ = ḟ = ∂_t f + Σ ∂f/∂q_s q̇_s (f holds no rate, so no q̈ appears); W_s = ∂f/∂q_s.
+        row.position = expression;
+        row.velocity = total_derivative(model, expression).subs(no_rates);
+        for (const auto& c : model.coordinates) row.W.push_back(derivative(expression, c.q));
+        for (std::size_t k = model.coordinates.size(); k < v.u.size(); ++k) row.W.push_back(0);
+    } else {
+        // φ = Σ B_k u_k + b, linear in u (checked by the model): W_k = ∂φ/∂u_k = B_k.
+        row.position = 0;
+        row.velocity = expression;
+        for (const auto& u : v.u) row.W.push_back(derivative(expression, u));
+    }
+    // bias = φ̇ − W u̇: the total derivative along the motion with the accelerations set to zero
+    // (φ is linear in u, so φ̇ is affine in u̇ with the coefficients W).
+    row.bias = total_derivative(model, row.velocity).subs(no_rates).expand();
+    return row;
+}
+
+std::vector<ConstraintRow> constraint_rows(const model::Model& model) {
+    std::vector<ConstraintRow> rows;
+    if (model.constraints.empty()) return rows;
     for (const auto& given : model.constraints) {
-        ConstraintRow row;
-        row.name = given.name;
-        row.holonomic = given.holonomic;
-        row.pos = given.pos;
-        row.lambda = GiNaC::symbol("lambda_" + given.name, "\\lambda_{" + given.name + "}");
+        ConstraintRow row = constraint_row(model, given.name, given.holonomic, given.expression, given.pos);
         row.stabilization = stabilization_of(given.stabilization);
         row.alpha = given.alpha;
         row.beta = given.beta;
-        if (given.holonomic) {
-            // φ = ḟ = ∂_t f + Σ ∂f/∂q_s q̇_s (f holds no rate, so no q̈ appears); W_s = ∂f/∂q_s.
-            row.position = given.expression;
-            row.velocity = total_derivative(model, given.expression).subs(no_rates);
-            for (const auto& c : model.coordinates) row.W.push_back(derivative(given.expression, c.q));
-            for (std::size_t k = model.coordinates.size(); k < v.u.size(); ++k) row.W.push_back(0);
-        } else {
-            // φ = Σ B_k u_k + b, linear in u (checked by the model): W_k = ∂φ/∂u_k = B_k.
-            row.position = 0;
-            row.velocity = given.expression;
-            for (const auto& u : v.u) row.W.push_back(derivative(given.expression, u));
-        }
-        // bias = φ̇ − W u̇: the total derivative along the motion with the accelerations set to zero
-        // (φ is linear in u, so φ̇ is affine in u̇ with the coefficients W).
-        row.bias = total_derivative(model, row.velocity).subs(no_rates).expand();
         rows.push_back(std::move(row));
     }
     check_independent(model, rows);

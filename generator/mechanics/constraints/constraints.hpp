@@ -15,6 +15,13 @@
 
 namespace eomc::mechanics {
 
+// One row's record from its expression, f(q, t) (holonomic) or φ = B(q, t) u + b(q, t) (kinematic,
+// linear in the rates): φ (ḟ for a holonomic row), W = ∂φ/∂u over the velocities of M, the bias
+// φ̇ − W u̇ and λ named lambda_<name>; stabilization left at its default. The bilateral rows and
+// the unilateral ones (mechanics/unilateral) are built by it.
+ConstraintRow constraint_row(const model::Model& model, const std::string& name, bool holonomic,
+                             const GiNaC::ex& expression, const SourcePos& pos);
+
 // One row per model constraint, in scene order. Throws InputError when rows are dependent
 // (W rank deficient at every probe point), naming the rows involved, at the first one's place.
 std::vector<ConstraintRow> constraint_rows(const model::Model& model);

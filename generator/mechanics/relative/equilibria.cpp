@@ -480,6 +480,13 @@ std::vector<Equilibrium> relative_equilibria(const model::Model& model, const Eq
                          fmt::format("`eomc equilibria` does not support constrained scenes ([[constraint]] '{}'): "
                                      "the rest conditions would need the reactions λ",
                                      model.constraints.front().name));
+    // With unilateral rows the equilibria are KKT points (λ ≥ 0 on the boundary), which this search
+    // of the free system's rest conditions does not find.
+    if (!model.unilateral.empty())
+        throw InputError(model.unilateral.front().pos,
+                         fmt::format("`eomc equilibria` does not support unilateral constraints ([[unilateral]] '{}'): "
+                                     "the rest conditions on the boundary would need the reactions lambda >= 0",
+                                     model.unilateral.front().name));
     const RestSystem r = rest_system(model, eqs);
     Evaluation at(model);
     const std::size_t n = r.n;

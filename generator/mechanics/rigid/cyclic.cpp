@@ -32,6 +32,10 @@ std::vector<CyclicCoordinate> cyclic_coordinates(const model::Model& model, cons
         if (std::any_of(eqs.constraints.begin(), eqs.constraints.end(),
                         [&](const ConstraintRow& row) { return c < row.W.size() && !row.W[c].is_zero(); }))
             continue;
+        // An impulse P W_αc at an impact of a unilateral row would change it too (Mei, §6.5).
+        if (std::any_of(eqs.unilateral.begin(), eqs.unilateral.end(),
+                        [&](const UnilateralRow& u) { return c < u.row.W.size() && !u.row.W[c].is_zero(); }))
+            continue;
         CyclicCoordinate cyclic;
         cyclic.coordinate = coordinate.name;
         cyclic.index = c;

@@ -176,6 +176,10 @@ LastMultiplier last_multiplier(const model::Model& model, const Equations& eqs) 
         m.reason = "constraint rows: the reactions λ(t, x) enter F, which is not (q̇, M⁻¹f)";
         return m;
     }
+    if (!eqs.unilateral.empty()) {
+        m.reason = "unilateral rows: impacts make the flow discontinuous, and contact reactions λ(t, x) enter F";
+        return m;
+    }
     const unsigned n = eqs.mass_matrix.rows();
     if (n == 0 || n > 5) {
         m.reason = "more than 5 coordinates: det M not expanded";
