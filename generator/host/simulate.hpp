@@ -39,6 +39,10 @@ struct SimulationRequest {
     std::string contact_method = "event_driven";
     SourcePos contact_method_pos{"--contact-method"};
     double theta = 0.5;
+    // event_driven: a geometric accumulation of impacts (Zeno) is extrapolated once zeno_ratios
+    // successive interval ratios agree (after zeno_ratios + 2 impacts at least; runtime::contact::
+    // EventDrivenOptions); 0 never extrapolates (the run then stalls near the accumulation point).
+    int zeno_ratios = 3;
     // Bounds on the work a request can ask for (a hostile or mistyped --t-end 1e300, --step 1e-15).
     // Step attempts: absent = default_max_fixed_steps for the fixed-step methods, whose count
     // ceil(t_end/step) is known and checked before anything is compiled, and the runtime's own
