@@ -251,6 +251,7 @@ std::string indent(const std::string& text, int spaces) {
 struct Inputs {
     bool acceleration_array = false;  // acc[k] holds q̈ (the Jacobian terms)
     bool state_array = true;          // x[k] holds the state (false: the reference, a function of t alone)
+    bool time_argument = true;        // t is an argument (false: the restitutions, functions of p alone)
 };
 
 // The body of one function: bindings of the inputs it uses, `using std::…` for the
@@ -295,7 +296,8 @@ std::string function_body(const KernelIR& ir, const LocalNames& names, const Blo
     for (std::size_t k = 0; k < block.outputs.size(); ++k) code += fmt::format("{} = {};\n", targets[k], printer.print(block.outputs[k]));
 
     std::string head;
-    if (!used.count(ir.t)) head += "(void)t;\n";
+    if (!inputs.time_argument && used.count(ir.t)) throw std::runtime_error("the time appears where it is not an input");
+    if (inputs.time_argument && !used.count(ir.t)) head += "(void)t;\n";
     if (inputs.state_array && !uses_x) head += "(void)x;\n";
     if (inputs.acceleration_array && !uses_acc) head += "(void)acc;\n";
     if (!uses_p) head += "(void)p;\n";
@@ -333,7 +335,8 @@ bool uses_kepler_solver(const KernelIR& ir) {
     for (const Block* b : {&ir.mass_matrix, &ir.forcing, &ir.rhs_explicit, &ir.jacobian_explicit, &ir.mass_and_forcing,
                            &ir.explicit_rates, &ir.explicit_rates_jacobian, &ir.mass_and_jacobian_terms, &ir.invariants,
                            &ir.outputs, &ir.events, &ir.santilli_residuals, &ir.singular_sets,
-                           &ir.mass_forcing_and_constraints, &ir.constraint_residuals, &ir.constraint_jacobian}) {
+                           &ir.mass_forcing_and_constraints, &ir.constraint_residuals, &ir.constraint_jacobian,
+                           &ir.restitutions, &ir.contact_gaps, &ir.contact_jacobian, &ir.contact_bias}) {
         for (const auto& t : b->temporaries)
             if (model::has_kepler_E(t.value)) return true;
         for (const auto& o : b->outputs)
@@ -690,6 +693,44 @@ std::string constraints_part(const KernelIR& ir) {
     return out;
 }
 
+// Only kernels with unilateral rows carry them, so that no other kernel changes: the rows' names,
+// which are kinematic, the restitution coefficients, the gaps, W and the bias (runtime/kernel.hpp,
+// ContactKernel; the host builds runtime::contact::ContactSystem from them).
+std::string contacts_part(const KernelIR& ir, const LocalNames& names) {
+    if (ir.contact_names.empty()) return "";
+    const std::size_t m = ir.contact_names.size();
+    std::string kinematic;
+    for (std::size_t a = 0; a < m; ++a) kinematic += fmt::format("{}{}", a ? ", " : "", ir.contact_kinematic[a] ? "true" : "false");
+    Inputs parameters_only;
+    parameters_only.state_array = false;
+    parameters_only.time_argument = false;
+    return fmt::format(
+        "\n    // Unilateral constraints (Mei, Special Topics in Analytical Mechanics, ch. 6): a gap f(q, t) >= 0\n"
+        "    // (an impact when it closes) or a kinematic row phi(q, u, t) >= 0 (§6.7), each with Newton's\n"
+        "    // restitution e; on the boundary M u̇ = f + Wᵀλ with λ >= 0, and f̈ (φ̇) = W u̇ + bias.\n"
+        "    static constexpr int n_contacts = {};\n"
+        "    static constexpr std::array<const char*, n_contacts> contact_names{{ {} }};\n"
+        "    // Kinematic (velocity-level) rows: gaps() writes phi for them, and they take no impacts.\n"
+        "    static constexpr std::array<bool, n_contacts> contact_kinematic{{ {} }};\n\n"
+        "    // Newton's coefficients of restitution, one per row.\n"
+        "    template <class S>\n"
+        "    static void restitutions(const Parameters& p, S* out) {{\n{}\n    }}\n\n"
+        "    // One value per row: f (a gap) or phi (a kinematic row).\n"
+        "    template <class S>\n"
+        "    static void gaps(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n\n"
+        "    // W, n_contacts × n_velocities row-major: ∂f/∂q (a gap, q̇ = u) or ∂phi/∂u (a kinematic row).\n"
+        "    template <class S>\n"
+        "    static void contact_jacobian(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n\n"
+        "    // bias = f̈ − W u̇ (a gap) or φ̇ − W u̇ (a kinematic row), one per row.\n"
+        "    template <class S>\n"
+        "    static void contact_bias(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n",
+        m, literal_list(ir.contact_names), kinematic,
+        indent(block_body(ir, names, ir.restitutions, "out", parameters_only), 8),
+        indent(block_body(ir, names, ir.contact_gaps, "out"), 8),
+        indent(block_body(ir, names, ir.contact_jacobian, "out"), 8),
+        indent(block_body(ir, names, ir.contact_bias, "out"), 8));
+}
+
 // Only kernels of scenes with [events] carry them, so that no other kernel changes.
 std::string events_part(const KernelIR& ir, const LocalNames& names) {
     if (ir.event_names.empty()) return "";
@@ -777,6 +818,9 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
         if (!ir.output_names.empty()) t += table_row("outputs", ir.outputs);
         if (!ir.event_names.empty()) t += table_row("events", ir.events);
         if (!ir.singular_set_names.empty()) t += table_row("singular_sets", ir.singular_sets);
+        if (!ir.contact_names.empty())
+            t += table_row("contact gaps", ir.contact_gaps) + table_row("contact jacobian", ir.contact_jacobian) +
+                 table_row("contact bias", ir.contact_bias);
         t.pop_back();
         return t;
     }();
@@ -839,7 +883,7 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
         {"outputs_body", indent(outputs_body(ir, names), 8)},
         {"acceleration", acceleration_function(ir)},
         {"events", events_part(ir, names)},
-        {"constraints", constraints_part(ir)},
+        {"constraints", constraints_part(ir) + contacts_part(ir, names)},
         {"variational", projection + variational},
         {"invariant_accessors",
          invariant_accessors(ir) + santilli_residuals(ir, names) + singular_sets_part(ir, names)},

@@ -102,6 +102,16 @@ struct KernelIR {
     Block mass_forcing_and_constraints;  // M (n_velocities², row-major), f, W (m × n_velocities), r (m)
     Block constraint_residuals;          // 2m: f_α (holonomic) or φ_α (kinematic), then φ_α
     Block constraint_jacobian;           // W alone, m × n_velocities row-major (the projection)
+
+    // Unilateral rows (mechanics/unilateral/rows.hpp; empty: nothing is emitted and the kernel keeps
+    // its bytes): a gap f_α(q, t) ≥ 0 or a kinematic row φ_α(q, q̇, t) ≥ 0 (Mei §6.7), with
+    // f̈_α (φ̇_α) = W_α u̇ + bias_α and Newton's restitution e_α.
+    std::vector<std::string> contact_names;
+    std::vector<bool> contact_kinematic;
+    Block restitutions;      // m outputs, functions of the parameters alone
+    Block contact_gaps;      // m: f_α (gap) or φ_α (kinematic)
+    Block contact_jacobian;  // W, m × n_velocities row-major
+    Block contact_bias;      // m
 };
 
 // Common-subexpression elimination over all outputs of one function.

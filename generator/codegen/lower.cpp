@@ -92,6 +92,38 @@ void lower_constraints(KernelIR& ir, const mechanics::FirstOrderForm& form, cons
     ir.constraint_jacobian = eliminate_common_subexpressions(W, prefix);
 }
 
+// The unilateral rows' blocks (Mei ch. 6; Acary, Brogliato, Numerical Methods for Nonsmooth
+// Dynamical Systems, Springer 2008): the gaps (f for a gap row, φ for a kinematic row of §6.7), W
+// over the velocities and the bias of f̈ = W u̇ + bias, each CSE'd alone (the event-driven driver
+// asks for them at different times), and the restitution coefficients, which may depend on the
+// parameters only.
+void lower_unilateral(KernelIR& ir, const mechanics::FirstOrderForm& form, const std::string& prefix) {
+    const std::size_t nu = form.n_velocities();
+    std::vector<ex> gaps, W, bias, restitutions;
+    for (const auto& u : form.unilateral) {
+        const auto& row = u.row;
+        if (row.W.size() != nu)
+            throw std::runtime_error("unilateral row '" + row.name + "' has " + std::to_string(row.W.size()) +
+                                     " entries of W for " + std::to_string(nu) + " velocities");
+        if (u.restitution.has(ir.t))
+            throw std::runtime_error("the restitution of unilateral row '" + row.name + "' depends on the time");
+        for (const auto& s : form.state)
+            if (u.restitution.has(s.symbol))
+                throw std::runtime_error("the restitution of unilateral row '" + row.name + "' depends on the state (" +
+                                         s.name + "); it may depend on the parameters only");
+        ir.contact_names.push_back(row.name);
+        ir.contact_kinematic.push_back(!row.holonomic);
+        gaps.push_back(row.holonomic ? row.position : row.velocity);
+        W.insert(W.end(), row.W.begin(), row.W.end());
+        bias.push_back(row.bias);
+        restitutions.push_back(u.restitution);
+    }
+    ir.restitutions = eliminate_common_subexpressions(restitutions, prefix);
+    ir.contact_gaps = eliminate_common_subexpressions(gaps, prefix);
+    ir.contact_jacobian = eliminate_common_subexpressions(W, prefix);
+    ir.contact_bias = eliminate_common_subexpressions(bias, prefix);
+}
+
 }  // namespace
 
 namespace {
@@ -109,6 +141,8 @@ void require_distinct_columns(const KernelIR& ir) {
     for (const auto& s : ir.state) add(s.name, "a state variable");
     for (const auto& n : ir.invariant_names) add(n, "an invariant");
     for (const auto& n : ir.output_names) add(n, "an output");
+    // eomc simulate writes a unilateral row's multiplier as lambda_<row> beside the outputs.
+    for (const auto& n : ir.contact_names) add("lambda_" + n, "a unilateral row's multiplier");
 }
 
 }  // namespace
@@ -213,6 +247,7 @@ KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form,
     ir.outputs = eliminate_common_subexpressions(outputs, prefix);
     ir.n_user_outputs = outputs.size();
     if (!form.constraints.empty()) lower_constraints(ir, form, M, prefix);
+    if (!form.unilateral.empty()) lower_unilateral(ir, form, prefix);
     std::vector<ex> events;
     for (const auto& e : form.events) {
         ir.event_names.push_back(e.name);

@@ -21,8 +21,9 @@ namespace {
 
 // Bumped whenever the C interface below changes; the loader refuses a library that reports
 // another value (a cache written by an older eomc).
-constexpr int adapter_abi = 9;  // 3: acceleration and events; 4: project; 5: variational_rhs; 6: project(t, x, p);
-                                // 7: eomc_kernel_identity; 8: constraint rows; 9: singular sets
+constexpr int adapter_abi = 10;  // 3: acceleration and events; 4: project; 5: variational_rhs; 6: project(t, x, p);
+                                 // 7: eomc_kernel_identity; 8: constraint rows; 9: singular sets;
+                                 // 10: the mechanical form (sizes, M, f) and unilateral rows
 
 // The adapter: C functions over double, so that the host needs no knowledge of the kernel's
 // C++ types. Parameters travel by position in parameter_names order, never by member name
@@ -128,6 +129,41 @@ void singular_sets(double t, const double* x, double* out, const void* p) {
     else (void)t, (void)x, (void)out, (void)p;
 }
 template <class M>
+constexpr int n_contacts() {
+    if constexpr (rt::ContactKernel<M>) return M::n_contacts;
+    else return 0;
+}
+template <class M>
+const char* contact_name(int i) {
+    if constexpr (rt::ContactKernel<M>) return M::contact_names[std::size_t(i)];
+    else return (void)i, nullptr;
+}
+template <class M>
+int contact_kinematic(int i) {
+    if constexpr (rt::ContactKernel<M>) return M::contact_kinematic[std::size_t(i)] ? 1 : 0;
+    else return (void)i, 0;
+}
+template <class M>
+void restitutions(const void* p, double* out) {
+    if constexpr (rt::ContactKernel<M>) M::template restitutions<double>(*static_cast<const typename M::Parameters*>(p), out);
+    else (void)p, (void)out;
+}
+template <class M>
+void gaps(double t, const double* x, double* out, const void* p) {
+    if constexpr (rt::ContactKernel<M>) M::template gaps<double>(t, x, out, *static_cast<const typename M::Parameters*>(p));
+    else (void)t, (void)x, (void)out, (void)p;
+}
+template <class M>
+void contact_jacobian(double t, const double* x, double* out, const void* p) {
+    if constexpr (rt::ContactKernel<M>) M::template contact_jacobian<double>(t, x, out, *static_cast<const typename M::Parameters*>(p));
+    else (void)t, (void)x, (void)out, (void)p;
+}
+template <class M>
+void contact_bias(double t, const double* x, double* out, const void* p) {
+    if constexpr (rt::ContactKernel<M>) M::template contact_bias<double>(t, x, out, *static_cast<const typename M::Parameters*>(p));
+    else (void)t, (void)x, (void)out, (void)p;
+}
+template <class M>
 void events(double t, const double* x, double* out, const void* p) {
     if constexpr (rt::EventKernel<M>) M::template events<double>(t, x, out, *static_cast<const typename M::Parameters*>(p));
     else (void)t, (void)x, (void)out, (void)p;
@@ -173,6 +209,17 @@ EOMC_EXPORT void eomc_outputs(double t, const double* x, double* out, const void
     K::outputs<double>(t, x, out, *static_cast<const P*>(p));
 }
 
+// The mechanical form M u̇ = f of the velocity block x[velocity_offset .. + n_velocities).
+EOMC_EXPORT int eomc_n_coordinates() { return K::n_coordinates; }
+EOMC_EXPORT int eomc_velocity_offset() { return K::velocity_offset; }
+EOMC_EXPORT int eomc_n_velocities() { return K::n_velocities; }
+EOMC_EXPORT void eomc_mass_matrix(double t, const double* x, double* out, const void* p) {
+    K::mass_matrix<double>(t, x, out, *static_cast<const P*>(p));
+}
+EOMC_EXPORT void eomc_forcing(double t, const double* x, double* out, const void* p) {
+    K::forcing<double>(t, x, out, *static_cast<const P*>(p));
+}
+
 EOMC_EXPORT int eomc_separable() { return rt::SeparableKernel<K> ? 1 : 0; }
 EOMC_EXPORT int eomc_projects() { return rt::ProjectingKernel<K> ? 1 : 0; }
 EOMC_EXPORT int eomc_variational() { return rt::VariationalKernel<K> ? 1 : 0; }
@@ -190,6 +237,17 @@ EOMC_EXPORT int eomc_n_constraints() { return n_constraints<K>(); }
 EOMC_EXPORT const char* eomc_constraint_name(int i) { return constraint_name<K>(i); }
 EOMC_EXPORT void eomc_constraint_residuals(double t, const double* x, double* out, const void* p) {
     constraint_residuals<K>(t, x, out, p);
+}
+EOMC_EXPORT int eomc_n_contacts() { return n_contacts<K>(); }
+EOMC_EXPORT const char* eomc_contact_name(int i) { return contact_name<K>(i); }
+EOMC_EXPORT int eomc_contact_kinematic(int i) { return contact_kinematic<K>(i); }
+EOMC_EXPORT void eomc_restitutions(const void* p, double* out) { restitutions<K>(p, out); }
+EOMC_EXPORT void eomc_gaps(double t, const double* x, double* out, const void* p) { gaps<K>(t, x, out, p); }
+EOMC_EXPORT void eomc_contact_jacobian(double t, const double* x, double* out, const void* p) {
+    contact_jacobian<K>(t, x, out, p);
+}
+EOMC_EXPORT void eomc_contact_bias(double t, const double* x, double* out, const void* p) {
+    contact_bias<K>(t, x, out, p);
 }
 EOMC_EXPORT int eomc_n_singular_sets() { return n_singular_sets<K>(); }
 EOMC_EXPORT const char* eomc_singular_set_name(int i) { return singular_set_name<K>(i); }
@@ -336,6 +394,22 @@ KernelLibrary KernelLibrary::load(const std::string& header_text, const std::str
         lib.singular_set_orders_.push_back(singular_set_order(i));
     }
     lib.singular_sets_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_singular_sets", p);
+    lib.n_coordinates_ = symbol<int (*)()>(h, "eomc_n_coordinates", p)();
+    lib.velocity_offset_ = symbol<int (*)()>(h, "eomc_velocity_offset", p)();
+    lib.n_velocities_ = symbol<int (*)()>(h, "eomc_n_velocities", p)();
+    lib.mass_matrix_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_mass_matrix", p);
+    lib.forcing_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_forcing", p);
+    const int n_contacts = symbol<int (*)()>(h, "eomc_n_contacts", p)();
+    const auto contact_name = symbol<const char* (*)(int)>(h, "eomc_contact_name", p);
+    const auto contact_kinematic = symbol<int (*)(int)>(h, "eomc_contact_kinematic", p);
+    for (int i = 0; i < n_contacts; ++i) {
+        lib.contact_names_.emplace_back(contact_name(i));
+        lib.contact_kinematic_.push_back(contact_kinematic(i) != 0);
+    }
+    lib.restitutions_ = symbol<void (*)(const void*, double*)>(h, "eomc_restitutions", p);
+    lib.gaps_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_gaps", p);
+    lib.contact_jacobian_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_contact_jacobian", p);
+    lib.contact_bias_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_contact_bias", p);
     lib.seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return lib;
 }
@@ -383,6 +457,17 @@ KernelLibrary& KernelLibrary::operator=(KernelLibrary&& other) noexcept {
         singular_set_names_ = std::move(other.singular_set_names_);
         singular_set_orders_ = std::move(other.singular_set_orders_);
         singular_sets_ = other.singular_sets_;
+        n_coordinates_ = other.n_coordinates_;
+        velocity_offset_ = other.velocity_offset_;
+        n_velocities_ = other.n_velocities_;
+        mass_matrix_ = other.mass_matrix_;
+        forcing_ = other.forcing_;
+        contact_names_ = std::move(other.contact_names_);
+        contact_kinematic_ = std::move(other.contact_kinematic_);
+        restitutions_ = other.restitutions_;
+        gaps_ = other.gaps_;
+        contact_jacobian_ = other.contact_jacobian_;
+        contact_bias_ = other.contact_bias_;
     }
     return *this;
 }

@@ -93,6 +93,31 @@ public:
         singular_sets_(t, x, out, p.get());
     }
 
+    // The mechanical form M(t, x) u̇ = f(t, x) of the velocity block x[velocity_offset() ..
+    // velocity_offset() + n_velocities()): M row-major n_velocities², f n_velocities doubles.
+    int n_coordinates() const { return n_coordinates_; }
+    int velocity_offset() const { return velocity_offset_; }
+    int n_velocities() const { return n_velocities_; }
+    void mass_matrix(double t, const double* x, double* out, const Parameters& p) const {
+        mass_matrix_(t, x, out, p.get());
+    }
+    void forcing(double t, const double* x, double* out, const Parameters& p) const { forcing_(t, x, out, p.get()); }
+
+    // Unilateral rows (none for most kernels; runtime/kernel.hpp, ContactKernel): names, which are
+    // kinematic (velocity level), Newton's restitutions from the parameters, the gaps (f, or φ for a
+    // kinematic row), W (contact_names().size() × n_velocities(), row-major) and the bias of
+    // f̈ = W u̇ + bias.
+    const std::vector<std::string>& contact_names() const { return contact_names_; }
+    const std::vector<bool>& contact_kinematic() const { return contact_kinematic_; }
+    void restitutions(const Parameters& p, double* out) const { restitutions_(p.get(), out); }
+    void gaps(double t, const double* x, double* out, const Parameters& p) const { gaps_(t, x, out, p.get()); }
+    void contact_jacobian(double t, const double* x, double* out, const Parameters& p) const {
+        contact_jacobian_(t, x, out, p.get());
+    }
+    void contact_bias(double t, const double* x, double* out, const Parameters& p) const {
+        contact_bias_(t, x, out, p.get());
+    }
+
     // How the library was obtained.
     const std::string& library_path() const { return path_; }
     bool cache_hit() const { return cache_hit_; }
@@ -130,6 +155,15 @@ private:
     std::vector<std::string> singular_set_names_;
     std::vector<int> singular_set_orders_;
     void (*singular_sets_)(double, const double*, double*, const void*) = nullptr;
+    int n_coordinates_ = 0, velocity_offset_ = 0, n_velocities_ = 0;
+    void (*mass_matrix_)(double, const double*, double*, const void*) = nullptr;
+    void (*forcing_)(double, const double*, double*, const void*) = nullptr;
+    std::vector<std::string> contact_names_;
+    std::vector<bool> contact_kinematic_;
+    void (*restitutions_)(const void*, double*) = nullptr;
+    void (*gaps_)(double, const double*, double*, const void*) = nullptr;
+    void (*contact_jacobian_)(double, const double*, double*, const void*) = nullptr;
+    void (*contact_bias_)(double, const double*, double*, const void*) = nullptr;
 };
 
 // Exposed for tests: the adapter source for a struct and its header (it exports the kernel's

@@ -9,7 +9,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <cstring>
+#include <string_view>
 #include <filesystem>
 #include <iterator>
 #include <limits>
@@ -133,8 +135,9 @@ public:
 
     // `event`: the name of the event located at t, or null; with_event_column: the CSV has one.
     // Throws RowLimit before writing row max_rows + 1.
+    // `extra`: cells after the outputs, each behind its comma (a contact run's λ and active set).
     void row(double t, const State<double>& x, const std::vector<double>& invariants, const std::vector<double>& outputs,
-             const std::string* event = nullptr, bool with_event_column = false) {
+             const std::string* event = nullptr, bool with_event_column = false, std::string_view extra = {}) {
         if (!file_) return;
         if (rows_ >= max_rows_) throw RowLimit(t);
         buffer_.clear();
@@ -142,6 +145,7 @@ public:
         for (double v : x) fmt::format_to(std::back_inserter(buffer_), ",{:.17g}", v);
         for (double v : invariants) fmt::format_to(std::back_inserter(buffer_), ",{:.17g}", v);
         for (double v : outputs) fmt::format_to(std::back_inserter(buffer_), ",{:.17g}", v);
+        buffer_.append(extra.data(), extra.data() + extra.size());
         if (with_event_column) {
             buffer_.push_back(',');
             if (event) buffer_.append(event->data(), event->data() + event->size());
@@ -235,6 +239,8 @@ double SimulationResult::value(const std::string& name) const {
         if (n == name) return v;
     for (const auto& [n, v] : outputs)
         if (n == name) return v;
+    for (const auto& c : contacts)
+        if ("lambda_" + c.name == name) return c.lambda;
     throw std::out_of_range("no state variable or output '" + name + "'");
 }
 
@@ -440,6 +446,433 @@ private:
     bool seen_ = false;
 };
 
+
+// ---------------------------------------------------------------------------------------
+// Kernels with unilateral rows (Mei, Special Topics in Analytical Mechanics, ch. 6): the event-driven
+// hybrid driver (runtime/contact/event_driven.hpp) or Moreau–Jean time stepping (runtime/contact/
+// moreau_jean.hpp; V. Acary, B. Brogliato, Numerical Methods for Nonsmooth Dynamical Systems,
+// Springer 2008). The CSV gains lambda_<row> per row and `active`, the active set as a bitmask
+// (bit α, value 2^α, set when row α is in the active set: 0 in free flight, 1 for a single row
+// in contact), and the event column labels the rows written at transitions impact:<row>,
+// contact:<row>, separation:<row>, zeno:<row> (one row per event, the state after the transition).
+
+const char* contact_kind_name(runtime::contact::ContactEventKind kind) {
+    switch (kind) {
+        case runtime::contact::ContactEventKind::impact: return "impact";
+        case runtime::contact::ContactEventKind::contact: return "contact";
+        case runtime::contact::ContactEventKind::separation: return "separation";
+        case runtime::contact::ContactEventKind::zeno: return "zeno";
+    }
+    return "?";
+}
+
+// The drivers assume q̇ = u (W = ∂f/∂q acts on the velocities, the impact law on q̇): the kernel's
+// velocity block must follow its coordinates, as many, and its coordinate rates must be those
+// velocities. The last is probed at the start state and at a shifted one with distinct velocities:
+// a kernel with q̇ = u writes the rate as a copy of the velocity (exact), one with quasi-velocities
+// (q̇ = A(q) u) does not.
+void require_rates_are_velocities(const KernelLibrary& lib, const KernelLibrary::Parameters& parameters,
+                                  const State<double>& x0) {
+    const int n = lib.n_coordinates(), nu = lib.n_velocities(), N = int(x0.size());
+    const SourcePos where{"[[unilateral]]"};
+    if (nu != n || lib.velocity_offset() != n || N != 2 * n)
+        throw InputError(where, fmt::format("{}: unilateral rows need the velocity block to be q̇ (the state (q, q̇) with "
+                                            "n_velocities = velocity_offset = n_coordinates); this kernel has {} "
+                                            "coordinates, {} velocities at offset {} in {} state variables",
+                                            lib.scene_name(), n, nu, lib.velocity_offset(), N));
+    State<double> x = x0, dxdt(x0.size());
+    for (int probe = 0; probe < 2; ++probe) {
+        for (int k = 0; k < n; ++k) {
+            if (probe == 1) x[std::size_t(k)] = x0[std::size_t(k)] + 0.125 * (k + 1);
+            x[std::size_t(n + k)] = 0.375 + 0.25 * k + 0.5 * probe;
+        }
+        lib.rhs(0.0, x.data(), dxdt.data(), parameters);
+        for (int k = 0; k < n; ++k) {
+            const double u = x[std::size_t(n + k)], rate = dxdt[std::size_t(k)];
+            if (!(std::abs(rate - u) <= 8 * std::numeric_limits<double>::epsilon() * std::abs(u)))
+                throw InputError(where, fmt::format("{}: unilateral rows need q̇ = u, but the rate of {} is not the "
+                                                    "velocity {} (at {} = {} the kernel gives {} = {}): the velocities "
+                                                    "are quasi-velocities, which the contact drivers do not take",
+                                                    lib.scene_name(), lib.state_names()[std::size_t(k)],
+                                                    lib.state_names()[std::size_t(n + k)],
+                                                    lib.state_names()[std::size_t(n + k)], number(u),
+                                                    lib.state_names()[std::size_t(k)] + "_rate", number(rate)));
+        }
+    }
+}
+
+SimulationResult simulate_contacts(const SimulationRequest& request, const KernelLibrary& lib,
+                                   const KernelLibrary::Parameters& parameters, State<double>& x,
+                                   SimulationResult result) {
+    using Vector = runtime::contact::Vector<double>;
+    using Matrix = runtime::contact::Matrix<double>;
+    const std::string& scene = lib.scene_name();
+    const std::size_t m = lib.contact_names().size();
+    const bool event_driven = request.contact_method == "event_driven";
+    if (!event_driven && request.contact_method != "moreau_jean")
+        throw InputError(request.contact_method_pos, fmt::format("unknown contact method '{}' (expected event_driven "
+                                                                 "or moreau_jean)", request.contact_method));
+    const SourcePos rows_pos{"[[unilateral]]"};
+    if (!lib.constraint_names().empty())
+        throw InputError(rows_pos, fmt::format("{}: bilateral constraint rows ({}) together with unilateral rows are "
+                                               "not supported yet: the contact drivers integrate M u̇ = f + Wᵀλ "
+                                               "with unilateral rows only",
+                                               scene, join(lib.constraint_names())));
+    if (!lib.event_names().empty())
+        throw InputError(rows_pos, fmt::format("{}: scene events ({}) together with unilateral rows are not supported "
+                                               "yet: the contact drivers locate their own events only",
+                                               scene, join(lib.event_names())));
+    if (request.variational)
+        throw InputError(SourcePos{"--variational"}, fmt::format("{}: the state-transition matrix is not defined "
+                                                                 "across impacts; run without --variational", scene));
+    if (m > 64)
+        throw InputError(rows_pos, fmt::format("{}: {} unilateral rows; the CSV's active-set bitmask holds 64", scene, m));
+    require_rates_are_velocities(lib, parameters, x);
+    const int n = lib.n_coordinates();
+    std::vector<double> restitution(m);
+    lib.restitutions(parameters, restitution.data());
+    for (std::size_t a = 0; a < m; ++a)
+        if (!(restitution[a] >= 0.0 && restitution[a] <= 1.0))
+            throw InputError(rows_pos, fmt::format("{}: the restitution of {} is {}, outside [0, 1]", scene,
+                                                   lib.contact_names()[a], number(restitution[a])));
+    std::vector<double> g0(m);
+    lib.gaps(0.0, x.data(), g0.data(), parameters);
+    for (std::size_t a = 0; a < m; ++a) {
+        const double slack = request.atol + 1e-12 * (1.0 + std::abs(x[0]));
+        if (!(g0[a] >= -slack))
+            throw InputError(rows_pos, fmt::format("{}: the initial state violates the unilateral row {}: {} = {} < 0",
+                                                   scene, lib.contact_names()[a],
+                                                   lib.contact_kinematic()[a] ? "phi" : "f", number(g0[a])));
+    }
+    if (!event_driven) {
+        bool kinematic = false;
+        for (bool k : lib.contact_kinematic()) kinematic = kinematic || k;
+        if (kinematic)
+            throw InputError(request.contact_method_pos,
+                             fmt::format("{}: moreau_jean takes gap rows only; the kinematic rows (§6.7) need "
+                                         "contact method event_driven", scene));
+        if (!(std::isfinite(request.step) && request.step > 0.0))
+            throw InputError(SourcePos{"--step"}, fmt::format("the moreau_jean step must be positive and finite, not {}",
+                                                              request.step));
+        if (!(request.theta >= 0.0 && request.theta <= 1.0))
+            throw InputError(request.contact_method_pos, fmt::format("theta must lie in [0, 1], not {}", request.theta));
+        const double steps = std::ceil(request.t_end / request.step);
+        const std::size_t budget = request.max_steps.value_or(SimulationRequest::default_max_fixed_steps);
+        if (steps > static_cast<double>(budget))
+            throw InputError(SourcePos{"--step"}, fmt::format("moreau_jean with step {} to t_end = {} takes {:.3g} steps, "
+                                                              "more than the budget of {} (--max-steps)",
+                                                              request.step, request.t_end, steps, budget));
+    } else {
+        bool ok = false;
+        runtime::visit_integrator<double>(request.integrator, [&](auto tag) {
+            using Tag = decltype(tag);
+            ok = Tag::info.kind == runtime::IntegratorKind::adaptive && Tag::info.dense_output;
+            return 0;
+        });
+        if (!ok)
+            throw InputError(request.integrator_pos,
+                             fmt::format("{}: the event-driven contact method needs an adaptive integrator with dense "
+                                         "output (dopri5 or dop853), not {}; or use contact method moreau_jean",
+                                         scene, request.integrator));
+    }
+    result.contact_method = request.contact_method;
+    if (!event_driven)
+        result.integrator = fmt::format("moreau_jean (theta = {}, step {})", number(request.theta), number(request.step));
+    for (std::size_t a = 0; a < m; ++a)
+        result.contacts.push_back({lib.contact_names()[a], lib.contact_kinematic()[a], restitution[a], 0.0, false, 0});
+
+    const std::vector<std::string>& state_names = lib.state_names();
+    const std::size_t n_inv = lib.invariant_names().size();
+    std::vector<std::string> columns{"t"};
+    columns.insert(columns.end(), state_names.begin(), state_names.end());
+    columns.insert(columns.end(), lib.invariant_names().begin(), lib.invariant_names().end());
+    columns.insert(columns.end(), lib.output_names().begin(), lib.output_names().end());
+    for (const auto& name : lib.contact_names()) columns.push_back("lambda_" + name);
+    columns.push_back("active");
+    columns.push_back("event");
+    CsvOutput csv(request.csv_path, columns, request.max_rows);
+    std::vector<double> outputs(lib.output_names().size()), inv(n_inv), inv0(n_inv), max_drift(n_inv, 0.0);
+    bool first = true;
+    double t_last = 0.0;
+    State<double> x_last = x;
+    ProgressBar progress(request.progress, request.t_end);
+    std::vector<double> lambda_now(m, 0.0);
+    std::vector<bool> active_now(m, false);
+    std::string extra, label;
+    auto record = [&](double t, const State<double>& xs, const std::vector<ContactEventReport>& events) {
+        lib.invariants(t, xs.data(), inv.data(), parameters);
+        if (first) inv0 = inv, first = false;
+        for (std::size_t i = 0; i < n_inv; ++i) max_drift[i] = track_max(max_drift[i], std::abs(inv[i] - inv0[i]));
+        if (!outputs.empty() && !request.csv_path.empty()) lib.outputs(t, xs.data(), outputs.data(), parameters);
+        std::uint64_t bits = 0;
+        extra.clear();
+        for (std::size_t a = 0; a < m; ++a) {
+            extra += fmt::format(",{:.17g}", lambda_now[a]);
+            if (active_now[a]) bits |= std::uint64_t(1) << a;
+        }
+        extra += fmt::format(",{}", bits);
+        if (events.empty()) csv.row(t, xs, inv, outputs, nullptr, true, extra);
+        for (const auto& e : events) {
+            label = e.kind + ":" + e.name;
+            csv.row(t, xs, inv, outputs, &label, true, extra);
+        }
+        t_last = t;
+        x_last = xs;
+        progress.update(t);
+    };
+    std::vector<ContactEventReport> pending;
+    const auto add_event = [&](ContactEventReport e) {
+        if (e.kind == "impact") {
+            for (auto& c : result.contacts)
+                if (c.name == e.name) ++c.impacts;
+        }
+        result.contact_events.push_back(e);
+        pending.push_back(std::move(e));
+    };
+
+    const auto start = Clock::now();
+    try {
+        if (event_driven) {
+            runtime::contact::ContactSystem<double> sys;
+            sys.dof = n;
+            for (std::size_t a = 0; a < m; ++a)
+                sys.contacts.push_back({restitution[a], lib.contact_kinematic()[a] ? runtime::contact::GapLevel::velocity
+                                                                                   : runtime::contact::GapLevel::position});
+            State<double> scratch(x.size(), 0.0);
+            std::vector<double> buffer(std::size_t(std::max<std::size_t>(m, 1) * std::size_t(n) + std::size_t(n * n)));
+            const auto put = [&](const Vector& q, const Vector* u) {
+                for (int k = 0; k < n; ++k) {
+                    scratch[std::size_t(k)] = q[k];
+                    scratch[std::size_t(n + k)] = u ? (*u)[k] : 0.0;
+                }
+            };
+            sys.mass = [&](double t, const Vector& q, Matrix& M) {
+                put(q, nullptr);
+                lib.mass_matrix(t, scratch.data(), buffer.data(), parameters);
+                for (int i = 0; i < n; ++i)
+                    for (int j = 0; j < n; ++j) M(i, j) = buffer[std::size_t(i * n + j)];
+            };
+            sys.force = [&](double t, const Vector& q, const Vector& u, Vector& f) {
+                put(q, &u);
+                lib.forcing(t, scratch.data(), f.data(), parameters);
+            };
+            sys.gaps = [&](double t, const Vector& q, const Vector& u, Vector& g) {
+                put(q, &u);
+                lib.gaps(t, scratch.data(), g.data(), parameters);
+            };
+            sys.rows = [&](double t, const Vector& q, const Vector& u, Matrix& W, Vector& b) {
+                put(q, &u);
+                lib.contact_jacobian(t, scratch.data(), buffer.data(), parameters);
+                for (std::size_t a = 0; a < m; ++a)
+                    for (int k = 0; k < n; ++k) W(Eigen::Index(a), k) = buffer[a * std::size_t(n) + std::size_t(k)];
+                lib.contact_bias(t, scratch.data(), b.data(), parameters);
+            };
+            runtime::contact::EventDrivenOptions<double> options;
+            options.detect_zeno = request.zeno_ratios > 0;
+            options.zeno_ratios = std::max(1, request.zeno_ratios);
+            options.on_event = [&](const runtime::contact::ContactEvent<double>& e) {
+                ContactEventReport r;
+                r.kind = contact_kind_name(e.kind);
+                r.name = lib.contact_names()[e.contact];
+                r.t = e.t;
+                r.rate_before = e.rate_before;
+                r.rate_after = e.rate_after;
+                r.impulse = e.impulse;
+                r.energy_change = e.energy_change;
+                r.carnot = e.carnot;
+                r.lambda = e.lambda;
+                r.ratio = e.ratio;
+                r.extrapolation_error = e.extrapolation_error;
+                add_event(std::move(r));
+            };
+            const auto observer = [&](double t, const State<double>& xs, const Vector& lambda,
+                                      const std::vector<bool>& active) {
+                for (std::size_t a = 0; a < m; ++a) {
+                    lambda_now[a] = lambda[Eigen::Index(a)];
+                    active_now[a] = active[a];
+                }
+                record(t, xs, pending);
+                pending.clear();
+            };
+            runtime::Limits limits;
+            if (request.max_steps) limits.max_steps = *request.max_steps;
+            const runtime::Tolerances tol{request.rtol, request.atol};
+            const bool compensated = result.compensated;
+            runtime::contact::EventDrivenOutcome<double> outcome;
+            runtime::visit_integrator<double>(request.integrator, [&](auto tag) {
+                using Tag = decltype(tag);
+                using Stepper = typename Tag::type;
+                if constexpr (Tag::info.kind == runtime::IntegratorKind::adaptive &&
+                              runtime::DenseOutputStepper<Stepper>) {
+                    Stepper stepper;
+                    stepper.set_compensated(compensated);
+                    outcome = runtime::contact::integrate_event_driven(stepper, sys, x, 0.0, request.t_end, tol,
+                                                                       observer, options, limits);
+                }
+                return 0;
+            });
+            result.t = outcome.t;
+            result.steps = outcome.stats.accepted;
+            result.rejected = outcome.stats.rejected;
+            result.rhs_evals = outcome.stats.rhs_evals;
+        } else {
+            using runtime::LcpMatrix;
+            using runtime::LcpVector;
+            State<double> scratch(x.size(), 0.0);
+            std::vector<double> buffer(m * std::size_t(n) + std::size_t(n * n));
+            const auto put = [&](const LcpVector<double>& q, const LcpVector<double>* u) {
+                for (int k = 0; k < n; ++k) {
+                    scratch[std::size_t(k)] = q[k];
+                    scratch[std::size_t(n + k)] = u ? (*u)[k] : 0.0;
+                }
+            };
+            const auto mass = [&](double t, const LcpVector<double>& q) {
+                put(q, nullptr);
+                lib.mass_matrix(t, scratch.data(), buffer.data(), parameters);
+                LcpMatrix<double> M(n, n);
+                for (int i = 0; i < n; ++i)
+                    for (int j = 0; j < n; ++j) M(i, j) = buffer[std::size_t(i * n + j)];
+                return M;
+            };
+            const auto force = [&](double t, const LcpVector<double>& q, const LcpVector<double>& u) {
+                put(q, &u);
+                LcpVector<double> f(n);
+                lib.forcing(t, scratch.data(), f.data(), parameters);
+                return f;
+            };
+            const auto gaps = [&](double t, const LcpVector<double>& q) {
+                put(q, nullptr);
+                LcpVector<double> g = LcpVector<double>::Zero(Eigen::Index(m));
+                lib.gaps(t, scratch.data(), g.data(), parameters);
+                return g;
+            };
+            const auto jacobian = [&](double t, const LcpVector<double>& q) {
+                put(q, nullptr);
+                lib.contact_jacobian(t, scratch.data(), buffer.data(), parameters);
+                LcpMatrix<double> W = LcpMatrix<double>::Zero(Eigen::Index(m), n);
+                for (std::size_t a = 0; a < m; ++a)
+                    for (int k = 0; k < n; ++k) W(Eigen::Index(a), k) = buffer[a * std::size_t(n) + std::size_t(k)];
+                return W;
+            };
+            LcpVector<double> q(n), u(n), e = LcpVector<double>::Zero(Eigen::Index(m));
+            for (int k = 0; k < n; ++k) {
+                q[k] = x[std::size_t(k)];
+                u[k] = x[std::size_t(n + k)];
+            }
+            for (std::size_t a = 0; a < m; ++a) e[Eigen::Index(a)] = restitution[a];
+            record(0.0, x, {});
+            // The step's events from its impulses: P_α > 0 with an approaching rate that leaves
+            // separating is an impact (ΔT over the step, Carnot's loss of the impulsive Δu = M⁻¹W_αᵀP_α);
+            // P_α > 0 leaving the row at rest is the active set (λ ≈ P/h); a contact ends when P_α is 0.
+            LcpVector<double> q_prev = q, u_prev = u;
+            double t_prev = 0.0;
+            const double h = request.step;
+            const auto observer = [&](double t, const LcpVector<double>& qn, const LcpVector<double>& un,
+                                      const runtime::MoreauJeanStep<double>& step) {
+                const double dt = t - t_prev;
+                const double scale = 1e-9 * (1.0 + un.cwiseAbs().maxCoeff() + u_prev.cwiseAbs().maxCoeff());
+                bool any = false;
+                for (std::size_t a = 0; a < m; ++a) any = any || step.P[Eigen::Index(a)] > 0.0;
+                LcpMatrix<double> W, M;
+                LcpVector<double> kick;  // the velocity the forces add over one step, h M⁻¹ f
+                if (any) {
+                    W = jacobian(t_prev, q_prev);
+                    M = mass(t_prev, q_prev);
+                    kick = dt * M.ldlt().solve(force(t_prev, q_prev, u_prev));
+                }
+                for (std::size_t a = 0; a < m; ++a) {
+                    const double P = step.P[Eigen::Index(a)];
+                    bool now = false;
+                    if (P > 0.0) {
+                        // A bounce slower than twice what the forces change in one step is the scheme's
+                        // own chatter at rest (order h), not an impact: the row counts as in contact.
+                        const double before = W.row(Eigen::Index(a)).dot(u_prev), after = W.row(Eigen::Index(a)).dot(un);
+                        const double vtol = scale + 2 * std::abs(W.row(Eigen::Index(a)).dot(kick));
+                        if (before < -vtol && after > vtol) {
+                            ContactEventReport r;
+                            r.kind = "impact";
+                            r.name = lib.contact_names()[a];
+                            r.t = t;
+                            r.rate_before = before;
+                            r.rate_after = after;
+                            r.impulse = P;
+                            r.energy_change = 0.5 * un.dot(M * un) - 0.5 * u_prev.dot(M * u_prev);
+                            const LcpVector<double> du = M.ldlt().solve(LcpVector<double>(W.row(Eigen::Index(a)).transpose() * P));
+                            r.carnot = -((1.0 - restitution[a]) / (1.0 + restitution[a])) * 0.5 * du.dot(M * du);
+                            add_event(std::move(r));
+                        } else {
+                            now = true;
+                        }
+                    }
+                    if (now && !active_now[a]) {
+                        ContactEventReport r;
+                        r.kind = "contact";
+                        r.name = lib.contact_names()[a];
+                        r.t = t;
+                        r.lambda = P / dt;
+                        add_event(std::move(r));
+                    } else if (!now && active_now[a]) {
+                        ContactEventReport r;
+                        r.kind = "separation";
+                        r.name = lib.contact_names()[a];
+                        r.t = t;
+                        add_event(std::move(r));
+                    }
+                    active_now[a] = now;
+                    lambda_now[a] = P / dt;
+                }
+                State<double> xs(x.size());
+                for (int k = 0; k < n; ++k) {
+                    xs[std::size_t(k)] = qn[k];
+                    xs[std::size_t(n + k)] = un[k];
+                }
+                record(t, xs, pending);
+                pending.clear();
+                q_prev = qn;
+                u_prev = un;
+                t_prev = t;
+            };
+            runtime::MoreauJeanOptions<double> options;
+            options.theta = request.theta;
+            const long steps = runtime::integrate_moreau_jean<double>(mass, force, gaps, jacobian, e, 0.0, request.t_end,
+                                                                     h, q, u, observer, options);
+            for (int k = 0; k < n; ++k) {
+                x[std::size_t(k)] = q[k];
+                x[std::size_t(n + k)] = u[k];
+            }
+            result.t = request.t_end;
+            result.steps = std::size_t(steps);
+            result.rhs_evals = 2 * std::size_t(steps);
+        }
+    } catch (const CsvOutput::RowLimit& limit) {
+        throw std::runtime_error(fmt::format("simulating {} with {}: the CSV {} reached its limit of {} rows at t = {} "
+                                             "(of t_end = {}) and was not written; raise --max-rows, shorten --t-end, "
+                                             "or run without --output",
+                                             scene, request.contact_method, request.csv_path, request.max_rows,
+                                             number(limit.t), number(request.t_end)));
+    } catch (const runtime::IntegrationError& e) {
+        throw failed_run(e, request, scene, state_names, t_last, x_last, csv);
+    }
+    result.wall_s = seconds_since(start);
+    csv.commit();
+    for (std::size_t i = 0; i < x.size(); ++i) result.state.emplace_back(state_names[i], x[i]);
+    if (!outputs.empty()) {
+        lib.outputs(result.t, x.data(), outputs.data(), parameters);
+        for (std::size_t i = 0; i < outputs.size(); ++i) result.outputs.emplace_back(lib.output_names()[i], outputs[i]);
+    }
+    for (std::size_t i = 0; i < n_inv; ++i)
+        result.invariants.push_back({lib.invariant_names()[i], inv0[i], inv[i], max_drift[i]});
+    for (std::size_t a = 0; a < m; ++a) {
+        result.contacts[a].lambda = lambda_now[a];
+        result.contacts[a].active = active_now[a];
+    }
+    if (!request.csv_path.empty()) {
+        result.csv_path = request.csv_path;
+        result.csv_rows = csv.rows();
+    }
+    return result;
+}
+
 }  // namespace
 
 SimulationResult simulate(const SimulationRequest& request) {
@@ -463,6 +896,7 @@ SimulationResult simulate(const SimulationRequest& request) {
     for (std::size_t i = 0; i < parameter_values.size(); ++i)
         result.parameters.emplace_back(lib.parameter_names()[i], parameter_values[i]);
 
+    if (!lib.contact_names().empty()) return simulate_contacts(request, lib, parameters, x, std::move(result));
     check_separable(request.integrator, request.integrator_pos, lib.separable(), lib.scene_name());
     std::vector<std::string> state_names = lib.state_names();
     if (request.variational) extend_by_transition_matrix(request, lib, x, state_names);
@@ -595,6 +1029,44 @@ void print_summary(const SimulationResult& r, const std::string& format, std::os
                                  json_number(r.constraints[i].max_abs_residual));
             s += "}";
         }
+        if (!r.contacts.empty()) {  // only kernels with unilateral rows
+            s += fmt::format(", \"contacts\": {{\"method\": {}, \"rows\": {{", json_string(r.contact_method));
+            for (std::size_t i = 0; i < r.contacts.size(); ++i) {
+                const auto& c = r.contacts[i];
+                s += fmt::format("{}{}: {{\"kinematic\": {}, \"restitution\": {}, \"lambda\": {}, \"active\": {}, "
+                                 "\"impacts\": {}}}",
+                                 i ? ", " : "", json_string(c.name), c.kinematic ? "true" : "false",
+                                 json_number(c.restitution), json_number(c.lambda), c.active ? "true" : "false", c.impacts);
+            }
+            s += "}, \"impacts\": [";
+            bool any = false;
+            for (const auto& e : r.contact_events) {
+                if (e.kind != "impact") continue;
+                s += fmt::format("{}{{\"row\": {}, \"t\": {}, \"rate_before\": {}, \"rate_after\": {}, \"impulse\": {}, "
+                                 "\"energy_change\": {}, \"carnot\": {}}}",
+                                 any ? ", " : "", json_string(e.name), json_number(e.t), json_number(e.rate_before),
+                                 json_number(e.rate_after), json_number(e.impulse), json_number(e.energy_change),
+                                 json_number(e.carnot));
+                any = true;
+            }
+            s += "], \"zeno\": [";
+            any = false;
+            for (const auto& e : r.contact_events) {
+                if (e.kind != "zeno") continue;
+                s += fmt::format("{}{{\"row\": {}, \"t\": {}, \"ratio\": {}, \"extrapolation_error\": {}}}",
+                                 any ? ", " : "", json_string(e.name), json_number(e.t), json_number(e.ratio),
+                                 json_number(e.extrapolation_error));
+                any = true;
+            }
+            s += "], \"events\": [";
+            for (std::size_t i = 0; i < r.contact_events.size(); ++i) {
+                const auto& e = r.contact_events[i];
+                s += fmt::format("{}{{\"kind\": {}, \"row\": {}, \"t\": {}{}}}", i ? ", " : "", json_string(e.kind),
+                                 json_string(e.name), json_number(e.t),
+                                 e.kind == "contact" ? fmt::format(", \"lambda\": {}", json_number(e.lambda)) : "");
+            }
+            s += "]}";
+        }
         s += fmt::format(", \"stopped_by\": {}, \"compensated\": {}",
                          r.stopped_by.empty() ? "null" : json_string(r.stopped_by), r.compensated ? "true" : "false");
         s += fmt::format(", \"steps\": {}, \"rejected\": {}, \"rhs_evals\": {}, \"wall_s\": {}, \"compile_s\": {}, "
@@ -613,6 +1085,7 @@ void print_summary(const SimulationResult& r, const std::string& format, std::os
     for (const auto& v : r.invariants) width = std::max(width, v.name.size());
     for (const auto& e : r.events) width = std::max(width, e.name.size());
     for (const auto& c : r.constraints) width = std::max(width, c.name.size());
+    for (const auto& c : r.contacts) width = std::max(width, c.name.size());
 
     std::string s = fmt::format("{}: {} to t = {}{}\n", r.scene_name, r.integrator, number(r.t),
                                 r.stopped_by.empty() ? "" : fmt::format(", stopped by the terminal event '{}'", r.stopped_by));
@@ -642,6 +1115,39 @@ void print_summary(const SimulationResult& r, const std::string& format, std::os
     if (!r.constraints.empty()) {
         s += fmt::format("constraints\n  {:<{}}  {:>24}\n", "", width, "max |residual|");
         for (const auto& c : r.constraints) s += fmt::format("  {:<{}}  {:>24.3g}\n", c.name, width, c.max_abs_residual);
+    }
+    if (!r.contacts.empty()) {
+        s += fmt::format("contacts    {}\n  {:<{}}  {:>5}  {:>24}  {:>6}  {:>7}\n", r.contact_method, "", width, "e",
+                         "lambda", "active", "impacts");
+        for (const auto& c : r.contacts)
+            s += fmt::format("  {:<{}}  {:>5}  {:>24}  {:>6}  {:>7}{}\n", c.name, width, number(c.restitution),
+                             number(c.lambda), c.active ? "yes" : "no", c.impacts, c.kinematic ? "  (kinematic)" : "");
+        std::size_t impacts = 0;
+        for (const auto& e : r.contact_events) impacts += e.kind == "impact";
+        if (impacts > 0) {
+            // Every impact (the JSON and the CSV have them too): the rates f-dot before and after, the
+            // percussion P, the kinetic energy change and Carnot's prediction of it.
+            s += fmt::format("impacts     {}\n  {:<{}}  {:>24}  {:>24}  {:>24}  {:>24}  {:>24}  {:>24}\n", impacts, "",
+                             width, "t", "rate before", "rate after", "P", "delta T", "Carnot");
+            for (const auto& e : r.contact_events)
+                if (e.kind == "impact")
+                    s += fmt::format("  {:<{}}  {:>24}  {:>24}  {:>24}  {:>24}  {:>24}  {:>24}\n", e.name, width,
+                                     number(e.t), number(e.rate_before), number(e.rate_after), number(e.impulse),
+                                     number(e.energy_change), number(e.carnot));
+        }
+        for (const auto& e : r.contact_events)
+            if (e.kind == "zeno")
+                s += fmt::format("zeno        {} at t = {} (interval ratio {}, extrapolation error {:.3g})\n", e.name,
+                                 number(e.t), number(e.ratio), e.extrapolation_error);
+        std::size_t listed = 0, phases = 0;  // the first 20 contact phases and separations (all in the JSON)
+        for (const auto& e : r.contact_events)
+            if (e.kind == "contact" || e.kind == "separation") {
+                if (++phases > 20) continue;
+                ++listed;
+                s += fmt::format("{:<12}{} at t = {}{}\n", e.kind, e.name, number(e.t),
+                                 e.kind == "contact" ? fmt::format(" (lambda {})", number(e.lambda)) : "");
+            }
+        if (phases > listed) s += fmt::format("            ... {} more contact and separation events\n", phases - listed);
     }
     s += fmt::format("steps       {} accepted, {} rejected, {} rhs evaluations\n", r.steps, r.rejected, r.rhs_evals);
     s += fmt::format("time        integration {:.3g} s; kernel {:.3g} s ({})\n", r.wall_s, r.compile_s,

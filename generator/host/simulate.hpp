@@ -32,6 +32,17 @@ struct SimulationRequest {
     // its entries named Phi_<i>_<j> (indices into the kernel's state). The kernel must have been
     // generated with --variational.
     bool variational = false;
+    // Kernels with unilateral rows (contacts) only: "event_driven" (runtime::contact::
+    // integrate_event_driven, with the adaptive dense-output integrator dopri5 or dop853 and
+    // rtol/atol) or "moreau_jean" (runtime::integrate_moreau_jean, fixed `step`, θ-method with
+    // `theta`). The scene's [contact] table sets them, or --contact-method.
+    std::string contact_method = "event_driven";
+    SourcePos contact_method_pos{"--contact-method"};
+    double theta = 0.5;
+    // event_driven: a geometric accumulation of impacts (Zeno) is extrapolated once zeno_ratios
+    // successive interval ratios agree (after zeno_ratios + 2 impacts at least; runtime::contact::
+    // EventDrivenOptions); 0 never extrapolates (the run then stalls near the accumulation point).
+    int zeno_ratios = 3;
     // Bounds on the work a request can ask for (a hostile or mistyped --t-end 1e300, --step 1e-15).
     // Step attempts: absent = default_max_fixed_steps for the fixed-step methods, whose count
     // ceil(t_end/step) is known and checked before anything is compiled, and the runtime's own
@@ -70,6 +81,31 @@ struct EventReport {
     std::vector<double> state;
 };
 
+// One event of a unilateral row (kernels with contacts): kind is "impact", "contact",
+// "separation" or "zeno". For an impact: the row's rate ḟ⁻ and ḟ⁺ (φ for a kinematic row), its
+// percussion P (a generalized impulse, Δ(∂T/∂q̇) = P ∂f/∂q), the kinetic energy change T⁺ − T⁻ of
+// the impact and Carnot's prediction −((1 − e)/(1 + e)) ½ ΔuᵀMΔu (Mei ch. 6). For a contact: λ
+// where the contact phase starts. For a Zeno point: the ratio of the impact intervals and the
+// extrapolation's error bound.
+struct ContactEventReport {
+    std::string kind, name;
+    double t = 0.0;
+    double rate_before = 0.0, rate_after = 0.0, impulse = 0.0, energy_change = 0.0, carnot = 0.0;
+    double lambda = 0.0;
+    double ratio = 0.0, extrapolation_error = 0.0;
+};
+
+// One unilateral row at the end of the run: λ (a generalized force, M u̇ = f + Wᵀλ; Moreau–Jean:
+// the step's impulse over the step) and whether it is in the active set.
+struct ContactReport {
+    std::string name;
+    bool kinematic = false;
+    double restitution = 0.0;
+    double lambda = 0.0;
+    bool active = false;
+    std::size_t impacts = 0;
+};
+
 struct SimulationResult {
     std::string scene_name;
     std::string integrator;
@@ -83,6 +119,11 @@ struct SimulationResult {
     std::vector<InvariantReport> invariants;
     std::vector<EventReport> events;                      // every located event, in time order
     std::vector<ConstraintReport> constraints;            // the kernel's constraint rows (none for most)
+    // Kernels with unilateral rows: the method, each row at the end, and every contact event in
+    // time order (the CSV has the same as rows labelled kind:name in its event column).
+    std::string contact_method;
+    std::vector<ContactReport> contacts;
+    std::vector<ContactEventReport> contact_events;
     std::string stopped_by;                               // the terminal event that ended the run, "" if none
     std::size_t steps = 0, rejected = 0, rhs_evals = 0;   // accepted steps, rejected attempts, system calls
     double wall_s = 0.0;     // integration, including the observer (invariants, CSV)
@@ -92,7 +133,8 @@ struct SimulationResult {
     std::string csv_path;    // "" when no CSV was written
     std::size_t csv_rows = 0;
 
-    // The final value of a state component, or else of an output, by name; throws
+    // The final value of a state component, or else of an output, or else lambda_<row> of a
+    // unilateral row, by name; throws
     // std::out_of_range if neither has it.
     double value(const std::string& name) const;
 };

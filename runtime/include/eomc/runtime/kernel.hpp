@@ -147,6 +147,23 @@ concept ConstrainedKernel = Kernel<K, S> && requires(S t, const S* x, S* out, co
   K::template constraint_residuals<S>(t, x, out, p);
 };
 
+// Unilateral constraints (Mei, Special Topics in Analytical Mechanics, ch. 6): per row a gap
+// f(q, t) >= 0 or, where contact_kinematic, a kinematic row φ(q, u, t) >= 0 (§6.7); Newton's
+// restitution coefficients from the parameters; gaps() writes f or φ, contact_jacobian() W
+// (n_contacts × n_velocities, row-major) and contact_bias() the bias of f̈ (φ̇) = W u̇ + bias. With the
+// mechanical form M u̇ = f (KernelWithMassMatrix) they make runtime::contact::ContactSystem.
+template <class K, class S = double>
+concept ContactKernel =
+    KernelWithMassMatrix<K, S> && requires(S t, const S* x, S* out, const typename K::Parameters& p) {
+      { K::n_contacts } -> std::convertible_to<int>;
+      requires kernel_detail::array_of<decltype(K::contact_names), const char*, std::size_t(K::n_contacts)>;
+      requires kernel_detail::array_of<decltype(K::contact_kinematic), bool, std::size_t(K::n_contacts)>;
+      K::template restitutions<S>(p, out);
+      K::template gaps<S>(t, x, out, p);
+      K::template contact_jacobian<S>(t, x, out, p);
+      K::template contact_bias<S>(t, x, out, p);
+    };
+
 // Kernels generated with --variational: the rates of y = (x, Φ), n_variational = n_state +
 // n_state², Φ row-major (runtime/variational.hpp).
 template <class K, class S = double>

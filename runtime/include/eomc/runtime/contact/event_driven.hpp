@@ -103,6 +103,9 @@ struct ContactSystem {
 };
 
 template <class S>
+struct ContactEvent;
+
+template <class S>
 struct EventDrivenOptions {
   // A gap counts as closed at |g| ≤ closed_gap, a velocity as resting at |ġ| ≤ resting_rate (and a
   // kinematic constraint as closed at |φ| ≤ resting_rate). 0 derives them: closed_gap = atol +
@@ -117,6 +120,9 @@ struct EventDrivenOptions {
   int zeno_ratios = 3;
   S zeno_rtol = S(1e-2);
   std::size_t max_impacts = 100000;  // impacts allowed in one call (a Zeno run without detection)
+  // Called with each event, complete, just before the observer sees the state after its transition
+  // (so that an observer can label that state): the events of one transition in time order.
+  std::function<void(const ContactEvent<S>&)> on_event;
 };
 
 enum class ContactEventKind { impact, contact, separation, zeno };
@@ -492,7 +498,10 @@ EventDrivenOutcome<S> integrate_event_driven(Stepper<S>& stepper, const ContactS
     decide_mode(t, xs, -1);
   };
 
+  std::size_t reported = 0;
   const auto observe = [&](S t, const State<S>& xs) {
+    if (options.on_event)
+      for (; reported < out.events.size(); ++reported) options.on_event(out.events[reported]);
     if (any_active) model.accelerations(t, xs, active, udot, lambda);
     else lambda.setZero(m);
     observer(t, xs, static_cast<const Vector<S>&>(lambda), static_cast<const std::vector<bool>&>(active));
