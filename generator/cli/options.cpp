@@ -136,6 +136,11 @@ void add_simulate_options(CLI::App* cmd, SimulateOptions& o) {
         ->check(decimal)->check(CLI::PositiveNumber);
     cmd->add_option("--step", o.step, fmt::format("step size ({})", integrator_list(fixed_step)))
         ->check(decimal)->check(CLI::PositiveNumber);
+    cmd->add_option("--contact-method", o.contact_method,
+                    "unilateral rows: event_driven (impacts located, contact phases, Zeno) or moreau_jean (time "
+                    "stepping at [simulate] step) (default: [contact] method)")
+        ->check(CLI::IsMember(std::vector<std::string>(scene::contact_method_names.begin(),
+                                                       scene::contact_method_names.end())));
     cmd->add_option("--compensated", o.compensated,
                     "on | off: compensated (Kahan) summation of the state update (default: [simulate] compensated, "
                     "else on for gl4-8, verlet, yoshida6, kahanli8 and off for the others)")
@@ -176,6 +181,15 @@ host::SimulationRequest simulation_request(const host::Pipeline& p, const std::s
     r.cache_dir = o.cache_dir;
     r.max_steps = o.max_steps;
     r.max_rows = o.max_rows;
+    // A scene with unilateral rows: its [contact] method, unless --contact-method chose.
+    if (!o.contact_method.empty()) {
+        r.contact_method = o.contact_method;
+        r.contact_method_pos = SourcePos{"--contact-method"};
+    } else {
+        r.contact_method = p.model.contact_method == model::ContactMethod::moreau_jean ? "moreau_jean" : "event_driven";
+        r.contact_method_pos = p.model.contact_method_pos;
+    }
+    r.theta = p.model.theta;
     return r;
 }
 

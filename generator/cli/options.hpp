@@ -30,6 +30,7 @@ void check_overrides_against_scene(const std::string& scene_path, const host::Fr
                                    const std::vector<std::string>& items);
 
 struct SimulateOptions {
+    std::string contact_method;  // --contact-method; "" = the scene's [contact] method
     std::optional<double> t_end, rtol, atol, step;
     std::string integrator, output, summary = "text", compensated;
     std::vector<std::string> overrides;

@@ -744,6 +744,7 @@ static void build_unilateral(const scene::Scene& scene, const SymbolTable& symbo
     model.contact_method =
         scene.contact.method == "moreau_jean" ? ContactMethod::moreau_jean : ContactMethod::event_driven;
     model.theta = scene.contact.theta;
+    model.contact_method_pos = scene.contact.method_pos;
     for (const auto& given : scene.unilateral) {
         Unilateral row;
         row.name = given.name;

@@ -32,9 +32,10 @@ namespace {
 
 Model from_string(const std::string& toml) { return test_support::model_of(toml, "u.toml"); }
 
+// A bundled scene (scenes/<name>.toml).
 Model from_file(const std::string& name) {
     return eomc::model::build_model(eomc::scene::parse_scene_file(std::string(EOMC_SOURCE_DIR) +
-                                                                  "/tests/mechanics/unilateral/" + name + ".toml"));
+                                                                  "/scenes/" + name + ".toml"));
 }
 
 const GiNaC::symbol& symbol_named(const Model& model, const std::string& name) {
