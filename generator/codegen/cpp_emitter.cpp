@@ -567,7 +567,7 @@ std::string acceleration_function(const KernelIR& ir) {
 // call project(t, x) after every accepted step when a kernel has one. The body is
 // runtime::renormalise_quaternion (runtime/quaternion.hpp) written out: the bundled
 // free_disk_tube_ball kernel prints it so, and tests/runtime_routines checks that the two agree.
-std::string quaternion_renormalisation(const KernelIR& ir) {
+std::string unit_renormalisation(const KernelIR& ir) {
     std::string body;
     for (std::size_t k : ir.unit_quaternions) {
         body += fmt::format("        {{\n            const S norm = sqrt(x[{0}] * x[{0}] + x[{1}] * x[{1}] + x[{2}] * x[{2}] + "
@@ -583,9 +583,9 @@ std::string quaternion_renormalisation(const KernelIR& ir) {
     return body;
 }
 
-std::string quaternion_projection(const KernelIR& ir) {
+std::string unit_projection(const KernelIR& ir) {
     if (ir.unit_quaternions.empty() && ir.unit_vectors.empty()) return "";
-    const std::string body = "        (void)t;\n        (void)p;\n        using std::sqrt;\n" + quaternion_renormalisation(ir);
+    const std::string body = "        (void)t;\n        (void)p;\n        using std::sqrt;\n" + unit_renormalisation(ir);
     if (ir.unit_quaternions.empty())
         return "\n    // Puts Poisson's vertical back on |γ| = 1, a Casimir of the equations that integration keeps only\n"
                "    // to its error (the runtime calls it after every accepted step; Hairer, Lubich, Wanner,\n"
@@ -674,7 +674,7 @@ std::string constraints_part(const KernelIR& ir) {
     if (!projects && ir.unit_quaternions.empty() && ir.unit_vectors.empty()) return out;
     std::string body;
     if (!ir.unit_quaternions.empty() || !ir.unit_vectors.empty())
-        body += "        using std::sqrt;\n" + quaternion_renormalisation(ir);
+        body += "        using std::sqrt;\n" + unit_renormalisation(ir);
     if (projects)
         body +=
             "        eomc::runtime::project_onto_constraints(\n"
@@ -828,7 +828,7 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
     // What the runtime's drivers call after every accepted step: a quaternion renormalised, or
     // Encke's rectification.
     // A kernel with constraint rows prints its project() with them (constraints_part).
-    std::string projection = ir.constraint_names.empty() ? quaternion_projection(ir) : std::string(),
+    std::string projection = ir.constraint_names.empty() ? unit_projection(ir) : std::string(),
                 private_part = rates.private_part;
     if (ir.rectification && !ir.constraint_names.empty())
         throw std::runtime_error("a kernel with both constraint rows and a rectification");

@@ -332,11 +332,12 @@ std::array<double, 4> zxz_quaternion(double phi, double theta, double psi) {
             std::cos(theta / 2) * std::sin(a)};
 }
 
-// The Andoyer-Deprit variables are singular where the angular momentum is along body axis 3 or
-// along the vertical (runtime/rigid/andoyer_deprit.hpp): refused there, a warning near (a
-// thousandfold amplification of the angles' rates, as for the orbit elements).
-void check_andoyer_domain(const RigidBody& body, const double (&I)[3][3], const GiNaC::exmap& defaults,
-                          std::vector<Warning>& warnings) {
+// The initial Andoyer-Deprit variables, at the defaults. They are singular where the angular
+// momentum is along body axis 3 or along the vertical (runtime/rigid/andoyer_deprit.hpp): refused
+// there, a warning near (a thousandfold amplification of the angles' rates, as for the orbit
+// elements).
+std::array<double, 6> initial_andoyer(const RigidBody& body, const double (&I)[3][3], const GiNaC::exmap& defaults,
+                                      std::vector<Warning>& warnings) {
     std::array<double, 3> K{};
     for (unsigned i = 0; i < 3; ++i) {
         const auto k = real_value(body.gyrostat[i], defaults);
@@ -352,6 +353,7 @@ void check_andoyer_domain(const RigidBody& body, const double (&I)[3][3], const 
                                             "(min(√(G² − L²), √(G² − H²))/G = {:.3g}): their angles' rates are "
                                             "amplified by its inverse",
                                             regularity)});
+        return {v.l, v.g, v.h, v.L, v.G, v.H};
     } catch (const std::domain_error& e) {
         throw InputError(body.formulation_pos,
                          fmt::format("the andoyer_deprit formulation cannot describe the initial state: {}; use another "
@@ -462,7 +464,8 @@ void build_rigid_body(const scene::Scene& scene, SymbolTable& symbols, Model& mo
         model.kinetic_energy = T;
         model.potential = V;
     }
-    if (given.formulation == scene::RigidFormulationKind::andoyer_deprit) check_andoyer_domain(body, m, d, model.warnings);
+    if (given.formulation == scene::RigidFormulationKind::andoyer_deprit)
+        body.andoyer0 = initial_andoyer(body, m, d, model.warnings);
     model.kinetic_pos = given.pos;
     model.rigid = std::move(body);
 }

@@ -167,6 +167,7 @@ struct RigidBody {
     std::array<double, 3> omega0{0, 0, 0};        // ω(0)
     std::array<double, 4> attitude0{1, 0, 0, 0};  // body → space unit quaternion at t = 0
     std::array<double, 3> vertical0{0, 0, 1};     // γ(0) = R(0)ᵀ e_Z
+    std::array<double, 6> andoyer0{};              // andoyer_deprit: (l, g, h, L, G, H) at t = 0
     scene::RigidFormulationKind formulation = scene::RigidFormulationKind::euler_poisson;
     SourcePos formulation_pos, initial_pos, pos;
     // The euler_angles formulation: ω and γ in the ZXZ angles and their rates (the model's

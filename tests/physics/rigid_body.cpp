@@ -3,7 +3,7 @@
 // Hess), a heavy gyrostat, a gravity-gradient satellite in the orbit frame and a statically
 // unbalanced gyroscope (Mei, ch. 2 and 5). Conventions of the scenes: principal moments A, B, C,
 // ω = (p, q, r) and the upward vertical γ in body axes, mass centre r_c, weight P:
-//   I ω̇ = (Iω + k) × ω + P r_c × γ,   γ̇ = γ × ω.
+//   I ω̇ = (Iω + k) × ω + P γ × r_c,   γ̇ = γ × ω.
 // Every reference number was computed independently with mpmath (30 digits: Jacobi's elliptic
 // solution for Euler–Poinsot, the roots of Lagrange's cubic and its quadrature for the nutation,
 // a Taylor integration for Kovalevskaya's state at t = 5).

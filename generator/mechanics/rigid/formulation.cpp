@@ -7,7 +7,6 @@
 
 #include <fmt/format.h>
 
-#include "eomc/runtime/rigid/andoyer_deprit.hpp"
 #include "mechanics/rigid/euler_poisson.hpp"
 #include "mechanics/rigid/integrals.hpp"
 #include "symbolic/differentiation.hpp"
@@ -159,15 +158,9 @@ FirstOrderForm andoyer_deprit_form(const model::Model& model, const Equations& e
         rates[j] = derivative(hamiltonian, p[j]);
         rates[3 + j] = -derivative(hamiltonian, q[j]);
     }
-    std::array<double, 3> K0{};
-    const GiNaC::exmap defaults = model.parameter_defaults();
-    for (unsigned i = 0; i < 3; ++i) {
-        ex k = body.gyrostat[i];
-        for (unsigned j = 0; j < 3; ++j) k += body.inertia(i, j) * body.omega0[j];
-        K0[i] = GiNaC::ex_to<GiNaC::numeric>(k.subs(defaults).evalf()).to_double();
-    }
-    const auto a = runtime::andoyer_from_body(K0, body.vertical0);
-    set_state(form, {{"l", l, a.l}, {"g", g, a.g}, {"h", h, a.h}, {"L", L, a.L}, {"G", G, a.G}, {"H", H, a.H}}, rates);
+    const auto& a = body.andoyer0;  // the model's, at the defaults
+    set_state(form, {{"l", l, a[0]}, {"g", g, a[1]}, {"h", h, a[2]}, {"L", L, a[3]}, {"G", G, a[4]}, {"H", H, a[5]}},
+              rates);
     form.derivation.push_back({"Hamiltonian", hamiltonian});
     GiNaC::exmap to_state;
     for (std::size_t i = 0; i < 3; ++i) to_state[body.omega[i]] = omega[i], to_state[body.gamma[i]] = gamma[i];
