@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
+#include <string>
 
 #include <SiconosKernel.hpp>
 
@@ -82,14 +83,25 @@ void siconos_event_driven(bool is_block, double rtol, Run& run) {
     SP::EventsManager events = s->eventsManager();
     SP::SiconosVector q = model.ds->q(), v = model.ds->velocity();
     long count = 0;
-    while (s->hasNextEvent()) {
-        s->advanceToEvent();
-        const bool nonsmooth = events->nextEvent()->getType() == NS_EVENT;
-        s->processEvents();
-        if (++count > 1000000) throw std::runtime_error("more than 10^6 events");
-        const double t = s->startingTime();
-        if (nonsmooth) run.impacts.push_back(t);
-        if (std::abs(t - 1.0) < 1e-12) run.q1 = (*q)(0), run.v1 = (*v)(0);
+    try {
+        while (s->hasNextEvent()) {
+            s->advanceToEvent();
+            const bool nonsmooth = events->nextEvent()->getType() == NS_EVENT;
+            s->processEvents();
+            if (++count > 1000000) throw std::runtime_error("more than 10^6 events");
+            run.last_step_count = double(count);
+            const double t = s->startingTime();
+            if (nonsmooth) run.impacts.push_back(t);
+            if (std::abs(t - 1.0) < 1e-12) run.q1 = (*q)(0), run.v1 = (*v)(0);
+        }
+    } catch (const Siconos::exception& e) {
+        // Siconos' exceptions carry their text as boost::error_info, not in what().
+        const std::string* text = boost::get_error_info<Siconos::exception::extra_message>(e);
+        char buf[200];
+        std::snprintf(buf, sizeof buf, "throws after %zu nonsmooth events (the last at %.15g)", run.impacts.size(),
+                      run.impacts.empty() ? NAN : run.impacts.back());
+        run.zeno = buf;
+        throw std::runtime_error(text ? *text : std::string("Siconos::exception"));
     }
     run.q5 = (*q)(0), run.v5 = (*v)(0);
     SP::SiconosVector p2 = model.ds->p(2);
