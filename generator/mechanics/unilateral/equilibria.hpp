@@ -13,7 +13,8 @@
 //
 // Stability (Lagrange–Dirichlet: a strict local minimum of V on the admissible set is stable, the
 // impacts losing energy by Carnot's theorem for e ≤ 1 and the reactions doing no work on
-// scleronomic gaps; Brogliato, *Nonsmooth Mechanics*, 3rd ed. 2016, §7.2), decided by the
+// scleronomic gaps; Brogliato, *Nonsmooth Mechanics*, 3rd ed. 2016,
+// its Lagrange–Dirichlet theorem for unilaterally constrained systems), decided by the
 // second-order conditions of the minimum (Nocedal & Wright, Thm 12.5 and 12.6):
 //  - interior (no active row): the Hessian ∂²V/∂q² positive definite → stable; an eigenvalue < 0
 //    → unstable (gyroscopic forces at rest leave this undecided);
