@@ -419,6 +419,18 @@ public:
         return out;
     }
 
+    // A run that failed otherwise (the step collapsed, a value overflowed) next to the set where a
+    // program's control matrix Ā M⁻¹ D is singular (|det| below 1e-6 of its scale, where the
+    // control λ ~ 1/det has grown a millionfold) failed because of it: throws that reason instead.
+    void fail_if_near_control_set(double t, const State<double>& xs) {
+        if (value_.empty()) return;
+        lib_.singular_sets(t, xs.data(), value_.data(), parameters_);
+        for (std::size_t k = 0; k < value_.size(); ++k)
+            if (lib_.singular_set_names()[k].rfind("det(A M^-1 D)", 0) == 0 && scale_[k] > 0 &&
+                std::abs(value_[k]) < 1e-6 * scale_[k])
+                fail(t, k, value_[k], 1e-6 * scale_[k], false);
+    }
+
 private:
     [[noreturn]] void fail(double t, std::size_t k, double s, double threshold, bool crossed) const {
         const std::string& name = lib_.singular_set_names()[k];
@@ -430,7 +442,7 @@ private:
                             "the singular set)",
                             number(t),
                             crossed ? fmt::format("det changed sign from {:.3g} to {:.3g} in one step", previous_[k], s)
-                                    : fmt::format("|det| = {:.3g} fell below {:.3g}, sqrt(eps) of its scale {:.3g}",
+                                    : fmt::format("|det| = {:.3g} fell below {:.3g} of its scale {:.3g}",
                                                   std::abs(s), threshold, std::max(scale_[k], std::abs(s)))));
         throw runtime::IntegrationError(
             runtime::IntegrationError::Kind::singular_set, t,
@@ -1027,6 +1039,11 @@ SimulationResult simulate(const SimulationRequest& request) {
                                              lib.scene_name(), request.integrator, request.csv_path, request.max_rows,
                                              number(limit.t), number(request.t_end)));
     } catch (const runtime::IntegrationError& e) {
+        if (e.kind() != runtime::IntegrationError::Kind::singular_set && !first) try {
+                singular.fail_if_near_control_set(t_last, x_last);
+            } catch (const runtime::IntegrationError& control) {
+                throw failed_run(control, request, lib.scene_name(), state_names, t_last, x_last, csv);
+            }
         if (e.kind() == runtime::IntegrationError::Kind::non_finite && !first) {
             const std::string near = singular.near(t_last, x_last);
             if (!near.empty())
