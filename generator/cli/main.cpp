@@ -21,16 +21,18 @@
 #include "host/pipeline.hpp"
 #include "host/rigid_bench.hpp"
 #include "host/simulate.hpp"
+#include "mechanics/control/control.hpp"
 #include "mechanics/inverse/inverse_problem.hpp"
 #include "mechanics/relative/equilibria.hpp"
+#include "mechanics/rigid/equilibria.hpp"
 #include "mechanics/rigid/euler_poisson.hpp"
 #include "mechanics/rigid/integrals.hpp"
-#include "mechanics/rigid/equilibria.hpp"
 #include "mechanics/unilateral/equilibria.hpp"
+#include "report/control_printer.hpp"
 #include "report/derivation_printer.hpp"
 #include "report/equilibria_printer.hpp"
-#include "report/rigid_printer.hpp"
 #include "report/inverse_printer.hpp"
+#include "report/rigid_printer.hpp"
 #include "report/unilateral_equilibria_printer.hpp"
 #include "scene/scene.hpp"
 #include "support/cleanup.hpp"
@@ -95,7 +97,7 @@ struct Options {
 };
 
 struct Commands {
-    CLI::App *derive, *generate, *simulate, *equilibria, *inverse, *integrals, *run, *bench;
+    CLI::App *derive, *generate, *simulate, *equilibria, *inverse, *control, *integrals, *run, *bench;
 };
 
 Commands declare_commands(CLI::App& app, Options& o) {
@@ -161,6 +163,11 @@ Commands declare_commands(CLI::App& app, Options& o) {
         ->add_option("--search-budget", o.search_budget.nodes,
                      "expression nodes the multiplier search may build before it stops undecided (default 1000000)")
         ->check(CLI::PositiveNumber);
+
+    c.control = app.add_subcommand("control", "programmed motion: the controls realising the scene's [[program]] rows");
+    scene_argument(c.control);
+    c.control->add_option("--format", o.format, "text | latex | json")->check(CLI::IsMember({"text", "latex", "json"}));
+    c.control->add_option("-o,--output", o.output, "write to FILE instead of standard output");
 
     c.integrals = app.add_subcommand(
         "integrals", "a rigid body's first integrals: the classical ones proven, new polynomial ones searched for");
@@ -302,6 +309,17 @@ void inverse_command(const Pipeline& p, const Options& o) {
     if (!o.emit_scene.empty()) write_file_atomically(o.emit_scene, scene_text);
 }
 
+// `eomc control`: a scene without [[program]] rows has nothing to realise.
+void control_command(const Pipeline& p, const Options& o) {
+    if (p.model.programs.empty())
+        throw InputError(SourcePos{o.scene_path, 1, 1},
+                         "the scene declares no [[program]]: eomc control realises programmed motions (Mei ch. 3)");
+    std::ostringstream text;
+    report::print_control(p.model, p.equations, mechanics::realise(p.model, p.equations), derivation_format(o.format),
+                          text);
+    deliver(text.str(), o.output);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -338,6 +356,7 @@ int main(int argc, char** argv) {
         else if (c.bench->parsed()) bench_command(p, o);
         else if (c.equilibria->parsed()) equilibria_command(p, o);
         else if (c.inverse->parsed()) inverse_command(p, o);
+        else if (c.control->parsed()) control_command(p, o);
         else if (c.integrals->parsed()) integrals_command(p, o);
     } catch (const InputError& e) {
         std::cerr << e.what() << "\n";

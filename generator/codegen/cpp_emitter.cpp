@@ -336,7 +336,8 @@ bool uses_kepler_solver(const KernelIR& ir) {
                            &ir.explicit_rates, &ir.explicit_rates_jacobian, &ir.mass_and_jacobian_terms, &ir.invariants,
                            &ir.outputs, &ir.events, &ir.santilli_residuals, &ir.singular_sets,
                            &ir.mass_forcing_and_constraints, &ir.constraint_residuals, &ir.constraint_jacobian,
-                           &ir.restitutions, &ir.contact_gaps, &ir.contact_jacobian, &ir.contact_bias}) {
+                           &ir.restitutions, &ir.contact_gaps, &ir.contact_jacobian, &ir.contact_bias,
+                           &ir.mass_forcing_and_programs, &ir.program_residuals}) {
         for (const auto& t : b->temporaries)
             if (model::has_kepler_E(t.value)) return true;
         for (const auto& o : b->outputs)
@@ -459,10 +460,87 @@ Rates emit_constrained_rates(const KernelIR& ir, const LocalNames& names) {
     return r;
 }
 
+// rhs() and jacobian() of a kernel with programs (Mei ch. 3): u̇, λ and Q_c = D λ from M u̇ = f + D λ,
+// Ā u̇ = c (runtime/program/control.hpp; Udwadia–Kalaba for dependent ideal programs), ∂ẋ/∂x by
+// central differences of rhs.
+Rates emit_controlled_rates(const KernelIR& ir, const LocalNames& names) {
+    const std::size_t nu = ir.n_velocities, m = ir.program_names.size(), k = ir.program_columns.size();
+    Rates r;
+    r.includes = "#include <Eigen/Core>\n#include <eomc/runtime/constraints.hpp>\n#include <eomc/runtime/program/control.hpp>\n";
+    r.rhs = "controlled_rates_(t, x, dxdt, static_cast<S*>(nullptr), static_cast<S*>(nullptr), p);";
+    r.jacobian = "// The rates go through the control solve: differenced, not derived.\n"
+                 "eomc::runtime::central_difference_jacobian(t, x, out, n_state,\n"
+                 "                                           [&p](S tau, const S* y, S* dydt) { rhs(tau, y, dydt, p); });";
+    std::vector<std::string> targets = indexed("out_M", nu * nu);
+    for (const auto& s : indexed("out_f", nu)) targets.push_back(s);
+    for (const auto& s : indexed("out_A", m * nu)) targets.push_back(s);
+    for (const auto& s : indexed("out_c", m)) targets.push_back(s);
+    for (const auto& s : indexed("out_D", nu * k)) targets.push_back(s);
+    std::vector<std::string> rates;
+    for (std::size_t i : ir.explicit_index) rates.push_back(fmt::format("dxdt[{}]", i));
+    const std::string solve =
+        ir.program_redundant ? "eomc::runtime::program::udwadia_kalaba_solve<S>(M, f, A, c, udot, multipliers, generalized);\n"
+                             : "eomc::runtime::program::control_solve<S>(M, f, A, D, c, udot, multipliers, generalized);\n";
+    r.private_part = fmt::format(
+        "\n private:\n"
+        "    // M, f, the programs' Ā (m × n_velocities) and c, and the control directions D (n_velocities × k),\n"
+        "    // all row-major, together: they share most of their subexpressions.\n"
+        "    template <class S>\n"
+        "    static void mass_forcing_and_programs_(S t, const S* x, S* out_M, S* out_f, S* out_A, S* out_c, S* out_D,\n"
+        "                                           const Parameters& p) {{\n{}\n    }}\n\n"
+        "    // The rates given in closed form (everything outside the velocity block).\n"
+        "    template <class S>\n"
+        "    static void explicit_rates_(S t, const S* x, S* dxdt, const Parameters& p) {{\n{}\n    }}\n\n"
+        "    template <class S>\n"
+        "    struct ControlMatrices_ {{\n"
+        "        eomc::runtime::program::Matrix<S> M, A, D;\n"
+        "        eomc::runtime::program::Vector<S> f, c;\n"
+        "    }};\n\n"
+        "    template <class S>\n"
+        "    static ControlMatrices_<S> control_matrices_(S t, const S* x, const Parameters& p) {{\n"
+        "        using RowMajor = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;\n"
+        "        RowMajor M(n_velocities, n_velocities), A(n_programs, n_velocities), D(n_velocities, n_program_controls);\n"
+        "        eomc::runtime::program::Vector<S> f(n_velocities), c(n_programs);\n"
+        "        mass_forcing_and_programs_(t, x, M.data(), f.data(), A.data(), c.data(), D.data(), p);\n"
+        "        return {{M, A, D, f, c}};\n"
+        "    }}\n\n"
+        "    // ẋ from M u̇ = f + D λ, Ā u̇ = c; λ and Q_c = D λ too where lambda and control are not null.\n"
+        "    template <class S>\n"
+        "    static void controlled_rates_(S t, const S* x, S* dxdt, S* lambda, S* control, const Parameters& p) {{\n"
+        "        const auto [M, A, D, f, c] = control_matrices_(t, x, p);\n"
+        "        (void)D;\n"
+        "        eomc::runtime::program::Vector<S> udot, multipliers, generalized;\n"
+        "        explicit_rates_(t, x, dxdt, p);\n"
+        "        {}"
+        "        for (int k = 0; k < n_velocities; ++k) dxdt[velocity_offset + k] = udot[k];\n"
+        "        if (lambda)\n"
+        "            for (int a = 0; a < n_program_controls; ++a) lambda[a] = multipliers[a];\n"
+        "        if (control)\n"
+        "            for (int k = 0; k < n_velocities; ++k) control[k] = generalized[k];\n"
+        "    }}\n\n"
+        "    // det(Ā M⁻¹ D): where it vanishes no control in these directions realises the programs.\n"
+        "    template <class S>\n"
+        "    static S control_determinant_(S t, const S* x, const Parameters& p) {{\n"
+        "        const auto [M, A, D, f, c] = control_matrices_(t, x, p);\n"
+        "        (void)f;\n"
+        "        (void)c;\n"
+        "        return eomc::runtime::program::control_determinant<S>(M, A, D);\n"
+        "    }}\n\n"
+        "    template <class S>\n"
+        "    static void program_residuals_(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n",
+        indent(function_body(ir, names, ir.mass_forcing_and_programs, targets), 8),
+        indent((rates.empty() ? "(void)dxdt;\n" : std::string()) + function_body(ir, names, ir.explicit_rates, rates), 8),
+        solve, indent(function_body(ir, names, ir.program_residuals, indexed("out", 2 * m)), 8));
+    r.table = table_row("mass_matrix + forcing + programs", ir.mass_forcing_and_programs) +
+              table_row("explicit rates", ir.explicit_rates) + table_row("program residuals", ir.program_residuals);
+    return r;
+}
+
 Rates emit_rates(const KernelIR& ir, const LocalNames& names) {
     const std::size_t N = ir.state.size(), nu = ir.n_velocities;
     Rates r;
     if (!ir.constraint_names.empty()) return emit_constrained_rates(ir, names);
+    if (!ir.program_names.empty()) return emit_controlled_rates(ir, names);
     if (ir.explicit_solution) {
         r.rhs = function_body(ir, names, ir.rhs_explicit, indexed("dxdt", N));
         r.jacobian = function_body(ir, names, ir.jacobian_explicit, indexed("out", N * N));
@@ -531,6 +609,23 @@ Rates emit_rates(const KernelIR& ir, const LocalNames& names) {
 
 // The body of outputs(). They may read u̇: computed once by rhs and handed over as `acc`.
 std::string outputs_body(const KernelIR& ir, const LocalNames& names) {
+    if (!ir.program_names.empty()) {
+        // The residuals (program_<name>), λ (lambda_<column>) and Q_c = D λ (Qc_<coordinate>) after the scene's own.
+        std::string body = fmt::format(
+            "std::array<S, n_state> rate;\n"
+            "std::array<S, 2 * n_programs> program_residual_;\n"
+            "std::array<S, n_program_controls> program_lambda_;\n"
+            "std::array<S, n_velocities> program_control_;\n"
+            "controlled_rates_(t, x, rate.data(), program_lambda_.data(), program_control_.data(), p);\n"
+            "program_residuals_(t, x, program_residual_.data(), p);\n"
+            "for (int a = 0; a < n_programs; ++a) out[{0} + a] = program_residual_[std::size_t(2 * a)];\n"
+            "for (int a = 0; a < n_program_controls; ++a) out[{0} + n_programs + a] = program_lambda_[std::size_t(a)];\n"
+            "for (int k = 0; k < n_velocities; ++k) out[{0} + n_programs + n_program_controls + k] = program_control_[std::size_t(k)];\n",
+            ir.n_user_outputs);
+        if (ir.n_user_outputs == 0) return body;
+        return body + "const S* acc = rate.data() + velocity_offset;\n" +
+               function_body(ir, names, ir.outputs, indexed("out", ir.n_user_outputs), {true});
+    }
     if (!ir.constraint_names.empty()) {
         // λ (lambda_<row>) and the generalized reactions Wᵀλ (reaction_<coordinate>) after the scene's own.
         std::string body = fmt::format(
@@ -781,22 +876,51 @@ std::string santilli_residuals(const KernelIR& ir, const LocalNames& names) {
         indent(block_body(ir, names, ir.santilli_residuals, "out"), 8));
 }
 
+// Only kernels with programs carry them: names, laws and residuals (Mei ch. 3).
+std::string programs_part(const KernelIR& ir) {
+    if (ir.program_names.empty()) return "";
+    return fmt::format(
+        "\n    // Programs realised by controls (Mei ch. 3): M u̇ = f + D λ, Ā u̇ = c. Laws: configuration (1) or\n"
+        "    // phase (0), then α, β (ω̈ + 2αω̇ + β²ω = 0) and κ (φ̇ + κφ = 0); all 0 for the open loop.\n"
+        "    static constexpr int n_programs = {};\n"
+        "    static constexpr int n_program_controls = {};\n"
+        "    static constexpr std::array<const char*, n_programs> program_names{{ {} }};\n"
+        "    static constexpr std::array<double, 4 * n_programs> program_laws{{ {} }};\n\n"
+        "    // ω and ω̇ (configuration programs) or φ and 0, two per program.\n"
+        "    template <class S>\n"
+        "    static void program_residuals(S t, const S* x, S* out, const Parameters& p) {{\n"
+        "        program_residuals_(t, x, out, p);\n"
+        "    }}\n",
+        ir.program_names.size(), ir.program_columns.size(), quoted_list(ir.program_names, "a program name"),
+        number_list(ir.program_laws, "a program's gain"));
+}
+
 // Only kernels whose mass matrix has a singular set carry it, so that no other kernel changes.
 std::string singular_sets_part(const KernelIR& ir, const LocalNames& names) {
-    if (ir.singular_set_names.empty()) return "";
+    // A kernel with programs watches det(Ā M⁻¹ D) too, as one more indicator (computed at run time).
+    const bool control = !ir.program_names.empty() && !ir.program_redundant;
+    if (ir.singular_set_names.empty() && !control) return "";
+    std::vector<std::string> set_names = ir.singular_set_names;
+    std::vector<int> set_orders = ir.singular_set_orders;
+    std::string body = ir.singular_set_names.empty() ? std::string() : block_body(ir, names, ir.singular_sets, "out");
+    if (control) {
+        set_names.push_back("det(A M^-1 D) = 0");
+        set_orders.push_back(1);
+        body += fmt::format("{}out[{}] = control_determinant_(t, x, p);", body.empty() || body.back() == '\n' ? "" : "\n",
+                            ir.singular_set_names.size());
+    }
     std::string orders;
-    for (std::size_t k = 0; k < ir.singular_set_orders.size(); ++k)
-        orders += fmt::format("{}{}", k ? ", " : "", ir.singular_set_orders[k]);
+    for (std::size_t k = 0; k < set_orders.size(); ++k) orders += fmt::format("{}{}", k ? ", " : "", set_orders[k]);
     return fmt::format(
-        "\n    // Where det M = 0 (a coordinate singularity, as the gimbal lock of Euler angles): indicators\n"
+        "\n    // Where det M = 0 (a coordinate singularity, as the gimbal lock of Euler angles){}: indicators\n"
         "    // s_k(t, x) of the sets s_k = 0, each with its power in det M; a simulation stops before them.\n"
         "    static constexpr int n_singular_sets = {};\n"
         "    static constexpr std::array<const char*, n_singular_sets> singular_set_names{{ {} }};\n"
         "    static constexpr std::array<int, n_singular_sets> singular_set_orders{{ {} }};\n\n"
         "    template <class S>\n"
         "    static void singular_sets(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n",
-        ir.singular_set_names.size(), literal_list(ir.singular_set_names), orders,
-        indent(block_body(ir, names, ir.singular_sets, "out"), 8));
+        control ? ",\n    // or where the programs' control matrix Ā M⁻¹ D is singular" : "", set_names.size(),
+        literal_list(set_names), orders, indent(body, 8));
 }
 
 }  // namespace
@@ -818,6 +942,7 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
         if (!ir.output_names.empty()) t += table_row("outputs", ir.outputs);
         if (!ir.event_names.empty()) t += table_row("events", ir.events);
         if (!ir.singular_set_names.empty()) t += table_row("singular_sets", ir.singular_sets);
+        if (!ir.program_names.empty()) t += table_row("program residuals", ir.program_residuals);
         if (!ir.contact_names.empty())
             t += table_row("contact gaps", ir.contact_gaps) + table_row("contact jacobian", ir.contact_jacobian) +
                  table_row("contact bias", ir.contact_bias);
@@ -848,6 +973,8 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
     const std::string solve_note = nu == 0 ? "Every rate is explicit."
                                    : !ir.constraint_names.empty()
                                        ? "M u̇ − Wᵀλ = f, W u̇ = r is solved at run time (the Schur complement on Eigen's LDLT)."
+                                   : !ir.program_names.empty()
+                                       ? "M u̇ = f + D λ, Ā u̇ = c is solved at run time (runtime/program/control.hpp)."
                                    : ir.explicit_solution ? "u̇ is solved in closed form (n_velocities ≤ 2)."
                                                         : "M u̇ = f is solved at run time (Eigen LDLT).";
     const std::vector<std::pair<std::string, std::string>> fields{
@@ -883,7 +1010,7 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
         {"outputs_body", indent(outputs_body(ir, names), 8)},
         {"acceleration", acceleration_function(ir)},
         {"events", events_part(ir, names)},
-        {"constraints", constraints_part(ir) + contacts_part(ir, names)},
+        {"constraints", constraints_part(ir) + contacts_part(ir, names) + programs_part(ir)},
         {"variational", projection + variational},
         {"invariant_accessors",
          invariant_accessors(ir) + santilli_residuals(ir, names) + singular_sets_part(ir, names)},

@@ -112,6 +112,16 @@ struct KernelIR {
     Block contact_gaps;      // m: f_α (gap) or φ_α (kinematic)
     Block contact_jacobian;  // W, m × n_velocities row-major
     Block contact_bias;      // m
+
+    // Programs realised by controls (mechanics/control/rows.hpp; empty: nothing is emitted and the
+    // kernel keeps its bytes): M u̇ = f + D λ, Ā u̇ = c, solved at run time (runtime/program/control.hpp).
+    // output_names then has program_<name> …, lambda_<column> …, Qc_<coordinate> … after the user's.
+    std::vector<std::string> program_names;
+    std::vector<double> program_laws;     // 4 per program: configuration (1 or 0), α, β, κ
+    std::vector<std::string> program_columns;  // lambda_<…>, one per column of D
+    bool program_redundant = false;       // dependent ideal programs: Udwadia–Kalaba
+    Block mass_forcing_and_programs;      // M (n_velocities², row-major), f, Ā (m × n_velocities), c (m), D (n_velocities × k)
+    Block program_residuals;              // 2m: ω and ω̇, or φ and 0
 };
 
 // Common-subexpression elimination over all outputs of one function.

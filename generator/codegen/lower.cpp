@@ -124,6 +124,42 @@ void lower_unilateral(KernelIR& ir, const mechanics::FirstOrderForm& form, const
     ir.contact_bias = eliminate_common_subexpressions(bias, prefix);
 }
 
+// The programs' blocks (Mei ch. 3): M, f, Ā, c and D CSE'd together (what rhs evaluates) and the
+// residuals with their rates (what the host compares with Erugin's law).
+void lower_programs(KernelIR& ir, const mechanics::FirstOrderForm& form, const std::vector<ex>& M,
+                    const std::string& prefix) {
+    const std::size_t nu = form.n_velocities();
+    std::vector<ex> A, c, residuals;
+    std::vector<std::vector<ex>> columns;
+    for (const auto& p : form.programs) {
+        if (p.row.W.size() != nu)
+            throw std::runtime_error("program '" + p.name() + "' has " + std::to_string(p.row.W.size()) +
+                                     " entries of its row for " + std::to_string(nu) + " velocities");
+        ir.program_names.push_back(p.name());
+        ir.program_laws.insert(ir.program_laws.end(),
+                               {p.configuration ? 1.0 : 0.0, p.closed_loop ? p.alpha : 0.0, p.closed_loop ? p.beta : 0.0,
+                                p.closed_loop ? p.kappa : 0.0});
+        A.insert(A.end(), p.row.W.begin(), p.row.W.end());
+        c.push_back(p.target);
+        residuals.push_back(p.residual());
+        residuals.push_back(p.configuration ? p.row.velocity : ex(0));
+        columns.insert(columns.end(), p.columns.begin(), p.columns.end());
+        ir.program_columns.insert(ir.program_columns.end(), p.column_names.begin(), p.column_names.end());
+    }
+    ir.program_redundant = form.redundant_programs;
+    for (const auto& name : ir.program_names) ir.output_names.push_back("program_" + name);
+    for (const auto& name : ir.program_columns) ir.output_names.push_back(name);
+    for (std::size_t k = 0; k < nu; ++k) ir.output_names.push_back("Qc_" + form.state[k].name);
+    std::vector<ex> all = M;
+    all.insert(all.end(), form.forcing.begin(), form.forcing.end());
+    all.insert(all.end(), A.begin(), A.end());
+    all.insert(all.end(), c.begin(), c.end());
+    for (std::size_t i = 0; i < nu; ++i)  // D row-major
+        for (const auto& column : columns) all.push_back(column[i]);
+    ir.mass_forcing_and_programs = eliminate_common_subexpressions(all, prefix);
+    ir.program_residuals = eliminate_common_subexpressions(residuals, prefix);
+}
+
 }  // namespace
 
 namespace {
@@ -193,7 +229,7 @@ KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form,
     ir.mass_matrix = eliminate_common_subexpressions(M, prefix);
     ir.forcing = eliminate_common_subexpressions(form.forcing, prefix);
     // With constraint rows u̇ comes from the Schur complement at run time, never in closed form.
-    ir.explicit_solution = nu <= 2 && form.constraints.empty();
+    ir.explicit_solution = nu <= 2 && form.constraints.empty() && form.programs.empty();
     if (!ir.explicit_solution) {
         ir.mass_and_forcing = eliminate_common_subexpressions(M_and_f, prefix);
         std::vector<ex> rates;
@@ -215,7 +251,7 @@ KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form,
         for (std::size_t i = 0; i < N; ++i)
             for (std::size_t j = 0; j < N; ++j) J.push_back(d(rates[i], j));
         ir.jacobian_explicit = eliminate_common_subexpressions(J, prefix);
-    } else if (form.constraints.empty()) {
+    } else if (form.constraints.empty() && form.programs.empty()) {
         std::vector<ex> rows;
         for (const auto& [index, rate] : form.explicit_rates)
             for (std::size_t j = 0; j < N; ++j) rows.push_back(d(rate, j));
@@ -248,6 +284,7 @@ KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form,
     ir.n_user_outputs = outputs.size();
     if (!form.constraints.empty()) lower_constraints(ir, form, M, prefix);
     if (!form.unilateral.empty()) lower_unilateral(ir, form, prefix);
+    if (!form.programs.empty()) lower_programs(ir, form, M, prefix);
     std::vector<ex> events;
     for (const auto& e : form.events) {
         ir.event_names.push_back(e.name);

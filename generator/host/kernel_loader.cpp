@@ -21,9 +21,9 @@ namespace {
 
 // Bumped whenever the C interface below changes; the loader refuses a library that reports
 // another value (a cache written by an older eomc).
-constexpr int adapter_abi = 10;  // 3: acceleration and events; 4: project; 5: variational_rhs; 6: project(t, x, p);
+constexpr int adapter_abi = 11;  // 3: acceleration and events; 4: project; 5: variational_rhs; 6: project(t, x, p);
                                  // 7: eomc_kernel_identity; 8: constraint rows; 9: singular sets;
-                                 // 10: the mechanical form (sizes, M, f) and unilateral rows
+                                 // 10: the mechanical form (sizes, M, f) and unilateral rows; 11: programs
 
 // The adapter: C functions over double, so that the host needs no knowledge of the kernel's
 // C++ types. Parameters travel by position in parameter_names order, never by member name
@@ -106,6 +106,26 @@ const char* constraint_name(int i) {
 template <class M>
 void constraint_residuals(double t, const double* x, double* out, const void* p) {
     if constexpr (rt::ConstrainedKernel<M>) M::template constraint_residuals<double>(t, x, out, *static_cast<const typename M::Parameters*>(p));
+    else (void)t, (void)x, (void)out, (void)p;
+}
+template <class M>
+constexpr int n_programs() {
+    if constexpr (rt::ProgramKernel<M>) return M::n_programs;
+    else return 0;
+}
+template <class M>
+const char* program_name(int i) {
+    if constexpr (rt::ProgramKernel<M>) return M::program_names[std::size_t(i)];
+    else return (void)i, nullptr;
+}
+template <class M>
+double program_law(int i, int j) {
+    if constexpr (rt::ProgramKernel<M>) return M::program_laws[std::size_t(4 * i + j)];
+    else return (void)i, (void)j, 0.0;
+}
+template <class M>
+void program_residuals(double t, const double* x, double* out, const void* p) {
+    if constexpr (rt::ProgramKernel<M>) M::template program_residuals<double>(t, x, out, *static_cast<const typename M::Parameters*>(p));
     else (void)t, (void)x, (void)out, (void)p;
 }
 template <class M>
@@ -249,6 +269,12 @@ EOMC_EXPORT void eomc_contact_jacobian(double t, const double* x, double* out, c
 EOMC_EXPORT void eomc_contact_bias(double t, const double* x, double* out, const void* p) {
     contact_bias<K>(t, x, out, p);
 }
+EOMC_EXPORT int eomc_n_programs() { return n_programs<K>(); }
+EOMC_EXPORT const char* eomc_program_name(int i) { return program_name<K>(i); }
+EOMC_EXPORT double eomc_program_law(int i, int j) { return program_law<K>(i, j); }
+EOMC_EXPORT void eomc_program_residuals(double t, const double* x, double* out, const void* p) {
+    program_residuals<K>(t, x, out, p);
+}
 EOMC_EXPORT int eomc_n_singular_sets() { return n_singular_sets<K>(); }
 EOMC_EXPORT const char* eomc_singular_set_name(int i) { return singular_set_name<K>(i); }
 EOMC_EXPORT int eomc_singular_set_order(int i) { return singular_set_order<K>(i); }
@@ -386,6 +412,15 @@ KernelLibrary KernelLibrary::load(const std::string& header_text, const std::str
     for (int i = 0; i < n_con; ++i) lib.constraint_names_.emplace_back(constraint_name(i));
     lib.constraint_residuals_ =
         symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_constraint_residuals", p);
+    const int n_prog = symbol<int (*)()>(h, "eomc_n_programs", p)();
+    const auto program_name = symbol<const char* (*)(int)>(h, "eomc_program_name", p);
+    const auto program_law = symbol<double (*)(int, int)>(h, "eomc_program_law", p);
+    for (int i = 0; i < n_prog; ++i) {
+        lib.program_names_.emplace_back(program_name(i));
+        lib.program_laws_.push_back({program_law(i, 0), program_law(i, 1), program_law(i, 2), program_law(i, 3)});
+    }
+    lib.program_residuals_ =
+        symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_program_residuals", p);
     const int n_sing = symbol<int (*)()>(h, "eomc_n_singular_sets", p)();
     const auto singular_set_name = symbol<const char* (*)(int)>(h, "eomc_singular_set_name", p);
     const auto singular_set_order = symbol<int (*)(int)>(h, "eomc_singular_set_order", p);
@@ -457,6 +492,9 @@ KernelLibrary& KernelLibrary::operator=(KernelLibrary&& other) noexcept {
         singular_set_names_ = std::move(other.singular_set_names_);
         singular_set_orders_ = std::move(other.singular_set_orders_);
         singular_sets_ = other.singular_sets_;
+        program_names_ = std::move(other.program_names_);
+        program_laws_ = std::move(other.program_laws_);
+        program_residuals_ = other.program_residuals_;
         n_coordinates_ = other.n_coordinates_;
         velocity_offset_ = other.velocity_offset_;
         n_velocities_ = other.n_velocities_;

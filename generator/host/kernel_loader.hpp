@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <array>
 #include <string>
 #include <vector>
 
@@ -85,6 +86,15 @@ public:
         constraint_residuals_(t, x, out, p.get());
     }
 
+    // Programs realised by controls (none for most kernels; Mei ch. 3): each one's law
+    // {configuration 1 or 0, α, β, κ} (gains 0: the open loop) and residuals, two per program (ω and
+    // ω̇, or φ and 0), written to out[0 .. 2 program_names().size()).
+    const std::vector<std::string>& program_names() const { return program_names_; }
+    const std::vector<std::array<double, 4>>& program_laws() const { return program_laws_; }
+    void program_residuals(double t, const double* x, double* out, const Parameters& p) const {
+        program_residuals_(t, x, out, p.get());
+    }
+
     // Where the mass matrix is singular (none for most kernels): indicators s_k(t, x) of the sets
     // s_k = 0 ("sin(theta) = 0"), each with its power in det M, written to out[0 .. singular_set_names().size()).
     const std::vector<std::string>& singular_set_names() const { return singular_set_names_; }
@@ -152,6 +162,9 @@ private:
     void (*events_)(double, const double*, double*, const void*) = nullptr;
     std::vector<std::string> constraint_names_;
     void (*constraint_residuals_)(double, const double*, double*, const void*) = nullptr;
+    std::vector<std::string> program_names_;
+    std::vector<std::array<double, 4>> program_laws_;
+    void (*program_residuals_)(double, const double*, double*, const void*) = nullptr;
     std::vector<std::string> singular_set_names_;
     std::vector<int> singular_set_orders_;
     void (*singular_sets_)(double, const double*, double*, const void*) = nullptr;

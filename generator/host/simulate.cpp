@@ -419,9 +419,31 @@ public:
         return out;
     }
 
+    // A run that failed otherwise (the step collapsed, a value overflowed) next to the set where a
+    // program's control matrix Ā M⁻¹ D is singular (|det| below 1e-6 of its scale, where the
+    // control λ ~ 1/det has grown a millionfold) failed because of it: throws that reason instead.
+    void fail_if_near_control_set(double t, const State<double>& xs) {
+        if (value_.empty()) return;
+        lib_.singular_sets(t, xs.data(), value_.data(), parameters_);
+        for (std::size_t k = 0; k < value_.size(); ++k)
+            if (lib_.singular_set_names()[k].rfind("det(A M^-1 D)", 0) == 0 && scale_[k] > 0 &&
+                std::abs(value_[k]) < 1e-6 * scale_[k])
+                fail(t, k, value_[k], 1e-6 * scale_[k], false);
+    }
+
 private:
     [[noreturn]] void fail(double t, std::size_t k, double s, double threshold, bool crossed) const {
         const std::string& name = lib_.singular_set_names()[k];
+        if (name.rfind("det(A M^-1 D)", 0) == 0)  // a program's control matrix (Mei ch. 3), not M
+            throw runtime::IntegrationError(
+                runtime::IntegrationError::Kind::singular_set, t,
+                fmt::format("the programs cannot be realised past t = {}: the control matrix A M^-1 D became singular "
+                            "({}); no control in the given directions keeps the programs there (eomc control prints "
+                            "the singular set)",
+                            number(t),
+                            crossed ? fmt::format("det changed sign from {:.3g} to {:.3g} in one step", previous_[k], s)
+                                    : fmt::format("|det| = {:.3g} fell below {:.3g} of its scale {:.3g}",
+                                                  std::abs(s), threshold, std::max(scale_[k], std::abs(s)))));
         throw runtime::IntegrationError(
             runtime::IntegrationError::Kind::singular_set, t,
             fmt::format("the state reached the singular set {} of the mass matrix ({}: det M = 0 there, the "
@@ -446,6 +468,55 @@ private:
     bool seen_ = false;
 };
 
+
+// The kernel's programs (Mei ch. 3): at every observed point the residuals, and their departure
+// from Erugin's closed-form law started from the residuals at t0 (runtime/program/erugin.hpp).
+class ProgramWatch {
+public:
+    explicit ProgramWatch(const KernelLibrary& lib, const KernelLibrary::Parameters& parameters)
+        : lib_(lib), parameters_(parameters), value_(2 * lib.program_names().size()) {
+        for (std::size_t i = 0; i < lib.program_names().size(); ++i) {
+            ProgramReport r;
+            r.name = lib.program_names()[i];
+            const auto& law = lib.program_laws()[i];
+            const bool configuration = law[0] != 0.0, open = law[1] == 0.0 && law[2] == 0.0 && law[3] == 0.0;
+            r.law = open ? (configuration ? "omega_ddot = 0 (open loop)" : "phi_dot = 0 (open loop)")
+                    : configuration ? fmt::format("omega_ddot + {} omega_dot + {} omega = 0", number(2 * law[1]),
+                                                  number(law[2] * law[2]))
+                                    : fmt::format("phi_dot + {} phi = 0", number(law[3]));
+            reports_.push_back(std::move(r));
+        }
+    }
+
+    void observe(double t, const State<double>& xs) {
+        if (reports_.empty()) return;
+        lib_.program_residuals(t, xs.data(), value_.data(), parameters_);
+        if (!started_) t0_ = t;
+        for (std::size_t i = 0; i < reports_.size(); ++i) {
+            ProgramReport& r = reports_[i];
+            const auto& law = lib_.program_laws()[i];
+            const double w = value_[2 * i], wd = value_[2 * i + 1];
+            if (!started_) r.initial = w, r.initial_rate = wd;
+            const double expected =
+                law[0] != 0.0 ? runtime::program::erugin_configuration(law[1], law[2], r.initial, r.initial_rate, t - t0_)
+                              : runtime::program::erugin_phase(law[3], r.initial, t - t0_);
+            r.final = w;
+            r.max_abs_residual = track_max(r.max_abs_residual, std::abs(w));
+            r.max_departure = track_max(r.max_departure, std::abs(w - expected));
+        }
+        started_ = true;
+    }
+
+    std::vector<ProgramReport> reports() const { return reports_; }
+
+private:
+    const KernelLibrary& lib_;
+    const KernelLibrary::Parameters& parameters_;
+    std::vector<double> value_;
+    std::vector<ProgramReport> reports_;
+    bool started_ = false;
+    double t0_ = 0.0;
+};
 
 // ---------------------------------------------------------------------------------------
 // Kernels with unilateral rows (Mei, Special Topics in Analytical Mechanics, ch. 6): the event-driven
@@ -925,8 +996,10 @@ SimulationResult simulate(const SimulationRequest& request) {
     State<double> x_last = x;
     ProgressBar progress(request.progress, request.t_end);
     SingularSetWatch singular(lib, parameters);
+    ProgramWatch programs(lib, parameters);
     auto record = [&](double t, const State<double>& xs, const std::string* event) {
         singular.check(t, xs);  // before the row: no state past the set is written
+        programs.observe(t, xs);
         lib.invariants(t, xs.data(), inv.data(), parameters);
         if (first) inv0 = inv, first = false;
         for (std::size_t i = 0; i < n_inv; ++i) max_drift[i] = track_max(max_drift[i], std::abs(inv[i] - inv0[i]));
@@ -966,6 +1039,11 @@ SimulationResult simulate(const SimulationRequest& request) {
                                              lib.scene_name(), request.integrator, request.csv_path, request.max_rows,
                                              number(limit.t), number(request.t_end)));
     } catch (const runtime::IntegrationError& e) {
+        if (e.kind() != runtime::IntegrationError::Kind::singular_set && !first) try {
+                singular.fail_if_near_control_set(t_last, x_last);
+            } catch (const runtime::IntegrationError& control) {
+                throw failed_run(control, request, lib.scene_name(), state_names, t_last, x_last, csv);
+            }
         if (e.kind() == runtime::IntegrationError::Kind::non_finite && !first) {
             const std::string near = singular.near(t_last, x_last);
             if (!near.empty())
@@ -987,6 +1065,7 @@ SimulationResult simulate(const SimulationRequest& request) {
     for (std::size_t i = 0; i < n_inv; ++i)
         result.invariants.push_back({lib.invariant_names()[i], inv0[i], inv[i], max_drift[i]});
     for (std::size_t i = 0; i < n_con; ++i) result.constraints.push_back({lib.constraint_names()[i], max_residual[i]});
+    result.programs = programs.reports();
     result.steps = outcome.stats.accepted;
     result.rejected = outcome.stats.rejected;
     result.rhs_evals = outcome.stats.rhs_evals;
@@ -1027,6 +1106,18 @@ void print_summary(const SimulationResult& r, const std::string& format, std::os
             for (std::size_t i = 0; i < r.constraints.size(); ++i)
                 s += fmt::format("{}{}: {{\"max_abs_residual\": {}}}", i ? ", " : "", json_string(r.constraints[i].name),
                                  json_number(r.constraints[i].max_abs_residual));
+            s += "}";
+        }
+        if (!r.programs.empty()) {  // only kernels with programs
+            s += ", \"programs\": {";
+            for (std::size_t i = 0; i < r.programs.size(); ++i) {
+                const auto& g = r.programs[i];
+                s += fmt::format("{}{}: {{\"law\": {}, \"initial\": {}, \"initial_rate\": {}, \"final\": {}, "
+                                 "\"max_abs_residual\": {}, \"max_departure\": {}}}",
+                                 i ? ", " : "", json_string(g.name), json_string(g.law), json_number(g.initial),
+                                 json_number(g.initial_rate), json_number(g.final), json_number(g.max_abs_residual),
+                                 json_number(g.max_departure));
+            }
             s += "}";
         }
         if (!r.contacts.empty()) {  // only kernels with unilateral rows
@@ -1115,6 +1206,13 @@ void print_summary(const SimulationResult& r, const std::string& format, std::os
     if (!r.constraints.empty()) {
         s += fmt::format("constraints\n  {:<{}}  {:>24}\n", "", width, "max |residual|");
         for (const auto& c : r.constraints) s += fmt::format("  {:<{}}  {:>24.3g}\n", c.name, width, c.max_abs_residual);
+    }
+    if (!r.programs.empty()) {
+        s += fmt::format("programs\n  {:<{}}  {:>12}  {:>12}  {:>14}  {}\n", "", width, "initial", "final",
+                         "max departure", "law");
+        for (const auto& g : r.programs)
+            s += fmt::format("  {:<{}}  {:>12.4g}  {:>12.4g}  {:>14.3g}  {}\n", g.name, width, g.initial, g.final,
+                             g.max_departure, g.law);
     }
     if (!r.contacts.empty()) {
         s += fmt::format("contacts    {}\n  {:<{}}  {:>5}  {:>24}  {:>6}  {:>7}\n", r.contact_method, "", width, "e",

@@ -72,6 +72,18 @@ struct ConstraintReport {
     double max_abs_residual = 0.0;
 };
 
+// One program of the kernel (Mei ch. 3): its residual at t0 (ω0, ω̇0 or φ0), the largest |residual|
+// and the largest departure |ω(t) − ω_E(t)| of the run from Erugin's closed-form law ω_E with the
+// same initial values (runtime/program/erugin.hpp), over the observed points.
+struct ProgramReport {
+    std::string name;
+    std::string law;             // "omega_ddot + 2 omega_dot + 4 omega = 0", "phi_dot + 1 phi = 0", or "open loop"
+    double initial = 0.0, initial_rate = 0.0;
+    double final = 0.0;
+    double max_abs_residual = 0.0;
+    double max_departure = 0.0;
+};
+
 // One located event (a zero crossing of the scene's g), with the state there.
 struct EventReport {
     std::string name;
@@ -119,6 +131,7 @@ struct SimulationResult {
     std::vector<InvariantReport> invariants;
     std::vector<EventReport> events;                      // every located event, in time order
     std::vector<ConstraintReport> constraints;            // the kernel's constraint rows (none for most)
+    std::vector<ProgramReport> programs;                  // the kernel's programs (none for most)
     // Kernels with unilateral rows: the method, each row at the end, and every contact event in
     // time order (the CSV has the same as rows labelled kind:name in its event column).
     std::string contact_method;

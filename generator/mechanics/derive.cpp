@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "mechanics/constraints/constraints.hpp"
+#include "mechanics/control/control.hpp"
 #include "mechanics/unilateral/unilateral.hpp"
 #include "mechanics/inverse/given_equations.hpp"
 #include "mechanics/orbit/formulation.hpp"
@@ -31,6 +32,15 @@ Equations derive(const model::Model& model) {
     switch (model.kind()) {
         case model::ModelKind::energies: {
             Equations eqs = derive_lagrange(model);
+            if (!model.programs.empty()) {
+                // The controls Q_c = D λ(t, q, q̇) do work and break symmetries: no integral of the free
+                // system is kept (the scene refuses programs beside constraint rows).
+                eqs.programs = program_rows(model, eqs);
+                eqs.redundant_programs = redundant_ideal(model, eqs);
+                eqs.invariants.clear();
+                eqs.singular_sets = rigid::singular_sets(model, eqs);
+                return eqs;
+            }
             if (model.constraints.empty() && model.unilateral.empty()) return with_integrals(model, std::move(eqs));
             // The rows stay beside the equations: lhs/rhs, M and f are those of the free system,
             // the reactions Σ λ_α W_αs are added by whoever reads eqs.constraints.

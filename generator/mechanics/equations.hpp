@@ -10,6 +10,7 @@
 #include <ginac/ginac.h>
 
 #include "mechanics/constraints/rows.hpp"
+#include "mechanics/control/rows.hpp"
 #include "mechanics/unilateral/rows.hpp"
 #include "model/model.hpp"
 
@@ -76,6 +77,11 @@ struct Equations {
     // Unilateral rows ([[unilateral]], Mei ch. 6): gaps f ≥ 0 or φ ≥ 0 with their restitutions. Off
     // the boundary they do nothing; M and f above are those of the free system.
     std::vector<UnilateralRow> unilateral;
+    // Programs realised by control forces ([[program]], Mei ch. 3): M u̇ = f + D λ, Ā u̇ = c; M and f
+    // above are those of the uncontrolled system. Ideal programs that are dependent are realised by
+    // Udwadia and Kalaba's acceleration (redundant_programs).
+    std::vector<ProgramRow> programs;
+    bool redundant_programs = false;
 };
 
 }  // namespace eomc::mechanics

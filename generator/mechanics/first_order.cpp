@@ -123,10 +123,13 @@ FirstOrderForm lagrange_form(const model::Model& model, const Equations& eqs) {
     form.invariants = eqs.invariants;
     form.singular_sets = eqs.singular_sets;
     form.constraints = eqs.constraints;
+    form.programs = eqs.programs;
+    form.redundant_programs = eqs.redundant_programs;
     // The unilateral rows (Mei, ch. 6) as derived; a caller's Equations built without them get them here.
     form.unilateral = eqs.unilateral.empty() && !model.unilateral.empty() ? unilateral_rows(model) : eqs.unilateral;
     for (const auto& e : model.events) form.events.push_back({e.name, e.when, e.direction, e.terminal});
-    form.separable = is_separable(model, form);
+    // Controls λ(t, q, q̇) make the accelerations depend on the rates.
+    form.separable = is_separable(model, form) && form.programs.empty();
     if (model.newtonian) {
         const auto fundamental = inverse::forms(model, eqs).fundamental;
         for (const auto& r : inverse::santilli_conditions(model, fundamental))

@@ -94,6 +94,10 @@ struct FirstOrderForm {
     // Unilateral rows (mechanics/unilateral/rows.hpp): the kernel writes their gaps, W and bias and
     // restitutions; the host integrates through impacts, contact phases and separations.
     std::vector<UnilateralRow> unilateral;
+    // Programs and their controls (mechanics/control/rows.hpp): the kernel solves M u̇ = f + D λ,
+    // Ā u̇ = c at run time and outputs the residuals, λ and Q_c = D λ.
+    std::vector<ProgramRow> programs;
+    bool redundant_programs = false;
     // The encke formulation's reference orbit, reset by project() (absent for every other form).
     std::optional<Rectification> rectification;
 

@@ -785,6 +785,63 @@ static void build_unilateral(const scene::Scene& scene, const SymbolTable& symbo
     }
 }
 
+// [[program]] rows (Mei, ch. 3): the relation parsed in the phase-space symbols, its kind read off
+// the symbols it holds, the law checked against the kind (φ̇ + κφ = 0 is first order: a relation
+// of the coordinates would need its rate given too; ω̈ + 2αω̇ + β²ω = 0 is second order: a relation
+// holding the rates would need their rates), and the control's directions.
+static void build_programs(const scene::Scene& scene, const SymbolTable& symbols, Model& model) {
+    for (const auto& given : scene.programs) {
+        Program row;
+        row.name = given.name;
+        row.pos = given.constraint.pos;
+        row.erugin_pos = given.erugin_pos;
+        row.control_pos = given.control_pos;
+        row.expression = symbols.parse(given.constraint, phase, fmt::format("the program '{}'", given.name));
+        row.configuration = true;
+        for (const auto& c : model.coordinates)
+            if (row.expression.has(c.q_dot)) row.configuration = false;
+        bool moves = false;
+        for (const auto& c : model.coordinates) moves = moves || row.expression.has(c.q) || row.expression.has(c.q_dot);
+        if (!moves)
+            throw InputError(row.pos, fmt::format("the program '{}' holds no coordinate or rate: a relation of t and the "
+                                                  "parameters alone is not a motion a control can realise",
+                                                  given.name));
+        row.closed_loop = given.closed_loop;
+        row.alpha = given.alpha;
+        row.beta = given.beta;
+        row.kappa = given.kappa;
+        if (given.closed_loop && row.configuration && given.phase_law)
+            throw InputError(given.erugin_pos,
+                             fmt::format("the program '{}' is a relation of the coordinates (configuration space), so "
+                                         "Erugin's law is of second order: give erugin = {{ alpha = ..., beta = ... }} "
+                                         "(omega_ddot + 2 alpha omega_dot + beta^2 omega = 0), not kappa",
+                                         given.name));
+        if (given.closed_loop && !row.configuration && !given.phase_law)
+            throw InputError(given.erugin_pos,
+                             fmt::format("the program '{}' holds rates (phase space), so Erugin's law is of first order: "
+                                         "give erugin = {{ kappa = ... }} (phi_dot + kappa phi = 0), not alpha and beta",
+                                         given.name));
+        if (given.control == "directions") {
+            row.control = ProgramControl::directions;
+            row.direction.assign(model.coordinates.size(), 0);
+            for (const auto& [coordinate, text] : given.directions) {
+                std::size_t k = 0;
+                while (model.coordinates[k].name != coordinate) ++k;
+                row.direction[k] = symbols.parse(
+                    text, phase, fmt::format("the control direction of program '{}' on '{}'", given.name, coordinate));
+            }
+        } else if (given.control == "actuated") {
+            row.control = ProgramControl::actuated;
+            for (const auto& [coordinate, where] : given.actuated) {
+                std::size_t k = 0;
+                while (model.coordinates[k].name != coordinate) ++k;
+                row.actuated.push_back(k);
+            }
+        }
+        model.programs.push_back(std::move(row));
+    }
+}
+
 Model build_model(const scene::Scene& scene) {
     Model model;
     model.name = scene.name;
@@ -911,6 +968,7 @@ Model build_model(const scene::Scene& scene) {
 
     build_constraints(scene, symbols, model);
     build_unilateral(scene, symbols, model);
+    build_programs(scene, symbols, model);
 
     if (scene.effects.given && !scene.orbit) {  // an orbit scene's names are perturbations (build_orbit)
         model.keep.fill(false);

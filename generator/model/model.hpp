@@ -123,6 +123,23 @@ struct Unilateral {
     SourcePos restitution_pos;      // the restitution's text (the table when absent)
 };
 
+// A programmed motion (scene [[program]]; Mei, ch. 3): ω(t, q) = 0 (configuration space) or
+// φ(t, q, q̇) = 0 (phase space, holding a rate), the law of its residual (Erugin, with
+// Galiullin's gains; the open loop ω̈ = 0 or φ̇ = 0 when not closed), and the control's directions.
+enum class ProgramControl { ideal, directions, actuated };
+
+struct Program {
+    std::string name;
+    bool configuration = true;     // ω(t, q); false: φ(t, q, q̇)
+    GiNaC::ex expression;          // ω or φ
+    bool closed_loop = false;
+    double alpha = 0.0, beta = 0.0, kappa = 0.0;
+    ProgramControl control = ProgramControl::ideal;
+    std::vector<GiNaC::ex> direction;   // directions: one generalized direction per coordinate (0 where not given)
+    std::vector<std::size_t> actuated;  // actuated: the coordinates' indices, in the scene's order
+    SourcePos pos, erugin_pos, control_pos;  // the expression's text, the law and the control values
+};
+
 // How `eomc simulate` passes the unilateral rows (scene [contact]).
 enum class ContactMethod { event_driven, moreau_jean };
 
@@ -215,6 +232,7 @@ struct Model {
     std::vector<Event> events;           // [events], in file order
     std::vector<Constraint> constraints; // [[constraint]], in file order
     std::vector<Unilateral> unilateral;  // [[unilateral]], in file order
+    std::vector<Program> programs;       // [[program]], in file order
     ContactMethod contact_method = ContactMethod::event_driven;  // [contact] method
     double theta = 0.5;                  // [contact] theta (Moreau–Jean's θ-method)
     SourcePos contact_method_pos;        // [contact] method's value (the table, or unknown, when absent)

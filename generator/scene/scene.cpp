@@ -114,7 +114,7 @@ public:
         Scene s;
         check_keys(root_, {"scene", "parameters", "coordinates", "carrier", "body", "lagrangian", "forces",
                            "effects", "simulate", "events", "formulation", "reference", "newtonian", "inverse", "orbit",
-                           "constraint", "rigid_body", "unilateral", "contact"},
+                           "constraint", "rigid_body", "unilateral", "contact", "program"},
                    "at the top level");
         read_scene(s);
         read_parameters(s);
@@ -136,6 +136,7 @@ public:
         read_inverse(s);
         read_unilateral(s);
         read_contact(s);
+        read_programs(s);
         check_orbit_structure();
         check_rigid_structure();
         check_newtonian_structure();
@@ -1112,6 +1113,121 @@ private:
             if (const toml::node* e = t.get("restitution")) u.restitution = read_expr(*e, path + ".restitution");
             else u.restitution = Expr{"0", u.pos};
             s.unilateral.push_back(std::move(u));
+        }
+    }
+
+    // [[program]]: name, constraint = "ω(q, t)" or "φ(q, q̇, t)", erugin = { alpha, beta } |
+    // { kappa } (absent: the open loop), control = "ideal" (default) | { coordinate = "direction" }
+    // | ["coordinate", ...]. Which law fits which kind of relation is the model's to check (it
+    // knows which symbols the relation holds). Only a system given by its energies in coordinates
+    // takes programs, without constraint rows (whose reactions would share the accelerations).
+    void read_programs(Scene& s) const {
+        const auto rows = table_array("program", "[[program]]", "program");
+        if (rows.empty()) return;
+        const SourcePos first = at(*rows.front());
+        const std::pair<const char*, const char*> refused[] = {
+            {"orbit", "an [orbit] scene"},
+            {"rigid_body", "a [rigid_body] scene (write the body's T in Euler angles as a [lagrangian])"},
+            {"newtonian", "a [newtonian] scene: its equations are given, so there is no mass matrix for the control "
+                          "to act through"},
+            {"constraint", "a scene with [[constraint]] rows: their reactions and the controls would share the "
+                           "accelerations; write the constraint as an ideal program instead"},
+            {"unilateral", "a scene with [[unilateral]] rows"}};
+        for (const auto& [key, why] : refused)
+            if (root_.get(key))
+                fail(first, fmt::format("[[program]] is not supported in {}; give the system by [lagrangian] or [[body]]",
+                                        why));
+        if (s.carrier && s.carrier->motion == "free")
+            fail(first, fmt::format("[[program]] is not supported with a free carrier ([carrier] motion = \"free\", line "
+                                    "{}): the controls act on the coordinates' equations only",
+                                    s.carrier->pos.line));
+        if (s.formulation == "hamiltonian")
+            fail(first, fmt::format("[[program]] is not supported with [formulation] kind = \"hamiltonian\" (line {}): "
+                                    "the controls enter Lagrange's equations; use kind = \"lagrangian\"",
+                                    s.formulation_pos.line));
+        std::vector<std::string> coordinates;
+        for (const auto& c : s.coordinates) coordinates.push_back(c.name);
+        const auto known_coordinate = [&](const std::string& name, const SourcePos& where, const std::string& path) {
+            if (std::find(coordinates.begin(), coordinates.end(), name) != coordinates.end()) return;
+            const std::string near = nearest_name(name, coordinates);
+            fail(where, fmt::format("unknown coordinate '{}' in '{}'; {}", name, path,
+                                    near.empty() ? fmt::format("the coordinates are {}", fmt::join(coordinates, ", "))
+                                                 : fmt::format("did you mean '{}'?", near)));
+        };
+        std::map<std::string, std::pair<SourcePos, std::string>> seen;
+        for (std::size_t i = 0; i < rows.size(); ++i) {
+            const std::string path = fmt::format("program[{}]", i);
+            const toml::table& t = *rows[i];
+            check_keys(t, {"name", "constraint", "erugin", "control"}, "in [[program]]");
+            Program p;
+            p.pos = p.erugin_pos = p.control_pos = at(t);
+            p.name = read_row_name(t, path, "[[program]]", "program", seen, p.name_pos);
+            p.constraint = read_expr(require(t, "constraint", "[[program]] '" + p.name + "'"), path + ".constraint");
+            if (const toml::node* e = t.get("erugin")) {
+                p.erugin_pos = at(*e);
+                const toml::table& law = as_table(*e, path + ".erugin");
+                check_keys(law, {"alpha", "beta", "kappa"}, "in '" + path + ".erugin'");
+                // Galiullin's choice is stable for α > 0, β > 0 (ω̈ + 2αω̇ + β²ω = 0) and κ > 0; the
+                // bound keeps 2α, β² and κ doubles the exact arithmetic can hold.
+                const auto gain = [&](const char* key) {
+                    const toml::node& n = require(law, key, "'" + path + ".erugin'");
+                    const double v = read_number(n, path + ".erugin." + key);
+                    if (!(v > 0.0) || v < std::numeric_limits<double>::min() || v > 1e150)
+                        fail(at(n), fmt::format("'{}.erugin.{}' must be positive (at most 1e150), got {}; Erugin's law "
+                                                "is stable only for positive gains",
+                                                path, key, number_text(n)));
+                    return v;
+                };
+                p.closed_loop = true;
+                if (const toml::node* k = law.get("kappa")) {
+                    if (law.get("alpha") || law.get("beta"))
+                        fail(at(*k), fmt::format("'{}.erugin' has both kappa (phi_dot + kappa phi = 0, a phase-space "
+                                                 "program) and alpha/beta (omega_ddot + 2 alpha omega_dot + beta^2 "
+                                                 "omega = 0, a configuration-space one); give one law",
+                                                 path));
+                    p.phase_law = true;
+                    p.kappa = gain("kappa");
+                } else {
+                    p.alpha = gain("alpha");
+                    p.beta = gain("beta");
+                }
+            }
+            if (const toml::node* c = t.get("control")) {
+                p.control_pos = at(*c);
+                if (const auto* str = c->as_string()) {
+                    if (str->get() != "ideal")
+                        fail(at(*c), fmt::format("unknown control '{}' in '{}'; expected \"ideal\", a table "
+                                                 "{{ coordinate = \"direction\" }} or a list of actuated coordinates",
+                                                 str->get(), path));
+                } else if (const toml::table* given = c->as_table()) {
+                    p.control = "directions";
+                    if (given->empty()) fail(at(*c), fmt::format("'{}.control': an empty table gives no direction", path));
+                    for (const auto& [key, value] : entries(*given)) {
+                        const std::string name(key->str());
+                        known_coordinate(name, at(*key), path + ".control");
+                        p.directions.emplace_back(name, read_expr(*value, path + ".control." + name));
+                    }
+                } else if (const toml::array* list = c->as_array()) {
+                    p.control = "actuated";
+                    if (list->empty()) fail(at(*c), fmt::format("'{}.control': an empty list actuates nothing", path));
+                    for (std::size_t k = 0; k < list->size(); ++k) {
+                        const toml::node& n = *list->get(k);
+                        const std::string name = read_string(n, fmt::format("{}.control[{}]", path, k));
+                        known_coordinate(name, at(n).shifted(1), path + ".control");
+                        for (const auto& [other, where] : p.actuated)
+                            if (other == name)
+                                fail(at(n), fmt::format("coordinate '{}' is actuated twice in '{}.control' (first at "
+                                                        "column {})",
+                                                        name, path, where.column));
+                        p.actuated.emplace_back(name, at(n));
+                    }
+                } else {
+                    fail(at(*c), fmt::format("'{}.control': expected \"ideal\", a table {{ coordinate = \"direction\" }} "
+                                             "or a list of coordinates, got {}",
+                                             path, type_name(*c)));
+                }
+            }
+            s.programs.push_back(std::move(p));
         }
     }
 

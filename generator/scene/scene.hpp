@@ -247,6 +247,27 @@ struct Unilateral {
     SourcePos name_pos;      // the name's value
 };
 
+// [[program]]: a programmed motion realised by control forces (Mei, ch. 3; Galiullin, Inverse
+// Problems of Dynamics, 1981): a relation ω(q, t) = 0 (configuration space) or φ(q, q̇, t) = 0
+// (phase space; the model decides which by the symbols it holds), the law its residual is to
+// follow (Erugin, PMM 16, 1952, with Galiullin's stable choice: `erugin = { alpha, beta }`,
+// ω̈ + 2αω̇ + β²ω = 0, or `{ kappa }`, φ̇ + κφ = 0; absent: ω̈ = 0 or φ̇ = 0, the open loop) and
+// the control's directions: "ideal" (the program's gradient; Chetaev's ∂φ/∂q̇), a table
+// coordinate = "direction" (the generalized force λ·direction on it; others 0), or a list of
+// actuated coordinates (one unit column, hence one control, each).
+struct Program {
+    std::string name;             // an identifier, unique among the programs
+    Expr constraint;              // ω or φ
+    bool closed_loop = false;     // erugin given
+    bool phase_law = false;       // erugin = { kappa }
+    double alpha = 0.0, beta = 0.0, kappa = 0.0;
+    std::string control = "ideal";                        // "ideal" | "directions" | "actuated"
+    std::vector<std::pair<std::string, Expr>> directions;  // control = { coordinate = "direction" }, file order
+    std::vector<std::pair<std::string, SourcePos>> actuated;  // control = ["coordinate", ...]
+    SourcePos pos;                // the [[program]] table
+    SourcePos name_pos, erugin_pos, control_pos;  // the values (the table when absent)
+};
+
 // [contact]: how `eomc simulate` integrates through the unilateral rows: event-driven (free
 // flight, impacts located as events, contact phases) or Moreau–Jean's time stepping with its θ
 // (Acary & Brogliato 2008).
@@ -314,6 +335,7 @@ struct Scene {
     std::vector<Constraint> constraints;  // [[constraint]], file order
     std::vector<Unilateral> unilateral;   // [[unilateral]], file order
     Contact contact;                      // [contact] (defaults when absent)
+    std::vector<Program> programs;        // [[program]], file order
     std::string formulation = "lagrangian";  // one of formulation_names ([formulation] kind)
     SourcePos formulation_pos;
     std::optional<Reference> reference;

@@ -147,6 +147,17 @@ concept ConstrainedKernel = Kernel<K, S> && requires(S t, const S* x, S* out, co
   K::template constraint_residuals<S>(t, x, out, p);
 };
 
+// Programmed motion (generator/mechanics/control; Mei ch. 3): per program its name and its law
+// (program_laws: configuration 1 or 0, α, β, κ; all gains 0 for the open loop) and
+// program_residuals(): ω and ω̇ (configuration programs) or φ and 0, two per program.
+template <class K, class S = double>
+concept ProgramKernel = Kernel<K, S> && requires(S t, const S* x, S* out, const typename K::Parameters& p) {
+  { K::n_programs } -> std::convertible_to<int>;
+  requires kernel_detail::array_of<decltype(K::program_names), const char*, std::size_t(K::n_programs)>;
+  requires kernel_detail::array_of<decltype(K::program_laws), double, std::size_t(4 * K::n_programs)>;
+  K::template program_residuals<S>(t, x, out, p);
+};
+
 // Unilateral constraints (Mei, Special Topics in Analytical Mechanics, ch. 6): per row a gap
 // f(q, t) >= 0 or, where contact_kinematic, a kinematic row φ(q, u, t) >= 0 (§6.7); Newton's
 // restitution coefficients from the parameters; gaps() writes f or φ, contact_jacobian() W

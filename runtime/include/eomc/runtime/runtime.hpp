@@ -17,6 +17,8 @@
 #include "eomc/runtime/orbit/encke.hpp"
 #include "eomc/runtime/orbit/kepler.hpp"
 #include "eomc/runtime/orbit/orbital_elements.hpp"
+#include "eomc/runtime/program/control.hpp"
+#include "eomc/runtime/program/erugin.hpp"
 #include "eomc/runtime/quaternion.hpp"
 #include "eomc/runtime/registry.hpp"
 #include "eomc/runtime/rigid/euler_poinsot.hpp"

@@ -1,0 +1,286 @@
+// [[program]] rows through the library (Mei, ch. 3; Galiullin, Inverse Problems of Dynamics, 1981):
+// λ and Q_c = D λ in closed form against the known answers, compared as GiNaC expressions (normal()
+// of the difference) or, where trigonometric identities are involved, at exact rational points
+// with CLN's exact arithmetic, so every comparison is exact and a wrong sign or factor fails.
+#define BOOST_TEST_MODULE mechanics_control
+#include <boost/test/unit_test.hpp>
+
+#include <cmath>
+#include <string>
+
+#include <ginac/ginac.h>
+
+#include "mechanics/control/control.hpp"
+#include "mechanics/derive.hpp"
+#include "model/model.hpp"
+#include "support/diagnostic.hpp"
+
+#include "scenes.hpp"
+
+using GiNaC::ex;
+using eomc::InputError;
+using eomc::model::Model;
+
+namespace {
+
+Model from_string(const std::string& toml) { return test_support::model_of(toml, "p.toml"); }
+
+const GiNaC::symbol& symbol_named(const Model& model, const std::string& name) {
+    for (const auto& p : model.parameters)
+        if (p.name == name) return p.symbol;
+    for (const auto& c : model.coordinates) {
+        if (c.name == name) return c.q;
+        if (c.name + "_dot" == name) return c.q_dot;
+    }
+    BOOST_FAIL("no symbol " << name);
+    return model.t;
+}
+
+eomc::mechanics::Realisation realised(const Model& model) {
+    const auto eqs = eomc::mechanics::derive(model);
+    return eomc::mechanics::realise(model, eqs);
+}
+
+// The first line:column of an InputError.
+std::string where(const std::string& toml) {
+    try {
+        from_string(toml);
+    } catch (const InputError& e) {
+        return std::to_string(e.where().line) + ":" + std::to_string(e.where().column) + " " + e.message();
+    }
+    return "accepted";
+}
+
+const std::string particle_plane = R"toml(
+[scene]
+name = "plane"
+[parameters]
+m = 1.0
+g = 9.81
+R = 1.0
+v0 = 3.0
+[coordinates]
+x = { initial = 0.0, rate = 3.0 }
+y = { initial = -1.0, rate = 0.0 }
+[lagrangian]
+T = "m*(x_dot^2 + y_dot^2)/2"
+V = "m*g*y"
+)toml";
+
+}  // namespace
+
+// Newton's inverse-square law from a radial control realising the conics r(1 + e cos φ) = p
+// (Mei §3.1; Galiullin ch. 1): on the program (ω = ω̇ = 0) with the area integral h = r²φ̇ (the
+// radial control has no moment, so h is conserved), λ = −h²/(p r²).
+BOOST_AUTO_TEST_CASE(radial_control_realising_conics_is_newtons_law) {
+    const Model model = from_string(R"toml(
+[scene]
+name = "conic"
+[parameters]
+p = 1.3
+e = 0.4
+[coordinates]
+r = { initial = 1.0, rate = 0.0 }
+phi = { initial = 0.0, rate = 1.0 }
+[lagrangian]
+T = "(r_dot^2 + r^2*phi_dot^2)/2"
+V = "0"
+[[program]]
+name = "conic"
+constraint = "r*(1 + e*cos(phi)) - p"
+control = { r = "1" }
+)toml");
+    const auto r = realised(model);
+    BOOST_REQUIRE(r.lambda);
+    const auto &rr = symbol_named(model, "r"), &phi = symbol_named(model, "phi"), &rd = symbol_named(model, "r_dot"),
+               &phid = symbol_named(model, "phi_dot"), &p = symbol_named(model, "p"), &e = symbol_named(model, "e");
+    // On the manifold: p = r(1 + e cos φ) and ṙ = r e sin φ φ̇/(1 + e cos φ) (ω̇ = 0).
+    const ex h = rr * rr * phid;
+    const ex expected = -h * h / (p * rr * rr);
+    const GiNaC::exmap on{{p, rr * (1 + e * GiNaC::cos(phi))},
+                          {rd, rr * e * GiNaC::sin(phi) * phid / (1 + e * GiNaC::cos(phi))}};
+    const ex difference = GiNaC::normal(((*r.lambda)[0] - expected).subs(on, GiNaC::subs_options::no_pattern));
+    BOOST_TEST(difference.is_zero(), difference);
+    // Q_c is radial: Q_φ = 0.
+    BOOST_TEST((*r.Qc)[1].is_zero());
+}
+
+// Meshchersky's constant speed 3 on a vertical circle R = 1 (g = 9.81, m = 1), both programs ideal:
+// the force is m v²/R + m g = 18.81 at the bottom and |m v²/R − m g| = 0.81 at the top.
+BOOST_AUTO_TEST_CASE(meshchersky_constant_speed_on_a_vertical_circle) {
+    const Model model = from_string(particle_plane + R"toml(
+[[program]]
+name = "circle"
+constraint = "x^2 + y^2 - R^2"
+[[program]]
+name = "speed"
+constraint = "(x_dot^2 + y_dot^2 - v0^2)/2"
+)toml");
+    const auto r = realised(model);
+    BOOST_REQUIRE(r.Qc);
+    const auto force = [&](double x, double y, double xd, double yd) {
+        GiNaC::exmap at = model.parameter_defaults();
+        at[symbol_named(model, "x")] = x;
+        at[symbol_named(model, "y")] = y;
+        at[symbol_named(model, "x_dot")] = xd;
+        at[symbol_named(model, "y_dot")] = yd;
+        const double fx = GiNaC::ex_to<GiNaC::numeric>((*r.Qc)[0].subs(at).evalf()).to_double();
+        const double fy = GiNaC::ex_to<GiNaC::numeric>((*r.Qc)[1].subs(at).evalf()).to_double();
+        return std::hypot(fx, fy);
+    };
+    // The defaults are doubles (9.81): the closed form is exact in them, the evaluation rounds
+    // once per operation, so a few ulps of 18.81.
+    BOOST_TEST(force(0, -1, 3, 0) == 18.81, boost::test_tools::tolerance(1e-13));
+    BOOST_TEST(force(0, 1, -3, 0) == 0.81, boost::test_tools::tolerance(1e-12));
+    BOOST_TEST(r.singular.size() >= 1u);  // Ā M⁻¹ D = [[4r², 2 q·q̇], [2 q·q̇, |q̇|²]]: singular at rest
+}
+
+// The programmed regular precession of a symmetric body (A = 2, C = 1, θ = 30°, φ̇ = 0.5,
+// ψ̇ = 10) in Euler angles (ZXZ: φ precession, θ nutation, ψ spin; ω₃ = ψ̇ + φ̇ cos θ,
+// T = A(θ̇² + φ̇² sin²θ)/2 + C(ψ̇ + φ̇ cos θ)²/2, no gravity): Lagrange's θ equation gives
+// Q_θ = φ̇ sin θ (C ω₃ − A φ̇ cos θ) = 5/2 − √3/16; the cyclic angles need no torque.
+BOOST_AUTO_TEST_CASE(programmed_regular_precession_needs_only_a_nutation_torque) {
+    const Model model = from_string(R"toml(
+[scene]
+name = "precession"
+[parameters]
+A = 2
+C = 1
+[coordinates]
+phi = { initial = 0.0, rate = 0.5 }
+theta = { initial = 0.5235987755982988, rate = 0.0 }
+psi = { initial = 0.0, rate = 10.0 }
+[lagrangian]
+T = "A*(theta_dot^2 + phi_dot^2*sin(theta)^2)/2 + C*(psi_dot + phi_dot*cos(theta))^2/2"
+V = "0"
+[[program]]
+name = "nutation"
+constraint = "theta - Pi/6"
+[[program]]
+name = "precession"
+constraint = "phi_dot - 1/2"
+[[program]]
+name = "spin"
+constraint = "psi_dot - 10"
+)toml");
+    const auto r = realised(model);
+    BOOST_REQUIRE(r.Qc);
+    GiNaC::exmap at{{symbol_named(model, "A"), 2},          {symbol_named(model, "C"), 1},
+                    {symbol_named(model, "theta"), GiNaC::Pi / 6}, {symbol_named(model, "theta_dot"), 0},
+                    {symbol_named(model, "phi_dot"), GiNaC::numeric(1, 2)}, {symbol_named(model, "psi_dot"), 10}};
+    const ex expected = GiNaC::numeric(5, 2) - GiNaC::sqrt(ex(3)) / 16;
+    BOOST_TEST(GiNaC::normal(((*r.Qc)[1].subs(at) - expected).expand()).is_zero(), (*r.Qc)[1].subs(at));
+    BOOST_TEST((*r.Qc)[0].subs(at).is_zero(), (*r.Qc)[0].subs(at));
+    BOOST_TEST((*r.Qc)[2].subs(at).is_zero(), (*r.Qc)[2].subs(at));
+    const double value = GiNaC::ex_to<GiNaC::numeric>(expected.evalf()).to_double();
+    BOOST_TEST(value == 2.39174682452695, boost::test_tools::tolerance(1e-14));
+}
+
+// A two-link arm in a horizontal plane (point masses m1 at the elbow, m2 at the tip; θ2 the elbow
+// angle relative to the first link) on θ1 = Ωt, θ2 = const, one torque per joint: τ1 = 0 and
+// τ2 = m2 l1 l2 Ω² sin θ2 (∂T/∂θ2 = −m2 l1 l2 θ̇1(θ̇1 + θ̇2) sin θ2, every other term vanishes).
+BOOST_AUTO_TEST_CASE(two_link_arm_computed_torque) {
+    const Model model = from_string(R"toml(
+[scene]
+name = "arm"
+[parameters]
+m1 = 1.0
+m2 = 0.7
+l1 = 1.0
+l2 = 0.8
+Omega = 2.0
+c2 = 0.6
+[coordinates]
+theta1 = { initial = 0.0, rate = 2.0 }
+theta2 = { initial = 0.6, rate = 0.0 }
+[lagrangian]
+T = "m1*l1^2*theta1_dot^2/2 + m2*(l1^2*theta1_dot^2 + l2^2*(theta1_dot + theta2_dot)^2 + 2*l1*l2*theta1_dot*(theta1_dot + theta2_dot)*cos(theta2))/2"
+V = "0"
+[[program]]
+name = "shoulder"
+constraint = "theta1 - Omega*t"
+control = ["theta1"]
+[[program]]
+name = "elbow"
+constraint = "theta2 - c2"
+control = ["theta2"]
+)toml");
+    const auto r = realised(model);
+    BOOST_REQUIRE(r.lambda);
+    const auto& th2 = symbol_named(model, "theta2");
+    const GiNaC::exmap on{{symbol_named(model, "theta1_dot"), symbol_named(model, "Omega")},
+                          {symbol_named(model, "theta2_dot"), 0}};
+    const ex tau1 = GiNaC::normal((*r.lambda)[0].subs(on));
+    const ex tau2 = GiNaC::normal((*r.lambda)[1].subs(on) - symbol_named(model, "m2") * symbol_named(model, "l1") *
+                                                              symbol_named(model, "l2") *
+                                                              GiNaC::pow(symbol_named(model, "Omega"), 2) * GiNaC::sin(th2));
+    BOOST_TEST(tau1.is_zero(), tau1);
+    BOOST_TEST(tau2.is_zero(), tau2);
+    BOOST_TEST(r.singular.empty());  // Ā M⁻¹ D = M⁻¹: regular everywhere
+}
+
+// A pendulum's energy program H = θ̇²/2 − g cos θ = h with one torque and φ̇ + κφ = 0: Ā M⁻¹ D = θ̇
+// (singular where θ̇ = 0, the only factor) and τ = −κ (H − h)/θ̇ (the gravity terms cancel).
+BOOST_AUTO_TEST_CASE(pendulum_energy_program_singular_at_rest) {
+    const Model model = from_string(R"toml(
+[scene]
+name = "energy"
+[parameters]
+g = 9.81
+h = 30
+[coordinates]
+theta = { initial = 0.0, rate = 8.0 }
+[lagrangian]
+T = "theta_dot^2/2"
+V = "-g*cos(theta)"
+[[program]]
+name = "energy"
+constraint = "theta_dot^2/2 - g*cos(theta) - h"
+erugin = { kappa = 1 }
+control = ["theta"]
+)toml");
+    const auto r = realised(model);
+    BOOST_REQUIRE(r.lambda);
+    const auto& thd = symbol_named(model, "theta_dot");
+    BOOST_REQUIRE_EQUAL(r.singular.size(), 1u);
+    BOOST_TEST((r.singular[0] - thd).is_zero(), r.singular[0]);
+    const ex H = thd * thd / 2 - symbol_named(model, "g") * GiNaC::cos(symbol_named(model, "theta"));
+    const ex difference = GiNaC::normal((*r.lambda)[0] + (H - symbol_named(model, "h")) / thd);
+    BOOST_TEST(difference.is_zero(), difference);
+}
+
+BOOST_AUTO_TEST_CASE(refusals_name_the_place) {
+    const auto program = [](const std::string& body) { return particle_plane + "[[program]]\n" + body; };
+    // An unknown coordinate in the control, with its nearest name.
+    const std::string unknown = where(program("name = \"c\"\nconstraint = \"x - t\"\ncontrol = { z = \"1\" }\n"));
+    BOOST_TEST(unknown.rfind("18:13", 0) == 0, unknown);
+    BOOST_TEST(unknown.find("unknown coordinate 'z'") != std::string::npos, unknown);
+    const std::string actuated = where(program("name = \"c\"\nconstraint = \"x - t\"\ncontrol = [\"xx\"]\n"));
+    BOOST_TEST(actuated.rfind("18:13", 0) == 0, actuated);
+    BOOST_TEST(actuated.find("did you mean 'x'") != std::string::npos, actuated);
+    // kappa with a configuration program, alpha/beta with a phase one.
+    const std::string kappa = where(program("name = \"c\"\nconstraint = \"x - t\"\nerugin = { kappa = 1 }\n"));
+    BOOST_TEST(kappa.rfind("18:10", 0) == 0, kappa);
+    BOOST_TEST(kappa.find("not kappa") != std::string::npos, kappa);
+    const std::string ab = where(program("name = \"c\"\nconstraint = \"x_dot - 1\"\nerugin = { alpha = 1, beta = 2 }\n"));
+    BOOST_TEST(ab.rfind("18:10", 0) == 0, ab);
+    BOOST_TEST(ab.find("not alpha and beta") != std::string::npos, ab);
+    // Non-positive gains, at the value.
+    const std::string gain = where(program("name = \"c\"\nconstraint = \"x - t\"\nerugin = { alpha = 0, beta = 2 }\n"));
+    BOOST_TEST(gain.rfind("18:20", 0) == 0, gain);
+    BOOST_TEST(gain.find("must be positive") != std::string::npos, gain);
+    // Names are checked identifiers.
+    const std::string name = where(program("name = \"c d\"\nconstraint = \"x - t\"\n"));
+    BOOST_TEST(name.rfind("16:8", 0) == 0, name);
+    // Underactuated: a program on x steered through y alone.
+    const std::string under = where(program("name = \"c\"\nconstraint = \"x - t\"\ncontrol = [\"y\"]\n"));
+    BOOST_TEST(under.find("accepted") == 0, under);  // the model accepts it; derive refuses
+    const Model model = from_string(program("name = \"c\"\nconstraint = \"x - t\"\ncontrol = [\"y\"]\n"));
+    try {
+        eomc::mechanics::derive(model);
+        BOOST_FAIL("an underactuated program was accepted");
+    } catch (const InputError& e) {
+        BOOST_TEST(e.where().line == 18);
+        BOOST_TEST(e.message().find("underactuated") != std::string::npos, e.what());
+    }
+}
