@@ -84,6 +84,14 @@ public:
     void constraint_residuals(double t, const double* x, double* out, const Parameters& p) const {
         constraint_residuals_(t, x, out, p.get());
     }
+    const std::vector<bool>& constraint_holonomic() const { return constraint_holonomic_; }
+    // Kernels with bilateral and unilateral rows (runtime/kernel.hpp, ContactConstrainedKernel): the
+    // residuals (f or φ), φ, W (constraint_names().size() × n_velocities(), row-major) and r of W u̇ = r.
+    bool has_constraint_rows() const { return has_constraint_rows_; }
+    void constraint_rows(double t, const double* x, double* out, double* phi, double* W, double* r,
+                         const Parameters& p) const {
+        constraint_rows_(t, x, out, phi, W, r, p.get());
+    }
 
     // Where the mass matrix is singular (none for most kernels): indicators s_k(t, x) of the sets
     // s_k = 0 ("sin(theta) = 0"), each with its power in det M, written to out[0 .. singular_set_names().size()).
@@ -152,6 +160,9 @@ private:
     void (*events_)(double, const double*, double*, const void*) = nullptr;
     std::vector<std::string> constraint_names_;
     void (*constraint_residuals_)(double, const double*, double*, const void*) = nullptr;
+    std::vector<bool> constraint_holonomic_;
+    bool has_constraint_rows_ = false;
+    void (*constraint_rows_)(double, const double*, double*, double*, double*, double*, const void*) = nullptr;
     std::vector<std::string> singular_set_names_;
     std::vector<int> singular_set_orders_;
     void (*singular_sets_)(double, const double*, double*, const void*) = nullptr;

@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <iterator>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -513,10 +514,10 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
         throw InputError(request.contact_method_pos, fmt::format("unknown contact method '{}' (expected event_driven "
                                                                  "or moreau_jean)", request.contact_method));
     const SourcePos rows_pos{"[[unilateral]]"};
-    if (!lib.constraint_names().empty())
-        throw InputError(rows_pos, fmt::format("{}: bilateral constraint rows ({}) together with unilateral rows are "
-                                               "not supported yet: the contact drivers integrate M u̇ = f + Wᵀλ "
-                                               "with unilateral rows only",
+    const std::size_t k_rows = lib.constraint_names().size();
+    if (k_rows > 0 && !lib.has_constraint_rows())
+        throw InputError(rows_pos, fmt::format("{}: the kernel has bilateral rows ({}) beside unilateral ones but no "
+                                               "constraint_rows(); regenerate it with this eomc",
                                                scene, join(lib.constraint_names())));
     if (!lib.event_names().empty())
         throw InputError(rows_pos, fmt::format("{}: scene events ({}) together with unilateral rows are not supported "
@@ -545,12 +546,6 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
                                                    lib.contact_kinematic()[a] ? "phi" : "f", number(g0[a])));
     }
     if (!event_driven) {
-        bool kinematic = false;
-        for (bool k : lib.contact_kinematic()) kinematic = kinematic || k;
-        if (kinematic)
-            throw InputError(request.contact_method_pos,
-                             fmt::format("{}: moreau_jean takes gap rows only; the kinematic rows (§6.7) need "
-                                         "contact method event_driven", scene));
         if (!(std::isfinite(request.step) && request.step > 0.0))
             throw InputError(SourcePos{"--step"}, fmt::format("the moreau_jean step must be positive and finite, not {}",
                                                               request.step));
@@ -620,6 +615,40 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
         x_last = xs;
         progress.update(t);
     };
+    // The bilateral rows (Mei §6.6: a nonholonomic system with unilateral holonomic constraints), always
+    // active in both drivers: at a state xs their residuals f, φ, W (here C, k × n) and r of C u̇ = r.
+    const int k = int(k_rows);
+    std::vector<double> rows_buffer(k_rows * std::size_t(n) + 1), mass_buffer(std::size_t(n * n));
+    const auto bilateral_at = [&](double t, const double* xs, Vector& f, Vector& phi, Matrix& C, Vector& r) {
+        f.resize(k);
+        phi.resize(k);
+        r.resize(k);
+        C.resize(k, n);
+        lib.constraint_rows(t, xs, f.data(), phi.data(), rows_buffer.data(), r.data(), parameters);
+        for (int i = 0; i < k; ++i)
+            for (int j = 0; j < n; ++j) C(i, j) = rows_buffer[std::size_t(i * n + j)];
+    };
+    // Puts xs on every bilateral row, positions then velocities, in the M-metric (HLW IV.4).
+    std::unique_ptr<bool[]> all_rows(new bool[k_rows + 1]), holonomic_rows(new bool[k_rows + 1]);
+    for (std::size_t i = 0; i < k_rows; ++i) {
+        all_rows[i] = true;
+        holonomic_rows[i] = lib.constraint_holonomic()[i];
+    }
+    const auto project_bilateral = [&](double t, double* xs) {
+        if (k == 0) return;
+        std::vector<double> r(k_rows);
+        runtime::project_onto_constraints<double>(
+            t, xs, runtime::ConstraintLayout{n, n, n, k}, all_rows.get(), holonomic_rows.get(),
+            [&](double tau, const double* y, double* f, double* phi) {
+                lib.constraint_rows(tau, y, f, phi, rows_buffer.data(), r.data(), parameters);
+            },
+            [&](double tau, const double* y, double* W) {
+                std::vector<double> f(k_rows), phi(k_rows);
+                lib.constraint_rows(tau, y, f.data(), phi.data(), W, r.data(), parameters);
+            },
+            [&](double tau, const double* y, double* M) { lib.mass_matrix(tau, y, M, parameters); });
+    };
+
     std::vector<ContactEventReport> pending;
     const auto add_event = [&](ContactEventReport e) {
         if (e.kind == "impact") {
@@ -638,6 +667,7 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
             for (std::size_t a = 0; a < m; ++a)
                 sys.contacts.push_back({restitution[a], lib.contact_kinematic()[a] ? runtime::contact::GapLevel::velocity
                                                                                    : runtime::contact::GapLevel::position});
+            sys.bilateral_holonomic = lib.constraint_holonomic();
             State<double> scratch(x.size(), 0.0);
             std::vector<double> buffer(std::size_t(std::max<std::size_t>(m, 1) * std::size_t(n) + std::size_t(n * n)));
             const auto put = [&](const Vector& q, const Vector* u) {
@@ -667,6 +697,12 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
                     for (int k = 0; k < n; ++k) W(Eigen::Index(a), k) = buffer[a * std::size_t(n) + std::size_t(k)];
                 lib.contact_bias(t, scratch.data(), b.data(), parameters);
             };
+            if (k > 0)
+                sys.bilateral = [&](double t, const Vector& q, const Vector& u, Vector& f, Vector& phi, Matrix& C,
+                                    Vector& r) {
+                    put(q, &u);
+                    bilateral_at(t, scratch.data(), f, phi, C, r);
+                };
             runtime::contact::EventDrivenOptions<double> options;
             options.detect_zeno = request.zeno_ratios > 0;
             options.zeno_ratios = std::max(1, request.zeno_ratios);
@@ -740,12 +776,13 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
                 lib.forcing(t, scratch.data(), f.data(), parameters);
                 return f;
             };
-            const auto gaps = [&](double t, const LcpVector<double>& q) {
-                put(q, nullptr);
+            const auto gaps = [&](double t, const LcpVector<double>& q, const LcpVector<double>& u) {
+                put(q, &u);
                 LcpVector<double> g = LcpVector<double>::Zero(Eigen::Index(m));
                 lib.gaps(t, scratch.data(), g.data(), parameters);
                 return g;
             };
+            // W at (q, u = 0): ∂f/∂q of a gap, ∂φ/∂u of a kinematic row (φ linear in u).
             const auto jacobian = [&](double t, const LcpVector<double>& q) {
                 put(q, nullptr);
                 lib.contact_jacobian(t, scratch.data(), buffer.data(), parameters);
@@ -760,6 +797,46 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
                 u[k] = x[std::size_t(n + k)];
             }
             for (std::size_t a = 0; a < m; ++a) e[Eigen::Index(a)] = restitution[a];
+            runtime::MoreauJeanOptions<double> options;
+            options.theta = request.theta;
+            options.kinematic = lib.contact_kinematic();
+            // M̃⁻¹ B: M⁻¹ B with the bilateral rows' reaction taken out (M⁻¹ B without them).
+            const auto constrained_solve = [&](double t, const LcpVector<double>& q, const LcpVector<double>& u,
+                                               const LcpMatrix<double>& M, const LcpMatrix<double>& B) {
+                const Eigen::LDLT<LcpMatrix<double>> ldlt(M);
+                LcpMatrix<double> out = ldlt.solve(B);
+                if (k == 0) return out;
+                Vector f, phi, r;
+                Matrix C;
+                put(q, &u);
+                bilateral_at(t, scratch.data(), f, phi, C, r);
+                const LcpMatrix<double> Y = ldlt.solve(LcpMatrix<double>(C.transpose()));
+                out -= Y * (C * Y).ldlt().solve(LcpMatrix<double>(C * out));
+                return out;
+            };
+            if (k > 0) {
+                // C u_{k+1} = C u_k − φ(q_k, u_k): φ = 0 at the step's end, φ linear in u.
+                options.bilateral = [&](double t, const LcpVector<double>& q, const LcpVector<double>& u,
+                                        LcpMatrix<double>& C, LcpVector<double>& d) {
+                    Vector f, phi, r;
+                    put(q, &u);
+                    bilateral_at(t, scratch.data(), f, phi, C, r);
+                    d = C * u - phi;
+                };
+                options.project = [&](double t, LcpVector<double>& q, LcpVector<double>& u) {
+                    put(q, &u);
+                    project_bilateral(t, scratch.data());
+                    for (int j = 0; j < n; ++j) {
+                        q[j] = scratch[std::size_t(j)];
+                        u[j] = scratch[std::size_t(n + j)];
+                    }
+                };
+                project_bilateral(0.0, x.data());
+                for (int j = 0; j < n; ++j) {
+                    q[j] = x[std::size_t(j)];
+                    u[j] = x[std::size_t(n + j)];
+                }
+            }
             record(0.0, x, {});
             // The step's events from its impulses: P_α > 0 with an approaching rate that leaves
             // separating is an impact (ΔT over the step, Carnot's loss of the impulsive Δu = M⁻¹W_αᵀP_α);
@@ -778,12 +855,15 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
                 if (any) {
                     W = jacobian(t_prev, q_prev);
                     M = mass(t_prev, q_prev);
-                    kick = dt * M.ldlt().solve(force(t_prev, q_prev, u_prev));
+                    kick = dt * constrained_solve(t_prev, q_prev, u_prev, M,
+                                                  LcpMatrix<double>(force(t_prev, q_prev, u_prev)));
                 }
                 for (std::size_t a = 0; a < m; ++a) {
                     const double P = step.P[Eigen::Index(a)];
                     bool now = false;
-                    if (P > 0.0) {
+                    if (P > 0.0 && lib.contact_kinematic()[a]) {
+                        now = true;  // a kinematic row takes no impact: P is its reaction over the step
+                    } else if (P > 0.0) {
                         // A bounce slower than twice what the forces change in one step is the scheme's
                         // own chatter at rest (order h), not an impact: the row counts as in contact.
                         const double before = W.row(Eigen::Index(a)).dot(u_prev), after = W.row(Eigen::Index(a)).dot(un);
@@ -797,7 +877,8 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
                             r.rate_after = after;
                             r.impulse = P;
                             r.energy_change = 0.5 * un.dot(M * un) - 0.5 * u_prev.dot(M * u_prev);
-                            const LcpVector<double> du = M.ldlt().solve(LcpVector<double>(W.row(Eigen::Index(a)).transpose() * P));
+                            const LcpVector<double> du = constrained_solve(
+                                t_prev, q_prev, u_prev, M, LcpMatrix<double>(W.row(Eigen::Index(a)).transpose() * P));
                             r.carnot = -((1.0 - restitution[a]) / (1.0 + restitution[a])) * 0.5 * du.dot(M * du);
                             add_event(std::move(r));
                         } else {
@@ -832,8 +913,6 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
                 u_prev = un;
                 t_prev = t;
             };
-            runtime::MoreauJeanOptions<double> options;
-            options.theta = request.theta;
             const long steps = runtime::integrate_moreau_jean<double>(mass, force, gaps, jacobian, e, 0.0, request.t_end,
                                                                      h, q, u, observer, options);
             for (int k = 0; k < n; ++k) {

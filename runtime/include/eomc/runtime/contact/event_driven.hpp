@@ -44,6 +44,15 @@
 //    jump); their contact phase holds φ_A = 0 at velocity level through the same LCP, projection
 //    of u only.
 //
+//  * bilateral rows (Mei §6.6, a nonholonomic system with unilateral holonomic constraints): k rows
+//    C u̇ = r (holonomic ∂f/∂q, or kinematic ∂φ/∂u), always active, multipliers of free sign. Every
+//    solve eliminates them: the free acceleration is the Schur solve with C alone, the contact
+//    phase's with [C; W_A], and the Delassus matrices and impacts use the constrained inverse mass
+//    M̃⁻¹ = M⁻¹ − M⁻¹Cᵀ(C M⁻¹ Cᵀ)⁻¹ C M⁻¹ (Pfeiffer-Glocker §6.1 on bilateral constraints beside
+//    unilateral ones), so C Δu = 0 over an impact: the bilateral impulses are free, the rows hold
+//    across it, and Carnot's theorem keeps its form (C u± = 0 for scleronomic rows). The projection
+//    after every step covers the bilateral rows together with the active contacts.
+//
 // Assumptions: q̇ = u (so W_α is also ∂ġ_α/∂u), scleronomic gaps (ġ_α = W_α u; moving walls are
 // not covered), forward time. Kinematic contacts take no part in impacts.
 
@@ -100,6 +109,11 @@ struct ContactSystem {
   std::function<void(S, const Vector<S>&, const Vector<S>&, Vector<S>&)> force;
   std::function<void(S, const Vector<S>&, const Vector<S>&, Vector<S>&)> gaps;
   std::function<void(S, const Vector<S>&, const Vector<S>&, Matrix<S>&, Vector<S>&)> rows;
+  // Bilateral rows, always active (none by default): which are holonomic, and
+  //   bilateral(t, q, u, f, phi, C, r)  f, k: f(t, q) (holonomic) or φ(t, q, u); phi, k: φ (ḟ for a
+  //                                     holonomic row); C, k × n: ∂φ/∂u; r, k: C u̇ = r.
+  std::vector<bool> bilateral_holonomic;
+  std::function<void(S, const Vector<S>&, const Vector<S>&, Vector<S>&, Vector<S>&, Matrix<S>&, Vector<S>&)> bilateral;
 };
 
 template <class S>
@@ -176,13 +190,17 @@ template <class S>
 class ContactModel {
  public:
   explicit ContactModel(const ContactSystem<S>& sys)
-      : sys_(sys), n_(sys.dof), m_(static_cast<int>(sys.contacts.size())), q_(n_), u_(n_), M_(n_, n_), f_(n_),
-        g_(m_), W_(m_, n_), b_(m_) {}
+      : sys_(sys), n_(sys.dof), m_(static_cast<int>(sys.contacts.size())),
+        k_(static_cast<int>(sys.bilateral_holonomic.size())), q_(n_), u_(n_), M_(n_, n_), f_(n_), g_(m_),
+        W_(m_, n_), b_(m_), bf_(k_), bphi_(k_), C_(k_, n_), r_(k_) {
+    if (k_ > 0 && !sys.bilateral) throw std::invalid_argument("integrate_event_driven: bilateral rows need bilateral()");
+  }
 
   int dof() const { return n_; }
   int contacts() const { return m_; }
   const Contact<S>& contact(int a) const { return sys_.contacts[std::size_t(a)]; }
   bool kinematic(int a) const { return contact(a).level == GapLevel::velocity; }
+  int bilateral() const { return k_; }
 
   // M, f, g, W, b at (t, x) and the LDLT of M.
   void evaluate(S t, const State<S>& x) {
@@ -192,6 +210,13 @@ class ContactModel {
     sys_.gaps(t, q_, u_, g_);
     sys_.rows(t, q_, u_, W_, b_);
     ldlt_.compute(M_);
+    free_ = ldlt_.solve(f_);
+    if (k_ > 0) {
+      sys_.bilateral(t, q_, u_, bf_, bphi_, C_, r_);
+      Yc_ = ldlt_.solve(Matrix<S>(C_.transpose()));
+      Gc_.compute(C_ * Yc_);
+      free_ += Yc_ * Gc_.solve(Vector<S>(r_ - C_ * free_));
+    }
   }
   void gaps_only(S t, const State<S>& x) {
     split(x);
@@ -212,16 +237,23 @@ class ContactModel {
     for (std::size_t i = 0; i < set.size(); ++i) out.row(Eigen::Index(i)) = W_.row(set[i]);
     return out;
   }
-  // G = W_C M⁻¹ W_Cᵀ and W_C M⁻¹ f + b_C, the contact-phase LCP's data on the set C.
+  // G = W_C M̃⁻¹ W_Cᵀ and W_C u̇_free + b_C, the contact-phase LCP's data on the set C (u̇_free
+  // holds the bilateral rows).
   void delassus(const std::vector<int>& set, Matrix<S>& G, Vector<S>& c) const {
     const Matrix<S> Wc = rows_of(set);
-    G = Wc * ldlt_.solve(Matrix<S>(Wc.transpose()));
-    c = Wc * ldlt_.solve(f_);
+    G = Wc * solve_mass(Matrix<S>(Wc.transpose()));
+    c = Wc * free_;
     for (std::size_t i = 0; i < set.size(); ++i) c[Eigen::Index(i)] += b_[set[i]];
   }
-  // M⁻¹ B for a vector or a matrix B.
-  Vector<S> solve_mass(const Vector<S>& v) const { return ldlt_.solve(v); }
-  Matrix<S> solve_mass(const Matrix<S>& B) const { return ldlt_.solve(B); }
+  // M̃⁻¹ B for a vector or a matrix B: M⁻¹ B with the bilateral rows' reaction taken out, so that
+  // C M̃⁻¹ B = 0 (M⁻¹ B when there are no bilateral rows).
+  template <class B>
+  auto solve_mass(const B& v) const {
+    using Out = std::conditional_t<B::ColsAtCompileTime == 1, Vector<S>, Matrix<S>>;
+    Out out = ldlt_.solve(v);
+    if (k_ > 0) out -= Yc_ * Gc_.solve(Out(C_ * out));
+    return out;
+  }
 
   // u̇ and λ (m, zero off the active set) with g̈_A = 0 held (constraints.hpp's Schur solve).
   void accelerations(S t, const State<S>& x, const std::vector<bool>& active, Vector<S>& udot, Vector<S>& lambda) {
@@ -231,40 +263,60 @@ class ContactModel {
     for (int a = 0; a < m_; ++a)
       if (active[std::size_t(a)]) set.push_back(a);
     if (set.empty()) {
-      udot = ldlt_.solve(f_);
+      udot = free_;
       return;
     }
-    Vector<S> r(Eigen::Index(set.size())), la;
-    for (std::size_t i = 0; i < set.size(); ++i) r[Eigen::Index(i)] = -b_[set[i]];
-    schur_solve<S>(M_, f_, rows_of(set), r, udot, la);
-    for (std::size_t i = 0; i < set.size(); ++i) lambda[set[i]] = la[Eigen::Index(i)];
+    // The bilateral rows first, then the active contacts: M u̇ − [C; W_A]ᵀ(μ, λ_A) = f.
+    const Eigen::Index k = k_, s = Eigen::Index(set.size());
+    Matrix<S> rows(k + s, n_);
+    Vector<S> r(k + s), la;
+    rows.topRows(k) = C_;
+    r.head(k) = r_;
+    rows.bottomRows(s) = rows_of(set);
+    for (Eigen::Index i = 0; i < s; ++i) r[k + i] = -b_[set[std::size_t(i)]];
+    schur_solve<S>(M_, f_, rows, r, udot, la);
+    for (Eigen::Index i = 0; i < s; ++i) lambda[set[std::size_t(i)]] = la[k + i];
   }
 
-  // Puts x back on g_α = 0 (gaps) and ġ_α = 0 / φ_α = 0 for the rows with on[α], in the M-metric.
+  // Puts x back on the bilateral rows and on g_α = 0 (gaps) and ġ_α = 0 / φ_α = 0 for the rows
+  // with on[α], together, in the M-metric. The bilateral rows come first in the stacked system.
   void project(S t, State<S>& x, const std::vector<bool>& on) {
-    std::unique_ptr<bool[]> projected(new bool[std::size_t(m_)]), holonomic(new bool[std::size_t(m_)]);
-    bool any = false;
+    const int all = k_ + m_;
+    std::unique_ptr<bool[]> projected(new bool[std::size_t(all)]), holonomic(new bool[std::size_t(all)]);
+    bool any = k_ > 0;
+    for (int i = 0; i < k_; ++i) {
+      projected[std::size_t(i)] = true;
+      holonomic[std::size_t(i)] = sys_.bilateral_holonomic[std::size_t(i)];
+    }
     for (int a = 0; a < m_; ++a) {
-      projected[std::size_t(a)] = on[std::size_t(a)];
-      holonomic[std::size_t(a)] = !kinematic(a);
+      projected[std::size_t(k_ + a)] = on[std::size_t(a)];
+      holonomic[std::size_t(k_ + a)] = !kinematic(a);
       any = any || on[std::size_t(a)];
     }
     if (!any) return;
-    const ConstraintLayout layout{n_, n_, n_, m_};
+    const ConstraintLayout layout{n_, n_, n_, all};
     const auto residuals = [&](S tt, const S* xp, S* f, S* phi) {
       split(xp);
       sys_.gaps(tt, q_, u_, g_);
       sys_.rows(tt, q_, u_, W_, b_);
+      if (k_ > 0) sys_.bilateral(tt, q_, u_, bf_, bphi_, C_, r_);
+      for (int i = 0; i < k_; ++i) {
+        f[i] = bf_[i];
+        phi[i] = bphi_[i];
+      }
       for (int a = 0; a < m_; ++a) {
-        f[a] = kinematic(a) ? S(0) : g_[a];
-        phi[a] = rate(a);
+        f[k_ + a] = kinematic(a) ? S(0) : g_[a];
+        phi[k_ + a] = rate(a);
       }
     };
     const auto jacobian = [&](S tt, const S* xp, S* out) {
       split(xp);
       sys_.rows(tt, q_, u_, W_, b_);
+      if (k_ > 0) sys_.bilateral(tt, q_, u_, bf_, bphi_, C_, r_);
+      for (int i = 0; i < k_; ++i)
+        for (int k = 0; k < n_; ++k) out[i * n_ + k] = C_(i, k);
       for (int a = 0; a < m_; ++a)
-        for (int k = 0; k < n_; ++k) out[a * n_ + k] = W_(a, k);
+        for (int k = 0; k < n_; ++k) out[(k_ + a) * n_ + k] = W_(a, k);
     };
     const auto mass = [&](S tt, const S* xp, S* out) {
       split(xp);
@@ -287,13 +339,16 @@ class ContactModel {
   }
 
   const ContactSystem<S>& sys_;
-  int n_, m_;
+  int n_, m_, k_;
   Vector<S> q_, u_;
   Matrix<S> M_;
   Vector<S> f_, g_;
   Matrix<S> W_;
   Vector<S> b_;
-  Eigen::LDLT<Matrix<S>> ldlt_;
+  Vector<S> bf_, bphi_;  // the bilateral rows' residuals
+  Matrix<S> C_, Yc_;     // their Jacobian and M⁻¹Cᵀ
+  Vector<S> r_, free_;   // C u̇ = r; the free acceleration (bilateral rows held)
+  Eigen::LDLT<Matrix<S>> ldlt_, Gc_;
 };
 
 }  // namespace detail
@@ -406,7 +461,7 @@ EventDrivenOutcome<S> integrate_event_driven(Stepper<S>& stepper, const ContactS
     active = next;
     any_active = false;
     for (bool on : active) any_active = any_active || on;
-    if (any_active) model.project(t, xs, active);
+    model.project(t, xs, active);  // the bilateral rows and the active contacts
   };
 
   // Geometric accumulation of contact a's impacts: moves (t, x) to the limit and returns true.
@@ -507,9 +562,10 @@ EventDrivenOutcome<S> integrate_event_driven(Stepper<S>& stepper, const ContactS
     observer(t, xs, static_cast<const Vector<S>&>(lambda), static_cast<const std::vector<bool>&>(active));
   };
 
-  // The start: approaching closed gaps collide, then the contact decision.
+  // The start: on the bilateral rows, approaching closed gaps collide, then the contact decision.
   S t = t0;
   {
+    model.project(t, x, active);
     model.evaluate(t, x);
     const S gtol = gap_tol();
     for (int a = 0; a < m; ++a)
@@ -575,7 +631,7 @@ EventDrivenOutcome<S> integrate_event_driven(Stepper<S>& stepper, const ContactS
     if (last) t = t1;
     checker.check_state(t, x);
     if (!locator.step(indicators, t_old, t, static_cast<const State<S>&>(x), dense, hits)) {
-      if (any_active) model.project(t, x, active);
+      if (any_active || model.bilateral() > 0) model.project(t, x, active);
       observe(t, x);
       continue;
     }
