@@ -545,6 +545,14 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
                                                    scene, lib.contact_names()[a],
                                                    lib.contact_kinematic()[a] ? "phi" : "f", number(g0[a])));
     }
+    const bool sequential = request.impact_law == "sequential";
+    if (!sequential && request.impact_law != "simultaneous")
+        throw InputError(request.impact_law_pos, fmt::format("unknown impact law '{}' (expected simultaneous or "
+                                                             "sequential)", request.impact_law));
+    if (!event_driven && sequential)
+        throw InputError(request.impact_law_pos, fmt::format("{}: the sequential impact law needs contact method "
+                                                             "event_driven; Moreau-Jean resolves every step's impacts "
+                                                             "simultaneously", scene));
     if (!event_driven) {
         if (!(std::isfinite(request.step) && request.step > 0.0))
             throw InputError(SourcePos{"--step"}, fmt::format("the moreau_jean step must be positive and finite, not {}",
@@ -571,6 +579,7 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
                                          scene, request.integrator));
     }
     result.contact_method = request.contact_method;
+    result.impact_law = request.impact_law;
     if (!event_driven)
         result.integrator = fmt::format("moreau_jean (theta = {}, step {})", number(request.theta), number(request.step));
     for (std::size_t a = 0; a < m; ++a)
@@ -706,6 +715,7 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
             runtime::contact::EventDrivenOptions<double> options;
             options.detect_zeno = request.zeno_ratios > 0;
             options.zeno_ratios = std::max(1, request.zeno_ratios);
+            options.sequential_impacts = sequential;
             options.on_event = [&](const runtime::contact::ContactEvent<double>& e) {
                 ContactEventReport r;
                 r.kind = contact_kind_name(e.kind);
@@ -1109,7 +1119,8 @@ void print_summary(const SimulationResult& r, const std::string& format, std::os
             s += "}";
         }
         if (!r.contacts.empty()) {  // only kernels with unilateral rows
-            s += fmt::format(", \"contacts\": {{\"method\": {}, \"rows\": {{", json_string(r.contact_method));
+            s += fmt::format(", \"contacts\": {{\"method\": {}, \"impact_law\": {}, \"rows\": {{",
+                             json_string(r.contact_method), json_string(r.impact_law));
             for (std::size_t i = 0; i < r.contacts.size(); ++i) {
                 const auto& c = r.contacts[i];
                 s += fmt::format("{}{}: {{\"kinematic\": {}, \"restitution\": {}, \"lambda\": {}, \"active\": {}, "
@@ -1196,8 +1207,8 @@ void print_summary(const SimulationResult& r, const std::string& format, std::os
         for (const auto& c : r.constraints) s += fmt::format("  {:<{}}  {:>24.3g}\n", c.name, width, c.max_abs_residual);
     }
     if (!r.contacts.empty()) {
-        s += fmt::format("contacts    {}\n  {:<{}}  {:>5}  {:>24}  {:>6}  {:>7}\n", r.contact_method, "", width, "e",
-                         "lambda", "active", "impacts");
+        s += fmt::format("contacts    {}, {} impacts\n  {:<{}}  {:>5}  {:>24}  {:>6}  {:>7}\n", r.contact_method,
+                         r.impact_law, "", width, "e", "lambda", "active", "impacts");
         for (const auto& c : r.contacts)
             s += fmt::format("  {:<{}}  {:>5}  {:>24}  {:>6}  {:>7}{}\n", c.name, width, number(c.restitution),
                              number(c.lambda), c.active ? "yes" : "no", c.impacts, c.kinematic ? "  (kinematic)" : "");

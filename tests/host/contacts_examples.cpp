@@ -7,10 +7,12 @@
 
 #include <cmath>
 #include <numbers>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "host/simulate.hpp"
+#include "support/diagnostic.hpp"
 
 #include "scenes.hpp"
 #include "simulation.hpp"
@@ -74,4 +76,72 @@ BOOST_AUTO_TEST_CASE(ratchet_moreau_jean) {
     BOOST_TEST(result.value("y_dot") == 0.0);
     BOOST_TEST(result.contacts[0].active);
     BOOST_TEST(result.value("lambda_ratchet") == 4.0 * y, boost::test_tools::tolerance(1e-12));
+}
+
+// scenes/rod_floor_impact.toml: the impact at t = 0 (the end on the floor, approaching) is one
+// row's Newton law in closed form, P = −(1 + e) ḟ⁻/G; no force acts after it, so the velocities at
+// t_end are the post-impact ones exactly. Everything to round-off: 1e-13 relative (absolute for ẋ).
+// The signs hold with θ counterclockwise and the lower end at (x − l cos θ, y − l sin θ):
+// the floor's upward impulse at the left end turns the rod clockwise, θ̇⁺ < 0.
+BOOST_AUTO_TEST_CASE(rod_strikes_the_floor) {
+    const auto result = eomc::host::simulate(request("rod_floor_impact", 0.25));
+    const auto impacts = events_of(result, "impact");
+    BOOST_REQUIRE(impacts.size() == 1u);
+    const auto& e = *impacts[0];
+    BOOST_TEST(e.t == 0.0);
+    BOOST_TEST(e.impulse == 0.923076923076923, boost::test_tools::tolerance(1e-13));
+    BOOST_TEST(e.rate_before == -2.0, boost::test_tools::tolerance(1e-13));
+    BOOST_TEST(e.rate_after == 1.0, boost::test_tools::tolerance(1e-13));  // −e ḟ⁻
+    BOOST_TEST(std::abs(result.value("x_dot")) <= 1e-13);
+    BOOST_TEST(result.value("y_dot") == -1.07692307692308, boost::test_tools::tolerance(1e-13));
+    BOOST_TEST(result.value("theta_dot") == -4.79644839019074, boost::test_tools::tolerance(1e-13));
+    // Carnot: ΔT = −((1 − e)/(1 + e)) ½ Δq̇ᵀ M Δq̇ with Δq̇ = (0, P/m, −l cos θ P/I), I = 1/12; by hand
+    // −(1/3)(P²/2)(1 + 12 l² cos²θ) = −(1/3)(P²/2)(13/4) = −6/13.
+    BOOST_TEST(e.energy_change == -6.0 / 13.0, boost::test_tools::tolerance(1e-13));
+    BOOST_TEST(e.carnot == -6.0 / 13.0, boost::test_tools::tolerance(1e-13));
+}
+
+// scenes/newtons_cradle.toml (e = 1, both gaps closed at t = 0, the left approaching at 1): the
+// scene's sequential law gives two two-body impacts of unit impulse and (0, 0, 1); Moreau's
+// simultaneous LCP gives P = (4/3, 2/3) and (−1/3, 2/3, 2/3) (Lemke on a 2 × 2 LCP: round-off).
+// Both keep T = 1/2, and the summary names the law used.
+BOOST_AUTO_TEST_CASE(newtons_cradle_sequential_and_simultaneous) {
+    struct Case {
+        const char* law;
+        double v[3], P[2];
+    };
+    for (const Case& c : {Case{"sequential", {0.0, 0.0, 1.0}, {1.0, 1.0}},
+                          Case{"simultaneous", {-1.0 / 3, 2.0 / 3, 2.0 / 3}, {4.0 / 3, 2.0 / 3}}}) {
+        BOOST_TEST_CONTEXT(c.law) {
+            auto r = request("newtons_cradle", 1.0);
+            r.impact_law = c.law;
+            const auto result = eomc::host::simulate(r);
+            BOOST_TEST(result.impact_law == c.law);
+            const char* names[] = {"x1_dot", "x2_dot", "x3_dot"};
+            for (int i = 0; i < 3; ++i) BOOST_TEST(std::abs(result.value(names[i]) - c.v[i]) <= 1e-14);
+            const auto impacts = events_of(result, "impact");
+            BOOST_REQUIRE(impacts.size() == 2u);
+            for (int k = 0; k < 2; ++k) {
+                BOOST_TEST(impacts[std::size_t(k)]->t == 0.0);
+                BOOST_TEST(impacts[std::size_t(k)]->impulse == c.P[k], boost::test_tools::tolerance(1e-14));
+                BOOST_TEST(std::abs(impacts[std::size_t(k)]->energy_change) <= 1e-15);
+                BOOST_TEST(std::abs(impacts[std::size_t(k)]->carnot) <= 1e-15);
+            }
+            std::ostringstream text, json;
+            eomc::host::print_summary(result, "text", text);
+            eomc::host::print_summary(result, "json", json);
+            BOOST_TEST(text.str().find(std::string("event_driven, ") + c.law + " impacts") != std::string::npos);
+            BOOST_TEST(json.str().find(std::string("\"impact_law\": \"") + c.law + "\"") != std::string::npos);
+        }
+    }
+}
+
+// The sequential law belongs to the event-driven method: Moreau–Jean refuses it, naming the law.
+BOOST_AUTO_TEST_CASE(sequential_law_needs_event_driven) {
+    auto r = request("newtons_cradle", 1.0);
+    r.contact_method = "moreau_jean";
+    r.impact_law = "sequential";
+    BOOST_CHECK_EXCEPTION(eomc::host::simulate(r), eomc::InputError, [](const eomc::InputError& e) {
+        return std::string(e.what()).find("sequential impact law needs contact method event_driven") != std::string::npos;
+    });
 }
