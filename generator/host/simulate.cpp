@@ -519,10 +519,12 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
         throw InputError(rows_pos, fmt::format("{}: the kernel has bilateral rows ({}) beside unilateral ones but no "
                                                "constraint_rows(); regenerate it with this eomc",
                                                scene, join(lib.constraint_names())));
-    if (!lib.event_names().empty())
-        throw InputError(rows_pos, fmt::format("{}: scene events ({}) together with unilateral rows are not supported "
-                                               "yet: the contact drivers locate their own events only",
-                                               scene, join(lib.event_names())));
+    const std::size_t n_ev = lib.event_names().size();
+    if (n_ev > 0 && !event_driven)
+        throw InputError(request.contact_method_pos,
+                         fmt::format("{}: scene events ({}) together with unilateral rows need contact method "
+                                     "event_driven; moreau_jean does not locate them yet",
+                                     scene, join(lib.event_names())));
     if (request.variational)
         throw InputError(SourcePos{"--variational"}, fmt::format("{}: the state-transition matrix is not defined "
                                                                  "across impacts; run without --variational", scene));
@@ -603,7 +605,10 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
     std::vector<double> lambda_now(m, 0.0);
     std::vector<bool> active_now(m, false);
     std::string extra, label;
-    auto record = [&](double t, const State<double>& xs, const std::vector<ContactEventReport>& events) {
+    // One CSV row per contact event at t (the state after its transition), or one labelled with the
+    // scene event `scene_event`, or one plain row.
+    auto record = [&](double t, const State<double>& xs, const std::vector<ContactEventReport>& events,
+                      const std::string* scene_event = nullptr) {
         lib.invariants(t, xs.data(), inv.data(), parameters);
         if (first) inv0 = inv, first = false;
         for (std::size_t i = 0; i < n_inv; ++i) max_drift[i] = track_max(max_drift[i], std::abs(inv[i] - inv0[i]));
@@ -615,7 +620,8 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
             if (active_now[a]) bits |= std::uint64_t(1) << a;
         }
         extra += fmt::format(",{}", bits);
-        if (events.empty()) csv.row(t, xs, inv, outputs, nullptr, true, extra);
+        if (scene_event) csv.row(t, xs, inv, outputs, scene_event, true, extra);
+        else if (events.empty()) csv.row(t, xs, inv, outputs, nullptr, true, extra);
         for (const auto& e : events) {
             label = e.kind + ":" + e.name;
             csv.row(t, xs, inv, outputs, &label, true, extra);
@@ -716,6 +722,26 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
             options.detect_zeno = request.zeno_ratios > 0;
             options.zeno_ratios = std::max(1, request.zeno_ratios);
             options.sequential_impacts = sequential;
+            // The scene's [events], located on the driver's dense output, recorded like the other
+            // drivers' (a CSV row labelled with the name, the state in the summary); terminal ones stop.
+            for (std::size_t i = 0; i < n_ev; ++i)
+                options.events.push_back(
+                    {static_cast<runtime::EventDirection>(lib.event_directions()[i]), lib.event_terminal()[i]});
+            if (n_ev > 0) {
+                options.event_functions = [&](double t, const State<double>& xs, State<double>& h) {
+                    lib.events(t, xs.data(), h.data(), parameters);
+                };
+                options.on_scene_event = [&](const runtime::EventHit<double>& hit, const Vector& lambda,
+                                             const std::vector<bool>& active) {
+                    for (std::size_t a = 0; a < m; ++a) {
+                        lambda_now[a] = lambda[Eigen::Index(a)];
+                        active_now[a] = active[a];
+                    }
+                    const std::string& name = lib.event_names()[hit.index];
+                    record(hit.t, hit.x, {}, &name);
+                    result.events.push_back({name, hit.t, hit.direction, hit.terminal, hit.x});
+                };
+            }
             options.on_event = [&](const runtime::contact::ContactEvent<double>& e) {
                 ContactEventReport r;
                 r.kind = contact_kind_name(e.kind);
@@ -758,6 +784,7 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
                 return 0;
             });
             result.t = outcome.t;
+            if (outcome.stopped) result.stopped_by = lib.event_names()[outcome.stopped_by];
             result.steps = outcome.stats.accepted;
             result.rejected = outcome.stats.rejected;
             result.rhs_evals = outcome.stats.rhs_evals;

@@ -57,6 +57,10 @@
 //    across it, and Carnot's theorem keeps its form (C u± = 0 for scleronomic rows). The projection
 //    after every step covers the bilateral rows together with the active contacts.
 //
+//  * scene events (options.events): functions h_i(t, x) located like the contacts' indicators, on
+//    the dense output of whichever smooth phase holds them (free flight or a contact phase), with
+//    the actions record and stop; they never change the mode.
+//
 // Assumptions: q̇ = u (so W_α is also ∂ġ_α/∂u), scleronomic gaps (ġ_α = W_α u; moving walls are
 // not covered), forward time. Kinematic contacts take no part in impacts.
 
@@ -143,6 +147,12 @@ struct EventDrivenOptions {
   // Called with each event, complete, just before the observer sees the state after its transition
   // (so that an observer can label that state): the events of one transition in time order.
   std::function<void(const ContactEvent<S>&)> on_event;
+  // Scene events beside the contacts (none by default): their specs (action record or stop; edit is
+  // refused), event_functions(t, x, h) writing h_i for each, and on_scene_event(hit, λ, active)
+  // at each located one, in time order (hit.index counts the scene events from 0).
+  std::vector<EventSpec> events;
+  std::function<void(S, const State<S>&, State<S>&)> event_functions;
+  std::function<void(const EventHit<S>&, const Vector<S>&, const std::vector<bool>&)> on_scene_event;
 };
 
 enum class ContactEventKind { impact, contact, separation, zeno };
@@ -170,6 +180,8 @@ struct EventDrivenOutcome {
   std::vector<ContactEvent<S>> events;
   std::vector<bool> active;  // the active set at the end
   Vector<S> lambda;          // λ at the end (zero off the active set)
+  bool stopped = false;      // a terminal scene event ended the run at t
+  std::size_t stopped_by = 0;  // which (in options.events)
 };
 
 namespace detail {
@@ -382,6 +394,12 @@ EventDrivenOutcome<S> integrate_event_driven(Stepper<S>& stepper, const ContactS
   for (const Contact<S>& c : sys.contacts)
     if (!(c.restitution >= S(0) && c.restitution <= S(1)))
       throw std::invalid_argument("integrate_event_driven: restitution must lie in [0, 1]");
+  const std::size_t n_events = options.events.size();
+  for (const EventSpec& spec : options.events)
+    if (spec.effective_action() == EventAction::edit)
+      throw std::invalid_argument("integrate_event_driven: scene events record or stop; they do not edit the state");
+  if (n_events > 0 && !options.event_functions)
+    throw std::invalid_argument("integrate_event_driven: scene events need event_functions");
 
   detail::ContactModel<S> model(sys);
   EventDrivenOutcome<S> out;
@@ -416,11 +434,16 @@ EventDrivenOutcome<S> integrate_event_driven(Stepper<S>& stepper, const ContactS
     }
   };
   bool any_active = false;
-  // The indicators: g_α of the open contacts, λ_α of the active ones; each event is one going down.
+  // The indicators: g_α of the open contacts, λ_α of the active ones, each event one going down;
+  // then the scene's event functions.
+  State<S> scene_values(n_events);
   const auto indicators = [&](S t, const State<S>& xs, State<S>& o) {
     if (any_active) model.accelerations(t, xs, active, udot, lambda);
     else model.gaps_only(t, xs);
     for (int a = 0; a < m; ++a) o[std::size_t(a)] = active[std::size_t(a)] ? lambda[a] : model.g()[a];
+    if (n_events == 0) return;
+    options.event_functions(t, xs, scene_values);
+    for (std::size_t i = 0; i < n_events; ++i) o[std::size_t(m) + i] = scene_values[i];
   };
   const auto record = [&](ContactEventKind kind, int a, S t) -> ContactEvent<S>& {
     ContactEvent<S> e;
@@ -608,6 +631,7 @@ EventDrivenOutcome<S> integrate_event_driven(Stepper<S>& stepper, const ContactS
   }
 
   std::vector<EventSpec> specs(std::size_t(m), EventSpec{EventDirection::down, false, EventAction::edit, 0.0});
+  specs.insert(specs.end(), options.events.begin(), options.events.end());
   EventLocator<S> locator(specs);
   locator.start(indicators, t, static_cast<const State<S>&>(x));
   NoProgressChecker<S> checker(limits);
@@ -661,7 +685,29 @@ EventDrivenOutcome<S> integrate_event_driven(Stepper<S>& stepper, const ContactS
     ++out.stats.accepted;
     if (last) t = t1;
     checker.check_state(t, x);
-    if (!locator.step(indicators, t_old, t, static_cast<const State<S>&>(x), dense, hits)) {
+    const bool interrupted = locator.step(indicators, t_old, t, static_cast<const State<S>&>(x), dense, hits);
+    // The scene events of this step, in time order (a terminal one ends the list and the run).
+    for (EventHit<S>& hit : hits) {
+      if (hit.index < std::size_t(m)) continue;
+      hit.index -= std::size_t(m);
+      if (any_active) model.accelerations(hit.t, hit.x, active, udot, lambda);
+      else lambda.setZero(m);
+      if (options.on_scene_event)
+        options.on_scene_event(static_cast<const EventHit<S>&>(hit), static_cast<const Vector<S>&>(lambda),
+                               static_cast<const std::vector<bool>&>(active));
+      if (hit.terminal) {
+        out.stopped = true;
+        out.stopped_by = hit.index;
+      }
+    }
+    if (out.stopped) {
+      t = hits.back().t;
+      x = hits.back().x;
+      if (any_active || model.bilateral() > 0) model.project(t, x, active);
+      observe(t, x);
+      break;
+    }
+    if (!interrupted) {
       if (any_active || model.bilateral() > 0) model.project(t, x, active);
       observe(t, x);
       continue;
