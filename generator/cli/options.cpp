@@ -141,6 +141,10 @@ void add_simulate_options(CLI::App* cmd, SimulateOptions& o) {
                     "stepping at [simulate] step) (default: [contact] method)")
         ->check(CLI::IsMember(std::vector<std::string>(scene::contact_method_names.begin(),
                                                        scene::contact_method_names.end())));
+    cmd->add_option("--impact-law", o.impact_law,
+                    "unilateral rows, event_driven: an impact on several closed contacts by Moreau's simultaneous "
+                    "LCP or by sequential two-body impacts (default: [contact] impact_law, else simultaneous)")
+        ->check(CLI::IsMember(std::vector<std::string>(scene::impact_law_names.begin(), scene::impact_law_names.end())));
     cmd->add_option("--compensated", o.compensated,
                     "on | off: compensated (Kahan) summation of the state update (default: [simulate] compensated, "
                     "else on for gl4-8, verlet, yoshida6, kahanli8 and off for the others)")
@@ -190,6 +194,13 @@ host::SimulationRequest simulation_request(const host::Pipeline& p, const std::s
         r.contact_method_pos = p.model.contact_method_pos;
     }
     r.theta = p.model.theta;
+    if (!o.impact_law.empty()) {
+        r.impact_law = o.impact_law;
+        r.impact_law_pos = SourcePos{"--impact-law"};
+    } else {
+        r.impact_law = p.model.impact_law;
+        r.impact_law_pos = p.model.impact_law_pos;
+    }
     return r;
 }
 

@@ -31,6 +31,7 @@ void check_overrides_against_scene(const std::string& scene_path, const host::Fr
 
 struct SimulateOptions {
     std::string contact_method;  // --contact-method; "" = the scene's [contact] method
+    std::string impact_law;      // --impact-law; "" = the scene's [contact] impact_law
     std::optional<double> t_end, rtol, atol, step;
     std::string integrator, output, summary = "text", compensated;
     std::vector<std::string> overrides;

@@ -788,6 +788,20 @@ std::string constraints_part(const KernelIR& ir) {
     return out;
 }
 
+// A kernel with bilateral and unilateral rows hands the contact drivers its bilateral rows too (the
+// contact phase, the impacts and the projection keep them active; runtime/contact/event_driven.hpp).
+std::string bilateral_rows_for_contacts() {
+    return "\n    // The bilateral rows for the contact drivers: the residuals f (holonomic) or φ (kinematic) to out, φ\n"
+           "    // to out_phi, W (n_constraints × n_velocities, row-major) to out_W and r of W u̇ = r to out_r.\n"
+           "    template <class S>\n"
+           "    static void constraint_rows(S t, const S* x, S* out, S* out_phi, S* out_W, S* out_r, const Parameters& p) {\n"
+           "        std::array<S, n_velocities * n_velocities> M;\n"
+           "        std::array<S, n_velocities> f;\n"
+           "        mass_forcing_and_constraints_(t, x, M.data(), f.data(), out_W, out_r, p);\n"
+           "        constraint_residuals_(t, x, out, out_phi, p);\n"
+           "    }\n";
+}
+
 // Only kernels with unilateral rows carry them, so that no other kernel changes: the rows' names,
 // which are kinematic, the restitution coefficients, the gaps, W and the bias (runtime/kernel.hpp,
 // ContactKernel; the host builds runtime::contact::ContactSystem from them).
@@ -823,7 +837,8 @@ std::string contacts_part(const KernelIR& ir, const LocalNames& names) {
         indent(block_body(ir, names, ir.restitutions, "out", parameters_only), 8),
         indent(block_body(ir, names, ir.contact_gaps, "out"), 8),
         indent(block_body(ir, names, ir.contact_jacobian, "out"), 8),
-        indent(block_body(ir, names, ir.contact_bias, "out"), 8));
+        indent(block_body(ir, names, ir.contact_bias, "out"), 8)) +
+           (ir.constraint_names.empty() ? std::string() : bilateral_rows_for_contacts());
 }
 
 // Only kernels of scenes with [events] carry them, so that no other kernel changes.

@@ -21,9 +21,10 @@ namespace {
 
 // Bumped whenever the C interface below changes; the loader refuses a library that reports
 // another value (a cache written by an older eomc).
-constexpr int adapter_abi = 11;  // 3: acceleration and events; 4: project; 5: variational_rhs; 6: project(t, x, p);
+constexpr int adapter_abi = 12;  // 3: acceleration and events; 4: project; 5: variational_rhs; 6: project(t, x, p);
                                  // 7: eomc_kernel_identity; 8: constraint rows; 9: singular sets;
-                                 // 10: the mechanical form (sizes, M, f) and unilateral rows; 11: programs
+                                 // 10: the mechanical form (sizes, M, f) and unilateral rows; 11: programs;
+                                 // 12: bilateral rows beside unilateral ones (constraint_rows)
 
 // The adapter: C functions over double, so that the host needs no knowledge of the kernel's
 // C++ types. Parameters travel by position in parameter_names order, never by member name
@@ -127,6 +128,21 @@ template <class M>
 void program_residuals(double t, const double* x, double* out, const void* p) {
     if constexpr (rt::ProgramKernel<M>) M::template program_residuals<double>(t, x, out, *static_cast<const typename M::Parameters*>(p));
     else (void)t, (void)x, (void)out, (void)p;
+}
+template <class M>
+int constraint_holonomic(int i) {
+    if constexpr (rt::ConstrainedKernel<M>) return M::constraint_holonomic[std::size_t(i)] ? 1 : 0;
+    else return (void)i, 0;
+}
+template <class M>
+int has_constraint_rows() {
+    return rt::ContactConstrainedKernel<M> ? 1 : 0;
+}
+template <class M>
+void constraint_rows(double t, const double* x, double* out, double* phi, double* W, double* r, const void* p) {
+    if constexpr (rt::ContactConstrainedKernel<M>)
+        M::template constraint_rows<double>(t, x, out, phi, W, r, *static_cast<const typename M::Parameters*>(p));
+    else (void)t, (void)x, (void)out, (void)phi, (void)W, (void)r, (void)p;
 }
 template <class M>
 constexpr int n_singular_sets() {
@@ -257,6 +273,12 @@ EOMC_EXPORT int eomc_n_constraints() { return n_constraints<K>(); }
 EOMC_EXPORT const char* eomc_constraint_name(int i) { return constraint_name<K>(i); }
 EOMC_EXPORT void eomc_constraint_residuals(double t, const double* x, double* out, const void* p) {
     constraint_residuals<K>(t, x, out, p);
+}
+EOMC_EXPORT int eomc_constraint_holonomic(int i) { return constraint_holonomic<K>(i); }
+EOMC_EXPORT int eomc_has_constraint_rows() { return has_constraint_rows<K>(); }
+EOMC_EXPORT void eomc_constraint_rows(double t, const double* x, double* out, double* phi, double* W, double* r,
+                                      const void* p) {
+    constraint_rows<K>(t, x, out, phi, W, r, p);
 }
 EOMC_EXPORT int eomc_n_contacts() { return n_contacts<K>(); }
 EOMC_EXPORT const char* eomc_contact_name(int i) { return contact_name<K>(i); }
@@ -409,7 +431,11 @@ KernelLibrary KernelLibrary::load(const std::string& header_text, const std::str
     lib.events_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_events", p);
     const int n_con = symbol<int (*)()>(h, "eomc_n_constraints", p)();
     const auto constraint_name = symbol<const char* (*)(int)>(h, "eomc_constraint_name", p);
-    for (int i = 0; i < n_con; ++i) lib.constraint_names_.emplace_back(constraint_name(i));
+    const auto constraint_holonomic = symbol<int (*)(int)>(h, "eomc_constraint_holonomic", p);
+    for (int i = 0; i < n_con; ++i) {
+        lib.constraint_names_.emplace_back(constraint_name(i));
+        lib.constraint_holonomic_.push_back(constraint_holonomic(i) != 0);
+    }
     lib.constraint_residuals_ =
         symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_constraint_residuals", p);
     const int n_prog = symbol<int (*)()>(h, "eomc_n_programs", p)();
@@ -421,6 +447,9 @@ KernelLibrary KernelLibrary::load(const std::string& header_text, const std::str
     }
     lib.program_residuals_ =
         symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_program_residuals", p);
+    lib.has_constraint_rows_ = symbol<int (*)()>(h, "eomc_has_constraint_rows", p)() != 0;
+    lib.constraint_rows_ = symbol<void (*)(double, const double*, double*, double*, double*, double*, const void*)>(
+        h, "eomc_constraint_rows", p);
     const int n_sing = symbol<int (*)()>(h, "eomc_n_singular_sets", p)();
     const auto singular_set_name = symbol<const char* (*)(int)>(h, "eomc_singular_set_name", p);
     const auto singular_set_order = symbol<int (*)(int)>(h, "eomc_singular_set_order", p);
@@ -489,6 +518,9 @@ KernelLibrary& KernelLibrary::operator=(KernelLibrary&& other) noexcept {
         events_ = other.events_;
         constraint_names_ = std::move(other.constraint_names_);
         constraint_residuals_ = other.constraint_residuals_;
+        constraint_holonomic_ = std::move(other.constraint_holonomic_);
+        has_constraint_rows_ = other.has_constraint_rows_;
+        constraint_rows_ = other.constraint_rows_;
         singular_set_names_ = std::move(other.singular_set_names_);
         singular_set_orders_ = std::move(other.singular_set_orders_);
         singular_sets_ = other.singular_sets_;

@@ -85,6 +85,14 @@ public:
     void constraint_residuals(double t, const double* x, double* out, const Parameters& p) const {
         constraint_residuals_(t, x, out, p.get());
     }
+    const std::vector<bool>& constraint_holonomic() const { return constraint_holonomic_; }
+    // Kernels with bilateral and unilateral rows (runtime/kernel.hpp, ContactConstrainedKernel): the
+    // residuals (f or φ), φ, W (constraint_names().size() × n_velocities(), row-major) and r of W u̇ = r.
+    bool has_constraint_rows() const { return has_constraint_rows_; }
+    void constraint_rows(double t, const double* x, double* out, double* phi, double* W, double* r,
+                         const Parameters& p) const {
+        constraint_rows_(t, x, out, phi, W, r, p.get());
+    }
 
     // Programs realised by controls (none for most kernels; Mei ch. 3): each one's law
     // {configuration 1 or 0, α, β, κ} (gains 0: the open loop) and residuals, two per program (ω and
@@ -165,6 +173,9 @@ private:
     std::vector<std::string> program_names_;
     std::vector<std::array<double, 4>> program_laws_;
     void (*program_residuals_)(double, const double*, double*, const void*) = nullptr;
+    std::vector<bool> constraint_holonomic_;
+    bool has_constraint_rows_ = false;
+    void (*constraint_rows_)(double, const double*, double*, double*, double*, double*, const void*) = nullptr;
     std::vector<std::string> singular_set_names_;
     std::vector<int> singular_set_orders_;
     void (*singular_sets_)(double, const double*, double*, const void*) = nullptr;

@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <iterator>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -584,15 +585,17 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
         throw InputError(request.contact_method_pos, fmt::format("unknown contact method '{}' (expected event_driven "
                                                                  "or moreau_jean)", request.contact_method));
     const SourcePos rows_pos{"[[unilateral]]"};
-    if (!lib.constraint_names().empty())
-        throw InputError(rows_pos, fmt::format("{}: bilateral constraint rows ({}) together with unilateral rows are "
-                                               "not supported yet: the contact drivers integrate M u̇ = f + Wᵀλ "
-                                               "with unilateral rows only",
+    const std::size_t k_rows = lib.constraint_names().size();
+    if (k_rows > 0 && !lib.has_constraint_rows())
+        throw InputError(rows_pos, fmt::format("{}: the kernel has bilateral rows ({}) beside unilateral ones but no "
+                                               "constraint_rows(); regenerate it with this eomc",
                                                scene, join(lib.constraint_names())));
-    if (!lib.event_names().empty())
-        throw InputError(rows_pos, fmt::format("{}: scene events ({}) together with unilateral rows are not supported "
-                                               "yet: the contact drivers locate their own events only",
-                                               scene, join(lib.event_names())));
+    const std::size_t n_ev = lib.event_names().size();
+    if (n_ev > 0 && !event_driven)
+        throw InputError(request.contact_method_pos,
+                         fmt::format("{}: scene events ({}) together with unilateral rows need contact method "
+                                     "event_driven; moreau_jean does not locate them yet",
+                                     scene, join(lib.event_names())));
     if (request.variational)
         throw InputError(SourcePos{"--variational"}, fmt::format("{}: the state-transition matrix is not defined "
                                                                  "across impacts; run without --variational", scene));
@@ -615,13 +618,15 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
                                                    scene, lib.contact_names()[a],
                                                    lib.contact_kinematic()[a] ? "phi" : "f", number(g0[a])));
     }
+    const bool sequential = request.impact_law == "sequential";
+    if (!sequential && request.impact_law != "simultaneous")
+        throw InputError(request.impact_law_pos, fmt::format("unknown impact law '{}' (expected simultaneous or "
+                                                             "sequential)", request.impact_law));
+    if (!event_driven && sequential)
+        throw InputError(request.impact_law_pos, fmt::format("{}: the sequential impact law needs contact method "
+                                                             "event_driven; Moreau-Jean resolves every step's impacts "
+                                                             "simultaneously", scene));
     if (!event_driven) {
-        bool kinematic = false;
-        for (bool k : lib.contact_kinematic()) kinematic = kinematic || k;
-        if (kinematic)
-            throw InputError(request.contact_method_pos,
-                             fmt::format("{}: moreau_jean takes gap rows only; the kinematic rows (§6.7) need "
-                                         "contact method event_driven", scene));
         if (!(std::isfinite(request.step) && request.step > 0.0))
             throw InputError(SourcePos{"--step"}, fmt::format("the moreau_jean step must be positive and finite, not {}",
                                                               request.step));
@@ -647,6 +652,7 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
                                          scene, request.integrator));
     }
     result.contact_method = request.contact_method;
+    result.impact_law = request.impact_law;
     if (!event_driven)
         result.integrator = fmt::format("moreau_jean (theta = {}, step {})", number(request.theta), number(request.step));
     for (std::size_t a = 0; a < m; ++a)
@@ -670,7 +676,10 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
     std::vector<double> lambda_now(m, 0.0);
     std::vector<bool> active_now(m, false);
     std::string extra, label;
-    auto record = [&](double t, const State<double>& xs, const std::vector<ContactEventReport>& events) {
+    // One CSV row per contact event at t (the state after its transition), or one labelled with the
+    // scene event `scene_event`, or one plain row.
+    auto record = [&](double t, const State<double>& xs, const std::vector<ContactEventReport>& events,
+                      const std::string* scene_event = nullptr) {
         lib.invariants(t, xs.data(), inv.data(), parameters);
         if (first) inv0 = inv, first = false;
         for (std::size_t i = 0; i < n_inv; ++i) max_drift[i] = track_max(max_drift[i], std::abs(inv[i] - inv0[i]));
@@ -682,7 +691,8 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
             if (active_now[a]) bits |= std::uint64_t(1) << a;
         }
         extra += fmt::format(",{}", bits);
-        if (events.empty()) csv.row(t, xs, inv, outputs, nullptr, true, extra);
+        if (scene_event) csv.row(t, xs, inv, outputs, scene_event, true, extra);
+        else if (events.empty()) csv.row(t, xs, inv, outputs, nullptr, true, extra);
         for (const auto& e : events) {
             label = e.kind + ":" + e.name;
             csv.row(t, xs, inv, outputs, &label, true, extra);
@@ -691,6 +701,40 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
         x_last = xs;
         progress.update(t);
     };
+    // The bilateral rows (Mei §6.6: a nonholonomic system with unilateral holonomic constraints), always
+    // active in both drivers: at a state xs their residuals f, φ, W (here C, k × n) and r of C u̇ = r.
+    const int k = int(k_rows);
+    std::vector<double> rows_buffer(k_rows * std::size_t(n) + 1), mass_buffer(std::size_t(n * n));
+    const auto bilateral_at = [&](double t, const double* xs, Vector& f, Vector& phi, Matrix& C, Vector& r) {
+        f.resize(k);
+        phi.resize(k);
+        r.resize(k);
+        C.resize(k, n);
+        lib.constraint_rows(t, xs, f.data(), phi.data(), rows_buffer.data(), r.data(), parameters);
+        for (int i = 0; i < k; ++i)
+            for (int j = 0; j < n; ++j) C(i, j) = rows_buffer[std::size_t(i * n + j)];
+    };
+    // Puts xs on every bilateral row, positions then velocities, in the M-metric (HLW IV.4).
+    std::unique_ptr<bool[]> all_rows(new bool[k_rows + 1]), holonomic_rows(new bool[k_rows + 1]);
+    for (std::size_t i = 0; i < k_rows; ++i) {
+        all_rows[i] = true;
+        holonomic_rows[i] = lib.constraint_holonomic()[i];
+    }
+    const auto project_bilateral = [&](double t, double* xs) {
+        if (k == 0) return;
+        std::vector<double> r(k_rows);
+        runtime::project_onto_constraints<double>(
+            t, xs, runtime::ConstraintLayout{n, n, n, k}, all_rows.get(), holonomic_rows.get(),
+            [&](double tau, const double* y, double* f, double* phi) {
+                lib.constraint_rows(tau, y, f, phi, rows_buffer.data(), r.data(), parameters);
+            },
+            [&](double tau, const double* y, double* W) {
+                std::vector<double> f(k_rows), phi(k_rows);
+                lib.constraint_rows(tau, y, f.data(), phi.data(), W, r.data(), parameters);
+            },
+            [&](double tau, const double* y, double* M) { lib.mass_matrix(tau, y, M, parameters); });
+    };
+
     std::vector<ContactEventReport> pending;
     const auto add_event = [&](ContactEventReport e) {
         if (e.kind == "impact") {
@@ -709,6 +753,7 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
             for (std::size_t a = 0; a < m; ++a)
                 sys.contacts.push_back({restitution[a], lib.contact_kinematic()[a] ? runtime::contact::GapLevel::velocity
                                                                                    : runtime::contact::GapLevel::position});
+            sys.bilateral_holonomic = lib.constraint_holonomic();
             State<double> scratch(x.size(), 0.0);
             std::vector<double> buffer(std::size_t(std::max<std::size_t>(m, 1) * std::size_t(n) + std::size_t(n * n)));
             const auto put = [&](const Vector& q, const Vector* u) {
@@ -738,9 +783,36 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
                     for (int k = 0; k < n; ++k) W(Eigen::Index(a), k) = buffer[a * std::size_t(n) + std::size_t(k)];
                 lib.contact_bias(t, scratch.data(), b.data(), parameters);
             };
+            if (k > 0)
+                sys.bilateral = [&](double t, const Vector& q, const Vector& u, Vector& f, Vector& phi, Matrix& C,
+                                    Vector& r) {
+                    put(q, &u);
+                    bilateral_at(t, scratch.data(), f, phi, C, r);
+                };
             runtime::contact::EventDrivenOptions<double> options;
             options.detect_zeno = request.zeno_ratios > 0;
             options.zeno_ratios = std::max(1, request.zeno_ratios);
+            options.sequential_impacts = sequential;
+            // The scene's [events], located on the driver's dense output, recorded like the other
+            // drivers' (a CSV row labelled with the name, the state in the summary); terminal ones stop.
+            for (std::size_t i = 0; i < n_ev; ++i)
+                options.events.push_back(
+                    {static_cast<runtime::EventDirection>(lib.event_directions()[i]), lib.event_terminal()[i]});
+            if (n_ev > 0) {
+                options.event_functions = [&](double t, const State<double>& xs, State<double>& h) {
+                    lib.events(t, xs.data(), h.data(), parameters);
+                };
+                options.on_scene_event = [&](const runtime::EventHit<double>& hit, const Vector& lambda,
+                                             const std::vector<bool>& active) {
+                    for (std::size_t a = 0; a < m; ++a) {
+                        lambda_now[a] = lambda[Eigen::Index(a)];
+                        active_now[a] = active[a];
+                    }
+                    const std::string& name = lib.event_names()[hit.index];
+                    record(hit.t, hit.x, {}, &name);
+                    result.events.push_back({name, hit.t, hit.direction, hit.terminal, hit.x});
+                };
+            }
             options.on_event = [&](const runtime::contact::ContactEvent<double>& e) {
                 ContactEventReport r;
                 r.kind = contact_kind_name(e.kind);
@@ -783,6 +855,7 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
                 return 0;
             });
             result.t = outcome.t;
+            if (outcome.stopped) result.stopped_by = lib.event_names()[outcome.stopped_by];
             result.steps = outcome.stats.accepted;
             result.rejected = outcome.stats.rejected;
             result.rhs_evals = outcome.stats.rhs_evals;
@@ -811,12 +884,13 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
                 lib.forcing(t, scratch.data(), f.data(), parameters);
                 return f;
             };
-            const auto gaps = [&](double t, const LcpVector<double>& q) {
-                put(q, nullptr);
+            const auto gaps = [&](double t, const LcpVector<double>& q, const LcpVector<double>& u) {
+                put(q, &u);
                 LcpVector<double> g = LcpVector<double>::Zero(Eigen::Index(m));
                 lib.gaps(t, scratch.data(), g.data(), parameters);
                 return g;
             };
+            // W at (q, u = 0): ∂f/∂q of a gap, ∂φ/∂u of a kinematic row (φ linear in u).
             const auto jacobian = [&](double t, const LcpVector<double>& q) {
                 put(q, nullptr);
                 lib.contact_jacobian(t, scratch.data(), buffer.data(), parameters);
@@ -831,6 +905,46 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
                 u[k] = x[std::size_t(n + k)];
             }
             for (std::size_t a = 0; a < m; ++a) e[Eigen::Index(a)] = restitution[a];
+            runtime::MoreauJeanOptions<double> options;
+            options.theta = request.theta;
+            options.kinematic = lib.contact_kinematic();
+            // M̃⁻¹ B: M⁻¹ B with the bilateral rows' reaction taken out (M⁻¹ B without them).
+            const auto constrained_solve = [&](double t, const LcpVector<double>& q, const LcpVector<double>& u,
+                                               const LcpMatrix<double>& M, const LcpMatrix<double>& B) {
+                const Eigen::LDLT<LcpMatrix<double>> ldlt(M);
+                LcpMatrix<double> out = ldlt.solve(B);
+                if (k == 0) return out;
+                Vector f, phi, r;
+                Matrix C;
+                put(q, &u);
+                bilateral_at(t, scratch.data(), f, phi, C, r);
+                const LcpMatrix<double> Y = ldlt.solve(LcpMatrix<double>(C.transpose()));
+                out -= Y * (C * Y).ldlt().solve(LcpMatrix<double>(C * out));
+                return out;
+            };
+            if (k > 0) {
+                // C u_{k+1} = C u_k − φ(q_k, u_k): φ = 0 at the step's end, φ linear in u.
+                options.bilateral = [&](double t, const LcpVector<double>& q, const LcpVector<double>& u,
+                                        LcpMatrix<double>& C, LcpVector<double>& d) {
+                    Vector f, phi, r;
+                    put(q, &u);
+                    bilateral_at(t, scratch.data(), f, phi, C, r);
+                    d = C * u - phi;
+                };
+                options.project = [&](double t, LcpVector<double>& q, LcpVector<double>& u) {
+                    put(q, &u);
+                    project_bilateral(t, scratch.data());
+                    for (int j = 0; j < n; ++j) {
+                        q[j] = scratch[std::size_t(j)];
+                        u[j] = scratch[std::size_t(n + j)];
+                    }
+                };
+                project_bilateral(0.0, x.data());
+                for (int j = 0; j < n; ++j) {
+                    q[j] = x[std::size_t(j)];
+                    u[j] = x[std::size_t(n + j)];
+                }
+            }
             record(0.0, x, {});
             // The step's events from its impulses: P_α > 0 with an approaching rate that leaves
             // separating is an impact (ΔT over the step, Carnot's loss of the impulsive Δu = M⁻¹W_αᵀP_α);
@@ -849,12 +963,15 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
                 if (any) {
                     W = jacobian(t_prev, q_prev);
                     M = mass(t_prev, q_prev);
-                    kick = dt * M.ldlt().solve(force(t_prev, q_prev, u_prev));
+                    kick = dt * constrained_solve(t_prev, q_prev, u_prev, M,
+                                                  LcpMatrix<double>(force(t_prev, q_prev, u_prev)));
                 }
                 for (std::size_t a = 0; a < m; ++a) {
                     const double P = step.P[Eigen::Index(a)];
                     bool now = false;
-                    if (P > 0.0) {
+                    if (P > 0.0 && lib.contact_kinematic()[a]) {
+                        now = true;  // a kinematic row takes no impact: P is its reaction over the step
+                    } else if (P > 0.0) {
                         // A bounce slower than twice what the forces change in one step is the scheme's
                         // own chatter at rest (order h), not an impact: the row counts as in contact.
                         const double before = W.row(Eigen::Index(a)).dot(u_prev), after = W.row(Eigen::Index(a)).dot(un);
@@ -868,7 +985,8 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
                             r.rate_after = after;
                             r.impulse = P;
                             r.energy_change = 0.5 * un.dot(M * un) - 0.5 * u_prev.dot(M * u_prev);
-                            const LcpVector<double> du = M.ldlt().solve(LcpVector<double>(W.row(Eigen::Index(a)).transpose() * P));
+                            const LcpVector<double> du = constrained_solve(
+                                t_prev, q_prev, u_prev, M, LcpMatrix<double>(W.row(Eigen::Index(a)).transpose() * P));
                             r.carnot = -((1.0 - restitution[a]) / (1.0 + restitution[a])) * 0.5 * du.dot(M * du);
                             add_event(std::move(r));
                         } else {
@@ -903,8 +1021,6 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
                 u_prev = un;
                 t_prev = t;
             };
-            runtime::MoreauJeanOptions<double> options;
-            options.theta = request.theta;
             const long steps = runtime::integrate_moreau_jean<double>(mass, force, gaps, jacobian, e, 0.0, request.t_end,
                                                                      h, q, u, observer, options);
             for (int k = 0; k < n; ++k) {
@@ -1121,7 +1237,8 @@ void print_summary(const SimulationResult& r, const std::string& format, std::os
             s += "}";
         }
         if (!r.contacts.empty()) {  // only kernels with unilateral rows
-            s += fmt::format(", \"contacts\": {{\"method\": {}, \"rows\": {{", json_string(r.contact_method));
+            s += fmt::format(", \"contacts\": {{\"method\": {}, \"impact_law\": {}, \"rows\": {{",
+                             json_string(r.contact_method), json_string(r.impact_law));
             for (std::size_t i = 0; i < r.contacts.size(); ++i) {
                 const auto& c = r.contacts[i];
                 s += fmt::format("{}{}: {{\"kinematic\": {}, \"restitution\": {}, \"lambda\": {}, \"active\": {}, "
@@ -1215,8 +1332,8 @@ void print_summary(const SimulationResult& r, const std::string& format, std::os
                              g.max_departure, g.law);
     }
     if (!r.contacts.empty()) {
-        s += fmt::format("contacts    {}\n  {:<{}}  {:>5}  {:>24}  {:>6}  {:>7}\n", r.contact_method, "", width, "e",
-                         "lambda", "active", "impacts");
+        s += fmt::format("contacts    {}, {} impacts\n  {:<{}}  {:>5}  {:>24}  {:>6}  {:>7}\n", r.contact_method,
+                         r.impact_law, "", width, "e", "lambda", "active", "impacts");
         for (const auto& c : r.contacts)
             s += fmt::format("  {:<{}}  {:>5}  {:>24}  {:>6}  {:>7}{}\n", c.name, width, number(c.restitution),
                              number(c.lambda), c.active ? "yes" : "no", c.impacts, c.kinematic ? "  (kinematic)" : "");

@@ -39,6 +39,10 @@ struct SimulationRequest {
     std::string contact_method = "event_driven";
     SourcePos contact_method_pos{"--contact-method"};
     double theta = 0.5;
+    // event_driven: Moreau's simultaneous LCP on the closed contacts of an impact ("simultaneous") or
+    // sequential two-body impacts ("sequential"); Moreau–Jean is simultaneous by construction.
+    std::string impact_law = "simultaneous";
+    SourcePos impact_law_pos{"--impact-law"};
     // event_driven: a geometric accumulation of impacts (Zeno) is extrapolated once zeno_ratios
     // successive interval ratios agree (after zeno_ratios + 2 impacts at least; runtime::contact::
     // EventDrivenOptions); 0 never extrapolates (the run then stalls near the accumulation point).
@@ -135,6 +139,7 @@ struct SimulationResult {
     // Kernels with unilateral rows: the method, each row at the end, and every contact event in
     // time order (the CSV has the same as rows labelled kind:name in its event column).
     std::string contact_method;
+    std::string impact_law;  // with unilateral rows: "simultaneous" or "sequential"
     std::vector<ContactReport> contacts;
     std::vector<ContactEventReport> contact_events;
     std::string stopped_by;                               // the terminal event that ended the run, "" if none

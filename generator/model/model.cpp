@@ -747,6 +747,8 @@ static void build_unilateral(const scene::Scene& scene, const SymbolTable& symbo
     model.contact_method =
         scene.contact.method == "moreau_jean" ? ContactMethod::moreau_jean : ContactMethod::event_driven;
     model.theta = scene.contact.theta;
+    model.impact_law = scene.contact.impact_law;
+    model.impact_law_pos = scene.contact.impact_law_pos;
     model.contact_method_pos = scene.contact.method_pos;
     for (const auto& given : scene.unilateral) {
         Unilateral row;

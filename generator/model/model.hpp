@@ -235,6 +235,8 @@ struct Model {
     std::vector<Program> programs;       // [[program]], in file order
     ContactMethod contact_method = ContactMethod::event_driven;  // [contact] method
     double theta = 0.5;                  // [contact] theta (Moreau–Jean's θ-method)
+    std::string impact_law = "simultaneous";  // [contact] impact_law (scene::impact_law_names)
+    SourcePos impact_law_pos;            // its value (the table, or unknown, when absent)
     SourcePos contact_method_pos;        // [contact] method's value (the table, or unknown, when absent)
     std::optional<Orbit> orbit;          // an orbit scene: coordinates x, y, z, T and V built from [orbit]
     // A rigid-body scene; in the euler_angles formulation the model also has the coordinates φ, θ,

@@ -1232,14 +1232,15 @@ private:
     }
 
     // [contact]: method = "event_driven" (default) | "moreau_jean", theta = θ in [0.5, 1]
-    // (Moreau–Jean's θ-method; Acary & Brogliato 2008). Only beside [[unilateral]] rows.
+    // (Moreau–Jean's θ-method; Acary & Brogliato 2008), impact_law = "simultaneous" (default) |
+    // "sequential" (event_driven only). Only beside [[unilateral]] rows.
     void read_contact(Scene& s) const {
         const toml::node* node = root_.get("contact");
         if (!node) return;
         const toml::table& t = as_table(*node, "contact");
         Contact& c = s.contact;
-        c.pos = c.method_pos = c.theta_pos = at(t);
-        check_keys(t, {"method", "theta"}, "in [contact]");
+        c.pos = c.method_pos = c.theta_pos = c.impact_law_pos = at(t);
+        check_keys(t, {"method", "theta", "impact_law"}, "in [contact]");
         if (s.unilateral.empty())
             fail(at(t), "[contact] says how to integrate through unilateral constraints, but the scene declares no "
                         "[[unilateral]] row");
@@ -1264,6 +1265,22 @@ private:
             if (c.method != "moreau_jean")
                 fail(at(*th), fmt::format("'contact.theta' is Moreau-Jean's; it has no meaning with method = \"{}\"",
                                           c.method));
+        }
+        if (const toml::node* law = t.get("impact_law")) {
+            c.impact_law = read_string(*law, "contact.impact_law");
+            c.impact_law_pos = at(*law);
+            const std::vector<std::string> names(impact_law_names.begin(), impact_law_names.end());
+            if (std::find(names.begin(), names.end(), c.impact_law) == names.end()) {
+                const std::string near = nearest_name(c.impact_law, names);
+                fail(at(*law), fmt::format("unknown impact law '{}'; {}", c.impact_law,
+                                           near.empty() ? fmt::format("expected one of {}", fmt::join(names, ", "))
+                                                        : fmt::format("did you mean '{}'?", near)));
+            }
+            // Moreau–Jean's step LCP is the simultaneous law by construction.
+            if (c.method == "moreau_jean" && c.impact_law != "simultaneous")
+                fail(at(*law), fmt::format("'contact.impact_law' = \"{}\" needs method = \"event_driven\"; "
+                                           "Moreau-Jean resolves every step's impacts simultaneously",
+                                           c.impact_law));
         }
     }
 

@@ -272,12 +272,16 @@ struct Program {
 // flight, impacts located as events, contact phases) or Moreau–Jean's time stepping with its θ
 // (Acary & Brogliato 2008).
 inline constexpr std::array<std::string_view, 2> contact_method_names{"event_driven", "moreau_jean"};
+// How the event-driven method resolves an impact on several closed contacts: Moreau's LCP over all
+// of them at once, or one two-body impact after another (runtime/contact/impact.hpp).
+inline constexpr std::array<std::string_view, 2> impact_law_names{"simultaneous", "sequential"};
 
 struct Contact {
     std::string method = "event_driven";  // one of contact_method_names
     double theta = 0.5;                   // moreau_jean's θ, in [0.5, 1]
+    std::string impact_law = "simultaneous";  // one of impact_law_names (event_driven only)
     SourcePos pos;                        // the [contact] table (unknown when absent)
-    SourcePos method_pos, theta_pos;      // the values (the table when absent)
+    SourcePos method_pos, theta_pos, impact_law_pos;  // the values (the table when absent)
 };
 
 // Which equations the kernel integrates: Lagrange's (state q, q̇) or Hamilton's (state q, p).

@@ -83,6 +83,12 @@ BOOST_AUTO_TEST_CASE(reads_rows_and_contact) {
     // Without [contact]: event-driven.
     const auto plain = eomc::model::build_model(eomc::scene::parse_scene_string(ball(), "u.toml"));
     BOOST_TEST((plain.contact_method == eomc::model::ContactMethod::event_driven));
+    BOOST_TEST(plain.impact_law == "simultaneous");
+    // The multiple-impact law, with its position for the host's diagnostics.
+    const auto sequential = eomc::model::build_model(
+        eomc::scene::parse_scene_string(ball("[contact]\nimpact_law = \"sequential\"\n"), "u.toml"));
+    BOOST_TEST(sequential.impact_law == "sequential");
+    BOOST_TEST(eomc::to_string(sequential.impact_law_pos) == "u.toml:21:14");
     // On the boundary at t = 0 (f = 0) is admissible.
     BOOST_CHECK_NO_THROW(eomc::model::build_model(eomc::scene::parse_scene_string(ball("", "e", "0.0"), "u.toml")));
 }
@@ -126,6 +132,9 @@ BOOST_AUTO_TEST_CASE(contact_refusals) {
     CHECK_ERROR(ball("[contact]\nmethod = \"moreau_jean\"\ntheta = 0.3\n"), "u.toml:22:9", "between 0.5 and 1");
     CHECK_ERROR(ball("[contact]\ntheta = 0.5\n"), "u.toml:21:9", "no meaning with method = \"event_driven\"");
     CHECK_ERROR(ball("[contact]\nmetod = \"moreau_jean\"\n"), "u.toml:21:1", "did you mean 'method'?");
+    CHECK_ERROR(ball("[contact]\nimpact_law = \"sequentail\"\n"), "u.toml:21:14", "did you mean 'sequential'?");
+    CHECK_ERROR(ball("[contact]\nmethod = \"moreau_jean\"\nimpact_law = \"sequential\"\n"), "u.toml:22:14",
+                "needs method = \"event_driven\"");
     std::string no_rows = ball();
     no_rows = no_rows.substr(0, no_rows.find("[[unilateral]]")) + "[contact]\nmethod = \"event_driven\"\n";
     CHECK_ERROR(no_rows, "u.toml:16:1", "declares no [[unilateral]] row");

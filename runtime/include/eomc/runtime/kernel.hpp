@@ -175,6 +175,17 @@ concept ContactKernel =
       K::template contact_bias<S>(t, x, out, p);
     };
 
+// Kernels with bilateral and unilateral rows (Mei §6.6): the bilateral rows as the contact drivers
+// take them, always active with multipliers of free sign: residuals (f or φ), φ, W
+// (n_constraints × n_velocities, row-major) and r of W u̇ = r, and which rows are holonomic.
+template <class K, class S = double>
+concept ContactConstrainedKernel =
+    ContactKernel<K, S> && ConstrainedKernel<K, S> &&
+    requires(S t, const S* x, S* out, S* phi, S* W, S* r, const typename K::Parameters& p) {
+      requires kernel_detail::array_of<decltype(K::constraint_holonomic), bool, std::size_t(K::n_constraints)>;
+      K::template constraint_rows<S>(t, x, out, phi, W, r, p);
+    };
+
 // Kernels generated with --variational: the rates of y = (x, Φ), n_variational = n_state +
 // n_state², Φ row-major (runtime/variational.hpp).
 template <class K, class S = double>

@@ -16,6 +16,10 @@
 //    the LCP 0 ≤ P ⊥ G P + (1 + E) ġ⁻ ≥ 0 (ibid. §7.2), i.e. W u⁺ + E ġ⁻ ≥ 0. u⁺ = u⁻ + M⁻¹WᵀP.
 //    Energy: ΔT = ½ G P² + ġ⁻ P = −((1 − e)/(1 + e)) ½ Δuᵀ M Δu, Carnot's theorem for a Newton
 //    impact (Mei ch. 6; Pfeiffer-Glocker §7.3), recorded beside the measured ΔT.
+//    With sequential_impacts the closed contacts instead take one-contact Newton impacts one after
+//    another, the fastest approaching first, until none approaches (contact/impact.hpp's sequential
+//    law: Newton's cradle of three balls, e = 1, ends at (0, 0, 1), the simultaneous LCP at
+//    (−1/3, 2/3, 2/3)); Carnot's prediction is then the sum of each two-body impact's.
 //  * contact phase: the closed contacts with ġ ≈ 0 enter the acceleration-level LCP
 //    g̈ = G λ + (W M⁻¹ f + b) ≥ 0, λ ≥ 0, λ·g̈ = 0 (Pfeiffer-Glocker (6.19)); those with λ > 0
 //    are the active set A. Between transitions A is fixed: g̈_A = 0 is solved as the bilateral
@@ -43,6 +47,19 @@
 //    φ̇_α = W_α u̇ + b_α (Mei §6.7, the ratchet): no impact (φ reaching zero needs no velocity
 //    jump); their contact phase holds φ_A = 0 at velocity level through the same LCP, projection
 //    of u only.
+//
+//  * bilateral rows (Mei §6.6, a nonholonomic system with unilateral holonomic constraints): k rows
+//    C u̇ = r (holonomic ∂f/∂q, or kinematic ∂φ/∂u), always active, multipliers of free sign. Every
+//    solve eliminates them: the free acceleration is the Schur solve with C alone, the contact
+//    phase's with [C; W_A], and the Delassus matrices and impacts use the constrained inverse mass
+//    M̃⁻¹ = M⁻¹ − M⁻¹Cᵀ(C M⁻¹ Cᵀ)⁻¹ C M⁻¹ (Pfeiffer-Glocker §6.1 on bilateral constraints beside
+//    unilateral ones), so C Δu = 0 over an impact: the bilateral impulses are free, the rows hold
+//    across it, and Carnot's theorem keeps its form (C u± = 0 for scleronomic rows). The projection
+//    after every step covers the bilateral rows together with the active contacts.
+//
+//  * scene events (options.events): functions h_i(t, x) located like the contacts' indicators, on
+//    the dense output of whichever smooth phase holds them (free flight or a contact phase), with
+//    the actions record and stop; they never change the mode.
 //
 // Assumptions: q̇ = u (so W_α is also ∂ġ_α/∂u), scleronomic gaps (ġ_α = W_α u; moving walls are
 // not covered), forward time. Kinematic contacts take no part in impacts.
@@ -100,6 +117,11 @@ struct ContactSystem {
   std::function<void(S, const Vector<S>&, const Vector<S>&, Vector<S>&)> force;
   std::function<void(S, const Vector<S>&, const Vector<S>&, Vector<S>&)> gaps;
   std::function<void(S, const Vector<S>&, const Vector<S>&, Matrix<S>&, Vector<S>&)> rows;
+  // Bilateral rows, always active (none by default): which are holonomic, and
+  //   bilateral(t, q, u, f, phi, C, r)  f, k: f(t, q) (holonomic) or φ(t, q, u); phi, k: φ (ḟ for a
+  //                                     holonomic row); C, k × n: ∂φ/∂u; r, k: C u̇ = r.
+  std::vector<bool> bilateral_holonomic;
+  std::function<void(S, const Vector<S>&, const Vector<S>&, Vector<S>&, Vector<S>&, Matrix<S>&, Vector<S>&)> bilateral;
 };
 
 template <class S>
@@ -120,9 +142,17 @@ struct EventDrivenOptions {
   int zeno_ratios = 3;
   S zeno_rtol = S(1e-2);
   std::size_t max_impacts = 100000;  // impacts allowed in one call (a Zeno run without detection)
+  // The multiple-impact law: Moreau's simultaneous LCP (false) or sequential two-body impacts.
+  bool sequential_impacts = false;
   // Called with each event, complete, just before the observer sees the state after its transition
   // (so that an observer can label that state): the events of one transition in time order.
   std::function<void(const ContactEvent<S>&)> on_event;
+  // Scene events beside the contacts (none by default): their specs (action record or stop; edit is
+  // refused), event_functions(t, x, h) writing h_i for each, and on_scene_event(hit, λ, active)
+  // at each located one, in time order (hit.index counts the scene events from 0).
+  std::vector<EventSpec> events;
+  std::function<void(S, const State<S>&, State<S>&)> event_functions;
+  std::function<void(const EventHit<S>&, const Vector<S>&, const std::vector<bool>&)> on_scene_event;
 };
 
 enum class ContactEventKind { impact, contact, separation, zeno };
@@ -150,6 +180,8 @@ struct EventDrivenOutcome {
   std::vector<ContactEvent<S>> events;
   std::vector<bool> active;  // the active set at the end
   Vector<S> lambda;          // λ at the end (zero off the active set)
+  bool stopped = false;      // a terminal scene event ended the run at t
+  std::size_t stopped_by = 0;  // which (in options.events)
 };
 
 namespace detail {
@@ -176,13 +208,17 @@ template <class S>
 class ContactModel {
  public:
   explicit ContactModel(const ContactSystem<S>& sys)
-      : sys_(sys), n_(sys.dof), m_(static_cast<int>(sys.contacts.size())), q_(n_), u_(n_), M_(n_, n_), f_(n_),
-        g_(m_), W_(m_, n_), b_(m_) {}
+      : sys_(sys), n_(sys.dof), m_(static_cast<int>(sys.contacts.size())),
+        k_(static_cast<int>(sys.bilateral_holonomic.size())), q_(n_), u_(n_), M_(n_, n_), f_(n_), g_(m_),
+        W_(m_, n_), b_(m_), bf_(k_), bphi_(k_), C_(k_, n_), r_(k_) {
+    if (k_ > 0 && !sys.bilateral) throw std::invalid_argument("integrate_event_driven: bilateral rows need bilateral()");
+  }
 
   int dof() const { return n_; }
   int contacts() const { return m_; }
   const Contact<S>& contact(int a) const { return sys_.contacts[std::size_t(a)]; }
   bool kinematic(int a) const { return contact(a).level == GapLevel::velocity; }
+  int bilateral() const { return k_; }
 
   // M, f, g, W, b at (t, x) and the LDLT of M.
   void evaluate(S t, const State<S>& x) {
@@ -192,6 +228,13 @@ class ContactModel {
     sys_.gaps(t, q_, u_, g_);
     sys_.rows(t, q_, u_, W_, b_);
     ldlt_.compute(M_);
+    free_ = ldlt_.solve(f_);
+    if (k_ > 0) {
+      sys_.bilateral(t, q_, u_, bf_, bphi_, C_, r_);
+      Yc_ = ldlt_.solve(Matrix<S>(C_.transpose()));
+      Gc_.compute(C_ * Yc_);
+      free_ += Yc_ * Gc_.solve(Vector<S>(r_ - C_ * free_));
+    }
   }
   void gaps_only(S t, const State<S>& x) {
     split(x);
@@ -212,16 +255,23 @@ class ContactModel {
     for (std::size_t i = 0; i < set.size(); ++i) out.row(Eigen::Index(i)) = W_.row(set[i]);
     return out;
   }
-  // G = W_C M⁻¹ W_Cᵀ and W_C M⁻¹ f + b_C, the contact-phase LCP's data on the set C.
+  // G = W_C M̃⁻¹ W_Cᵀ and W_C u̇_free + b_C, the contact-phase LCP's data on the set C (u̇_free
+  // holds the bilateral rows).
   void delassus(const std::vector<int>& set, Matrix<S>& G, Vector<S>& c) const {
     const Matrix<S> Wc = rows_of(set);
-    G = Wc * ldlt_.solve(Matrix<S>(Wc.transpose()));
-    c = Wc * ldlt_.solve(f_);
+    G = Wc * solve_mass(Matrix<S>(Wc.transpose()));
+    c = Wc * free_;
     for (std::size_t i = 0; i < set.size(); ++i) c[Eigen::Index(i)] += b_[set[i]];
   }
-  // M⁻¹ B for a vector or a matrix B.
-  Vector<S> solve_mass(const Vector<S>& v) const { return ldlt_.solve(v); }
-  Matrix<S> solve_mass(const Matrix<S>& B) const { return ldlt_.solve(B); }
+  // M̃⁻¹ B for a vector or a matrix B: M⁻¹ B with the bilateral rows' reaction taken out, so that
+  // C M̃⁻¹ B = 0 (M⁻¹ B when there are no bilateral rows).
+  template <class B>
+  auto solve_mass(const B& v) const {
+    using Out = std::conditional_t<B::ColsAtCompileTime == 1, Vector<S>, Matrix<S>>;
+    Out out = ldlt_.solve(v);
+    if (k_ > 0) out -= Yc_ * Gc_.solve(Out(C_ * out));
+    return out;
+  }
 
   // u̇ and λ (m, zero off the active set) with g̈_A = 0 held (constraints.hpp's Schur solve).
   void accelerations(S t, const State<S>& x, const std::vector<bool>& active, Vector<S>& udot, Vector<S>& lambda) {
@@ -231,40 +281,60 @@ class ContactModel {
     for (int a = 0; a < m_; ++a)
       if (active[std::size_t(a)]) set.push_back(a);
     if (set.empty()) {
-      udot = ldlt_.solve(f_);
+      udot = free_;
       return;
     }
-    Vector<S> r(Eigen::Index(set.size())), la;
-    for (std::size_t i = 0; i < set.size(); ++i) r[Eigen::Index(i)] = -b_[set[i]];
-    schur_solve<S>(M_, f_, rows_of(set), r, udot, la);
-    for (std::size_t i = 0; i < set.size(); ++i) lambda[set[i]] = la[Eigen::Index(i)];
+    // The bilateral rows first, then the active contacts: M u̇ − [C; W_A]ᵀ(μ, λ_A) = f.
+    const Eigen::Index k = k_, s = Eigen::Index(set.size());
+    Matrix<S> rows(k + s, n_);
+    Vector<S> r(k + s), la;
+    rows.topRows(k) = C_;
+    r.head(k) = r_;
+    rows.bottomRows(s) = rows_of(set);
+    for (Eigen::Index i = 0; i < s; ++i) r[k + i] = -b_[set[std::size_t(i)]];
+    schur_solve<S>(M_, f_, rows, r, udot, la);
+    for (Eigen::Index i = 0; i < s; ++i) lambda[set[std::size_t(i)]] = la[k + i];
   }
 
-  // Puts x back on g_α = 0 (gaps) and ġ_α = 0 / φ_α = 0 for the rows with on[α], in the M-metric.
+  // Puts x back on the bilateral rows and on g_α = 0 (gaps) and ġ_α = 0 / φ_α = 0 for the rows
+  // with on[α], together, in the M-metric. The bilateral rows come first in the stacked system.
   void project(S t, State<S>& x, const std::vector<bool>& on) {
-    std::unique_ptr<bool[]> projected(new bool[std::size_t(m_)]), holonomic(new bool[std::size_t(m_)]);
-    bool any = false;
+    const int all = k_ + m_;
+    std::unique_ptr<bool[]> projected(new bool[std::size_t(all)]), holonomic(new bool[std::size_t(all)]);
+    bool any = k_ > 0;
+    for (int i = 0; i < k_; ++i) {
+      projected[std::size_t(i)] = true;
+      holonomic[std::size_t(i)] = sys_.bilateral_holonomic[std::size_t(i)];
+    }
     for (int a = 0; a < m_; ++a) {
-      projected[std::size_t(a)] = on[std::size_t(a)];
-      holonomic[std::size_t(a)] = !kinematic(a);
+      projected[std::size_t(k_ + a)] = on[std::size_t(a)];
+      holonomic[std::size_t(k_ + a)] = !kinematic(a);
       any = any || on[std::size_t(a)];
     }
     if (!any) return;
-    const ConstraintLayout layout{n_, n_, n_, m_};
+    const ConstraintLayout layout{n_, n_, n_, all};
     const auto residuals = [&](S tt, const S* xp, S* f, S* phi) {
       split(xp);
       sys_.gaps(tt, q_, u_, g_);
       sys_.rows(tt, q_, u_, W_, b_);
+      if (k_ > 0) sys_.bilateral(tt, q_, u_, bf_, bphi_, C_, r_);
+      for (int i = 0; i < k_; ++i) {
+        f[i] = bf_[i];
+        phi[i] = bphi_[i];
+      }
       for (int a = 0; a < m_; ++a) {
-        f[a] = kinematic(a) ? S(0) : g_[a];
-        phi[a] = rate(a);
+        f[k_ + a] = kinematic(a) ? S(0) : g_[a];
+        phi[k_ + a] = rate(a);
       }
     };
     const auto jacobian = [&](S tt, const S* xp, S* out) {
       split(xp);
       sys_.rows(tt, q_, u_, W_, b_);
+      if (k_ > 0) sys_.bilateral(tt, q_, u_, bf_, bphi_, C_, r_);
+      for (int i = 0; i < k_; ++i)
+        for (int k = 0; k < n_; ++k) out[i * n_ + k] = C_(i, k);
       for (int a = 0; a < m_; ++a)
-        for (int k = 0; k < n_; ++k) out[a * n_ + k] = W_(a, k);
+        for (int k = 0; k < n_; ++k) out[(k_ + a) * n_ + k] = W_(a, k);
     };
     const auto mass = [&](S tt, const S* xp, S* out) {
       split(xp);
@@ -287,13 +357,16 @@ class ContactModel {
   }
 
   const ContactSystem<S>& sys_;
-  int n_, m_;
+  int n_, m_, k_;
   Vector<S> q_, u_;
   Matrix<S> M_;
   Vector<S> f_, g_;
   Matrix<S> W_;
   Vector<S> b_;
-  Eigen::LDLT<Matrix<S>> ldlt_;
+  Vector<S> bf_, bphi_;  // the bilateral rows' residuals
+  Matrix<S> C_, Yc_;     // their Jacobian and M⁻¹Cᵀ
+  Vector<S> r_, free_;   // C u̇ = r; the free acceleration (bilateral rows held)
+  Eigen::LDLT<Matrix<S>> ldlt_, Gc_;
 };
 
 }  // namespace detail
@@ -321,6 +394,12 @@ EventDrivenOutcome<S> integrate_event_driven(Stepper<S>& stepper, const ContactS
   for (const Contact<S>& c : sys.contacts)
     if (!(c.restitution >= S(0) && c.restitution <= S(1)))
       throw std::invalid_argument("integrate_event_driven: restitution must lie in [0, 1]");
+  const std::size_t n_events = options.events.size();
+  for (const EventSpec& spec : options.events)
+    if (spec.effective_action() == EventAction::edit)
+      throw std::invalid_argument("integrate_event_driven: scene events record or stop; they do not edit the state");
+  if (n_events > 0 && !options.event_functions)
+    throw std::invalid_argument("integrate_event_driven: scene events need event_functions");
 
   detail::ContactModel<S> model(sys);
   EventDrivenOutcome<S> out;
@@ -355,11 +434,16 @@ EventDrivenOutcome<S> integrate_event_driven(Stepper<S>& stepper, const ContactS
     }
   };
   bool any_active = false;
-  // The indicators: g_α of the open contacts, λ_α of the active ones; each event is one going down.
+  // The indicators: g_α of the open contacts, λ_α of the active ones, each event one going down;
+  // then the scene's event functions.
+  State<S> scene_values(n_events);
   const auto indicators = [&](S t, const State<S>& xs, State<S>& o) {
     if (any_active) model.accelerations(t, xs, active, udot, lambda);
     else model.gaps_only(t, xs);
     for (int a = 0; a < m; ++a) o[std::size_t(a)] = active[std::size_t(a)] ? lambda[a] : model.g()[a];
+    if (n_events == 0) return;
+    options.event_functions(t, xs, scene_values);
+    for (std::size_t i = 0; i < n_events; ++i) o[std::size_t(m) + i] = scene_values[i];
   };
   const auto record = [&](ContactEventKind kind, int a, S t) -> ContactEvent<S>& {
     ContactEvent<S> e;
@@ -406,7 +490,7 @@ EventDrivenOutcome<S> integrate_event_driven(Stepper<S>& stepper, const ContactS
     active = next;
     any_active = false;
     for (bool on : active) any_active = any_active || on;
-    if (any_active) model.project(t, xs, active);
+    model.project(t, xs, active);  // the bilateral rows and the active contacts
   };
 
   // Geometric accumulation of contact a's impacts: moves (t, x) to the limit and returns true.
@@ -456,16 +540,41 @@ EventDrivenOutcome<S> integrate_event_driven(Stepper<S>& stepper, const ContactS
       if (!model.kinematic(c) && (c == a || abs(model.g()[c]) <= gtol)) set.push_back(c);
     const Matrix<S> Wi = model.rows_of(set);
     const Vector<S> u_minus = model.u(), rate_minus = Wi * u_minus;
-    Matrix<S> G = Wi * model.solve_mass(Matrix<S>(Wi.transpose()));
-    Vector<S> c(Eigen::Index(set.size()));
-    for (std::size_t i = 0; i < set.size(); ++i)
-      c[Eigen::Index(i)] = (S(1) + model.contact(set[i]).restitution) * rate_minus[Eigen::Index(i)];
-    const Vector<S> P = detail::solve_contact_lcp<S>(G, c);
-    const Vector<S> du = model.solve_mass(Vector<S>(Wi.transpose() * P));
-    const Vector<S> u_plus = u_minus + du, rate_plus = Wi * u_plus;
-    const S e = model.contact(a).restitution;
+    const Eigen::Index ns = Eigen::Index(set.size());
+    const auto restitution = [&](Eigen::Index i) { return model.contact(set[std::size_t(i)]).restitution; };
+    Vector<S> P = Vector<S>::Zero(ns), u_plus = u_minus;
+    S carnot = S(0);
+    if (options.sequential_impacts) {
+      // One-contact Newton impacts, the fastest approaching contact first, until none approaches
+      // beyond the rounding of its rate (64 ε Σ_j |W_αj u_j|, as contact/impact.hpp).
+      const Matrix<S> Y = model.solve_mass(Matrix<S>(Wi.transpose()));  // M̃⁻¹ W_Iᵀ
+      for (std::size_t count = 0;; ++count) {
+        const Vector<S> rate = Wi * u_plus;
+        const Vector<S> noise = S(64) * eps * (Wi.cwiseAbs() * u_plus.cwiseAbs());
+        Eigen::Index i = -1;
+        for (Eigen::Index j = 0; j < ns; ++j)
+          if (rate[j] < -noise[j] && (i < 0 || rate[j] < rate[i])) i = j;
+        if (i < 0) break;
+        if (count >= options.max_impacts)
+          throw std::runtime_error("integrate_event_driven: the sequential impact law did not end (inelastic collapse?)");
+        const S e = restitution(i), p = -(S(1) + e) * rate[i] / Wi.row(i).dot(Y.col(i));
+        const Vector<S> du = Y.col(i) * p;
+        carnot += -((S(1) - e) / (S(1) + e)) * model.kinetic_energy(du);
+        u_plus += du;
+        P[i] += p;
+      }
+    } else {
+      const Matrix<S> G = Wi * model.solve_mass(Matrix<S>(Wi.transpose()));
+      Vector<S> c(ns);
+      for (Eigen::Index i = 0; i < ns; ++i) c[i] = (S(1) + restitution(i)) * rate_minus[i];
+      P = detail::solve_contact_lcp<S>(G, c);
+      const Vector<S> du = model.solve_mass(Vector<S>(Wi.transpose() * P));
+      u_plus = u_minus + du;
+      const S e = model.contact(a).restitution;
+      carnot = -((S(1) - e) / (S(1) + e)) * model.kinetic_energy(du);
+    }
+    const Vector<S> rate_plus = Wi * u_plus;
     const S dT = model.kinetic_energy(u_plus) - model.kinetic_energy(u_minus);
-    const S carnot = -((S(1) - e) / (S(1) + e)) * model.kinetic_energy(du);
     for (int k = 0; k < n; ++k) xs[std::size_t(n + k)] = u_plus[k];
     for (std::size_t i = 0; i < set.size(); ++i) {
       const Eigen::Index ii = Eigen::Index(i);
@@ -507,9 +616,10 @@ EventDrivenOutcome<S> integrate_event_driven(Stepper<S>& stepper, const ContactS
     observer(t, xs, static_cast<const Vector<S>&>(lambda), static_cast<const std::vector<bool>&>(active));
   };
 
-  // The start: approaching closed gaps collide, then the contact decision.
+  // The start: on the bilateral rows, approaching closed gaps collide, then the contact decision.
   S t = t0;
   {
+    model.project(t, x, active);
     model.evaluate(t, x);
     const S gtol = gap_tol();
     for (int a = 0; a < m; ++a)
@@ -521,6 +631,7 @@ EventDrivenOutcome<S> integrate_event_driven(Stepper<S>& stepper, const ContactS
   }
 
   std::vector<EventSpec> specs(std::size_t(m), EventSpec{EventDirection::down, false, EventAction::edit, 0.0});
+  specs.insert(specs.end(), options.events.begin(), options.events.end());
   EventLocator<S> locator(specs);
   locator.start(indicators, t, static_cast<const State<S>&>(x));
   NoProgressChecker<S> checker(limits);
@@ -574,8 +685,30 @@ EventDrivenOutcome<S> integrate_event_driven(Stepper<S>& stepper, const ContactS
     ++out.stats.accepted;
     if (last) t = t1;
     checker.check_state(t, x);
-    if (!locator.step(indicators, t_old, t, static_cast<const State<S>&>(x), dense, hits)) {
-      if (any_active) model.project(t, x, active);
+    const bool interrupted = locator.step(indicators, t_old, t, static_cast<const State<S>&>(x), dense, hits);
+    // The scene events of this step, in time order (a terminal one ends the list and the run).
+    for (EventHit<S>& hit : hits) {
+      if (hit.index < std::size_t(m)) continue;
+      hit.index -= std::size_t(m);
+      if (any_active) model.accelerations(hit.t, hit.x, active, udot, lambda);
+      else lambda.setZero(m);
+      if (options.on_scene_event)
+        options.on_scene_event(static_cast<const EventHit<S>&>(hit), static_cast<const Vector<S>&>(lambda),
+                               static_cast<const std::vector<bool>&>(active));
+      if (hit.terminal) {
+        out.stopped = true;
+        out.stopped_by = hit.index;
+      }
+    }
+    if (out.stopped) {
+      t = hits.back().t;
+      x = hits.back().x;
+      if (any_active || model.bilateral() > 0) model.project(t, x, active);
+      observe(t, x);
+      break;
+    }
+    if (!interrupted) {
+      if (any_active || model.bilateral() > 0) model.project(t, x, active);
       observe(t, x);
       continue;
     }

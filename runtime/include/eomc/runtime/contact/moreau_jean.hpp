@@ -32,10 +32,23 @@
 // for e = 0. V. Acary, "Energy conservation and dissipation properties of time-integration methods
 // for nonsmooth elastodynamics with contact", Z. Angew. Math. Mech. 96 (2016), analyses this and
 // modifies the law to dissipate always; not done here.
+//
+// Kinematic rows φ_α(t, q, u) ≥ 0, linear in u (Mei §6.7; options.kinematic): already velocity
+// constraints, so each step imposes them at the step's end, 0 ≤ P_α ⊥ φ_α(q_k, u_{k+1}) ≥ 0 with
+// φ_α(q_k, u_{k+1}) = W_α u_{k+1} + (φ_α(q_k, u_k) − W_α u_k), W_α = ∂φ_α/∂u: always in the LCP, no
+// restitution (they take no impacts).
+//
+// Bilateral rows (Mei §6.6; options.bilateral): C u_{k+1} = d, C = ∂φ/∂u at the step's start and d
+// what keeps φ = 0 there (d = C u_k − φ(q_k, u_k) for a row linear in u), with multipliers of free
+// sign: eliminated by the constrained inverse mass M̃⁻¹ = M⁻¹ − M⁻¹Cᵀ(C M⁻¹ Cᵀ)⁻¹C M⁻¹ in u_free and
+// in the Delassus matrix, so that the contact impulses leave them holding. options.project then puts
+// (q, u) back on the rows' manifold after the step (q_{k+1} drifts O(h²) off a curved one).
 
 #include <cmath>
 #include <cstddef>
+#include <functional>
 #include <stdexcept>
+#include <type_traits>
 #include <vector>
 
 #include <Eigen/Cholesky>
@@ -49,6 +62,13 @@ template <class S>
 struct MoreauJeanOptions {
   S theta = S(0.5);  // θ of the velocity integral (1/2: exact on constant forces; 1: backward Euler)
   S gamma = S(0.5);  // γ of the active-set prediction g + γ h ḟ ≤ 0
+  // Rows that are kinematic, φ(t, q, u) ≥ 0 (empty: none); gaps() then takes (t, q, u) and writes φ
+  // for them, jacobian() ∂φ/∂u.
+  std::vector<bool> kinematic;
+  // Bilateral rows (empty: none): bilateral(t, q, u, C, d) writes C (k × n) and d of C u_{k+1} = d.
+  std::function<void(S, const LcpVector<S>&, const LcpVector<S>&, LcpMatrix<S>&, LcpVector<S>&)> bilateral;
+  // Called after every step with (t_{k+1}, q, u) to edit them (the bilateral rows' projection).
+  std::function<void(S, LcpVector<S>&, LcpVector<S>&)> project;
 };
 
 // What one step did.
@@ -61,7 +81,8 @@ struct MoreauJeanStep {
 
 // One step from (t, q, u) to t + h, q and u updated in place. The callables:
 //   mass(t, q) -> n × n SPD matrix,  force(t, q, u) -> n vector,
-//   gaps(t, q) -> m vector,          jacobian(t, q) -> m × n matrix (∂g/∂q).
+//   gaps(t, q) or gaps(t, q, u) -> m vector (the latter for kinematic rows),
+//   jacobian(t, q) -> m × n matrix (∂g/∂q, or ∂φ/∂u for a kinematic row).
 template <class S, class Mass, class Force, class Gaps, class Jacobian>
 MoreauJeanStep<S> moreau_jean_step(Mass&& mass, Force&& force, Gaps&& gaps, Jacobian&& jacobian,
                                    const LcpVector<S>& restitution, S t, S h, LcpVector<S>& q, LcpVector<S>& u,
@@ -69,35 +90,63 @@ MoreauJeanStep<S> moreau_jean_step(Mass&& mass, Force&& force, Gaps&& gaps, Jaco
   const S theta = options.theta;
   const LcpMatrix<S> M = mass(t, static_cast<const LcpVector<S>&>(q));
   const LcpMatrix<S> W = jacobian(t, static_cast<const LcpVector<S>&>(q));
-  const LcpVector<S> g = gaps(t, static_cast<const LcpVector<S>&>(q));
+  const LcpVector<S> g = [&]() -> LcpVector<S> {
+    if constexpr (std::is_invocable_v<Gaps&, S, const LcpVector<S>&, const LcpVector<S>&>)
+      return gaps(t, static_cast<const LcpVector<S>&>(q), static_cast<const LcpVector<S>&>(u));
+    else
+      return gaps(t, static_cast<const LcpVector<S>&>(q));
+  }();
   if (W.rows() != restitution.size() || g.size() != restitution.size() || W.cols() != q.size())
     throw std::invalid_argument("Moreau-Jean: gaps, Jacobian rows and restitution must agree");
+  if (!options.kinematic.empty() && options.kinematic.size() != std::size_t(g.size()))
+    throw std::invalid_argument("Moreau-Jean: kinematic must flag every row or none");
+  const auto kinematic = [&](Eigen::Index a) { return !options.kinematic.empty() && options.kinematic[std::size_t(a)]; };
   const LcpVector<S> q_predicted = q + h * u;
   const LcpVector<S> f_theta = theta * LcpVector<S>(force(t + h, static_cast<const LcpVector<S>&>(q_predicted),
                                                           static_cast<const LcpVector<S>&>(u))) +
                                (S(1) - theta) * LcpVector<S>(force(t, static_cast<const LcpVector<S>&>(q),
                                                                    static_cast<const LcpVector<S>&>(u)));
   const Eigen::LDLT<LcpMatrix<S>> ldlt(M);
-  const LcpVector<S> u_free = u + h * ldlt.solve(f_theta);
+  LcpVector<S> u_free = u + h * ldlt.solve(f_theta);
+  // The bilateral rows: u_free onto C u = d, and M̃⁻¹ in place of M⁻¹ below.
+  LcpMatrix<S> C, Yc;
+  Eigen::LDLT<LcpMatrix<S>> Gc;
+  if (options.bilateral) {
+    LcpVector<S> d;
+    options.bilateral(t, static_cast<const LcpVector<S>&>(q), static_cast<const LcpVector<S>&>(u), C, d);
+    if (C.cols() != q.size() || d.size() != C.rows())
+      throw std::invalid_argument("Moreau-Jean: the bilateral rows must be k x n with k values");
+    if (C.rows() > 0) {
+      Yc = ldlt.solve(C.transpose());
+      Gc.compute(C * Yc);
+      u_free += Yc * Gc.solve(LcpVector<S>(d - C * u_free));
+    }
+  }
+  const auto solve_mass = [&](const LcpMatrix<S>& B) {
+    LcpMatrix<S> out = ldlt.solve(B);
+    if (C.rows() > 0) out -= Yc * Gc.solve(LcpMatrix<S>(C * out));
+    return out;
+  };
 
   MoreauJeanStep<S> step;
   step.P = LcpVector<S>::Zero(g.size());
   const LcpVector<S> fdot = W * u;
   for (Eigen::Index a = 0; a < g.size(); ++a)
-    if (g[a] + options.gamma * h * fdot[a] <= S(0)) step.active.push_back(a);
+    if (kinematic(a) || g[a] + options.gamma * h * fdot[a] <= S(0)) step.active.push_back(a);
 
   LcpVector<S> u_next = u_free;
   if (!step.active.empty()) {
     const Eigen::Index k = Eigen::Index(step.active.size());
     LcpMatrix<S> Wa(k, W.cols());
-    LcpVector<S> e(k);
+    LcpVector<S> offset(k);  // e_α ḟ_α(u_k) for a gap, φ_α(q_k, u_k) − W_α u_k for a kinematic row
     for (Eigen::Index i = 0; i < k; ++i) {
-      Wa.row(i) = W.row(step.active[std::size_t(i)]);
-      e[i] = restitution[step.active[std::size_t(i)]];
+      const Eigen::Index a = step.active[std::size_t(i)];
+      Wa.row(i) = W.row(a);
+      offset[i] = kinematic(a) ? S(g[a] - fdot[a]) : S(restitution[a] * fdot[a]);
     }
-    const LcpMatrix<S> Y = ldlt.solve(Wa.transpose());  // M⁻¹ W_Iᵀ
+    const LcpMatrix<S> Y = solve_mass(Wa.transpose());  // M̃⁻¹ W_Iᵀ
     const LcpMatrix<S> G = Wa * Y;
-    const LcpVector<S> qlcp = Wa * u_free + (e.array() * (Wa * u).array()).matrix();
+    const LcpVector<S> qlcp = Wa * u_free + offset;
     LcpVector<S> P(k);
     if (k == 1) {
       // The scalar LCP in closed form.
@@ -113,6 +162,7 @@ MoreauJeanStep<S> moreau_jean_step(Mass&& mass, Force&& force, Gaps&& gaps, Jaco
   }
   q += h * (theta * u_next + (S(1) - theta) * u);
   u = u_next;
+  if (options.project) options.project(t + h, q, u);
   return step;
 }
 
