@@ -14,13 +14,13 @@
 #include "host/bench.hpp"
 #include "host/pipeline.hpp"
 #include "host/simulate.hpp"
+#include "support/decimal.hpp"
 #include "support/diagnostic.hpp"
 
 namespace eomc::cli {
 
-// [+|-] digits [. digits] [e|E [+|-] digits], the whole text, a finite normal double (or 0).
-// Throws InputError at `where` with the reason.
-double parse_decimal(std::string_view text, const SourcePos& where);
+// The one decimal grammar (support/decimal.hpp).
+using eomc::parse_decimal;
 
 // --set NAME=VALUE items, checked for shape.
 std::vector<std::pair<std::string, double>> parse_overrides(const std::vector<std::string>& items);
