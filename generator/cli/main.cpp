@@ -17,6 +17,7 @@
 #include "cli/options.hpp"
 #include "codegen/cpp_text.hpp"
 #include "host/bench.hpp"
+#include "host/ensemble.hpp"
 #include "host/orbit_bench.hpp"
 #include "host/pipeline.hpp"
 #include "host/rigid_bench.hpp"
@@ -87,13 +88,14 @@ struct Options {
     bool timings = false;
     cli::SimulateOptions simulate;
     cli::BenchOptions bench;
+    cli::EnsembleOptions ensemble;
     mechanics::inverse::SearchBudget search_budget;
     unsigned degree = mechanics::rigid::default_search_degree;
     std::optional<double> spin;  // equilibria of a rigid body: Ω of the sleeping families
 };
 
 struct Commands {
-    CLI::App *derive, *generate, *simulate, *equilibria, *inverse, *integrals, *run, *bench;
+    CLI::App *derive, *generate, *simulate, *equilibria, *inverse, *integrals, *run, *bench, *sweep, *ensemble;
 };
 
 Commands declare_commands(CLI::App& app, Options& o) {
@@ -139,6 +141,17 @@ Commands declare_commands(CLI::App& app, Options& o) {
     hamiltonian_flag(c.simulate);
     orbit_formulation(c.simulate);
     variational_flag(c.simulate, integrate_phi);
+
+    c.sweep = app.add_subcommand("sweep", "one compiled kernel run over a grid of parameters or initial values: a "
+                                          "CSV row per run, statistics printed");
+    scene_argument(c.sweep);
+    cli::add_integration_options(c.sweep, o.simulate);
+    cli::add_ensemble_options(c.sweep, o.ensemble, true);
+    c.ensemble = app.add_subcommand("ensemble", "Monte Carlo: one compiled kernel run for N random draws of "
+                                                "parameters or initial values: a CSV row per run, statistics printed");
+    scene_argument(c.ensemble);
+    cli::add_integration_options(c.ensemble, o.simulate);
+    cli::add_ensemble_options(c.ensemble, o.ensemble, false);
 
     c.equilibria = app.add_subcommand("equilibria", "relative equilibria of a steady carrier and their stability; "
                                                     "a rigid body's permanent rotations (Staude)");
@@ -242,6 +255,23 @@ void simulate_command(const Pipeline& p, Options& o, bool whole_job) {
     if (whole_job) std::cout << "Trajectory: " << o.simulate.output << "\n";
 }
 
+// `sweep` and `ensemble`: everything is checked before the first run, and the CSV written whole.
+void ensemble_command(const Pipeline& p, const Options& o) {
+    host::EnsembleRequest r;
+    r.spec = cli::ensemble_spec(o.ensemble);
+    if (!o.ensemble.output.empty()) check_output_target(o.ensemble.output);
+    codegen::KernelIR ir;
+    const std::string header = host::kernel_header(p, nullptr, &ir);
+    r.base = cli::simulation_request(p, header, o.simulate);
+    cli::check_overrides_against_scene(o.scene_path, o.front, o.simulate.overrides);
+    cli::check_grid_against_scene(o.scene_path, o.front, o.simulate.overrides, r.spec);
+    host::check_separable(r.base.integrator, r.base.integrator_pos, ir.separable, ir.scene_name);
+    r.threads = o.ensemble.threads;
+    const host::EnsembleResult result = host::run_ensemble(r);
+    if (!o.ensemble.output.empty()) write_file_atomically(o.ensemble.output, host::ensemble_csv(result));
+    host::print_ensemble_summary(result, o.ensemble.format, std::cout);
+}
+
 void bench_command(const Pipeline& p, const Options& o) {
     codegen::KernelIR ir;
     const std::string header = host::kernel_header(p, nullptr, &ir);
@@ -315,6 +345,7 @@ int main(int argc, char** argv) {
         else if (c.simulate->parsed()) simulate_command(p, o, false);
         else if (c.run->parsed()) simulate_command(p, o, true);
         else if (c.bench->parsed()) bench_command(p, o);
+        else if (c.sweep->parsed() || c.ensemble->parsed()) ensemble_command(p, o);
         else if (c.equilibria->parsed() && p.model.kind() == model::ModelKind::rigid)
             report::print_rigid_equilibria(p.model, mechanics::rigid::rigid_equilibria(p.model, o.spin), o.format,
                                            std::cout);

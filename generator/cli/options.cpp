@@ -91,7 +91,7 @@ const CLI::Validator decimal(
 
 }  // namespace
 
-void add_simulate_options(CLI::App* cmd, SimulateOptions& o) {
+void add_integration_options(CLI::App* cmd, SimulateOptions& o) {
     cmd->add_option("--t-end", o.t_end, "final time (default: [simulate] t_end)")->check(decimal)->check(CLI::PositiveNumber);
     cmd->add_option("--integrator", o.integrator,
                     fmt::format("{} (default: [simulate] integrator; {} need a separable system)",
@@ -114,8 +114,6 @@ void add_simulate_options(CLI::App* cmd, SimulateOptions& o) {
                     "else on for gl4-8, verlet, yoshida6, kahanli8 and off for the others)")
         ->check(CLI::IsMember({"on", "off"}));
     cmd->add_option("--set", o.overrides, "NAME=VALUE: a parameter, or an initial value (q, q_dot)");
-    cmd->add_option("--output", o.output, "trajectory CSV (t, state, invariants)");
-    cmd->add_option("--summary", o.summary, "text | json")->check(CLI::IsMember({"text", "json"}));
     cmd->add_option("--cache-dir", o.cache_dir, "where compiled kernels are kept (default ~/.cache/eomc)");
     cmd->add_option("--max-steps", o.max_steps,
                     fmt::format("the most steps the run may take (default: {} for the fixed-step methods, refused "
@@ -123,6 +121,12 @@ void add_simulate_options(CLI::App* cmd, SimulateOptions& o) {
                                 host::SimulationRequest::default_max_fixed_steps, runtime::Limits{}.max_steps,
                                 integrator_list(adaptive, " and ")))
         ->check(CLI::PositiveNumber);
+}
+
+void add_simulate_options(CLI::App* cmd, SimulateOptions& o) {
+    add_integration_options(cmd, o);
+    cmd->add_option("--output", o.output, "trajectory CSV (t, state, invariants)");
+    cmd->add_option("--summary", o.summary, "text | json")->check(CLI::IsMember({"text", "json"}));
     cmd->add_option("--max-rows", o.max_rows,
                     fmt::format("the most rows the CSV may hold (default {}); a run that would write more leaves no CSV",
                                 host::SimulationRequest::default_max_rows))
@@ -159,6 +163,52 @@ host::SimulationRequest simulation_request(const host::Pipeline& p, const std::s
     }
     r.theta = p.model.theta;
     return r;
+}
+
+void add_ensemble_options(CLI::App* cmd, EnsembleOptions& o, bool sweep) {
+    if (sweep) {
+        cmd->add_option("--grid", o.grid, "NAME=a:b:n (n points from a to b inclusive) or NAME=value: a parameter "
+                                          "or an initial value; several make a grid, the last varying fastest")
+            ->required();
+    } else {
+        cmd->add_option("--vary", o.vary, "NAME=normal(mu,sigma) | uniform(a,b) | lognormal(mu,sigma): a parameter "
+                                          "or an initial value drawn for each member")
+            ->required();
+        cmd->add_option("--samples", o.samples, "the number of members")->required();
+        cmd->add_option("--seed", o.seed, "the random seed, 0 to 2^64 - 1 (default 0); member i draws from "
+                                          "splitmix64(seed, i), the same on any thread");
+    }
+    cmd->add_option("--threads", o.threads, "threads running members (default: the hardware's)")
+        ->check(CLI::Range(1u, 4096u));
+    cmd->add_option("-o,--output", o.output, "one CSV row per member (inputs, status, final state, invariant drifts, "
+                                             "events, message)");
+    cmd->add_option("--format", o.format, "summary statistics as text | json")->check(CLI::IsMember({"text", "json"}));
+}
+
+host::EnsembleSpec ensemble_spec(const EnsembleOptions& o) {
+    host::EnsembleSpec spec;
+    for (const auto& g : o.grid) spec.grid.push_back(host::parse_grid(g));
+    for (const auto& v : o.vary) spec.vary.push_back(host::parse_variation(v));
+    if (!o.vary.empty()) {
+        spec.samples = host::parse_samples(o.samples);
+        spec.seed = host::parse_seed(o.seed);
+    }
+    (void)spec.members();  // a grid too large is refused now
+    return spec;
+}
+
+void check_grid_against_scene(const std::string& scene_path, const host::FrontEndOptions& front,
+                              const std::vector<std::string>& overrides, const host::EnsembleSpec& spec) {
+    for (const auto& axis : spec.grid)
+        for (double end : {axis.first, axis.last}) {
+            std::vector<std::string> items = overrides;
+            items.push_back(fmt::format("{}={:.17g}", axis.name, end));
+            try {
+                check_overrides_against_scene(scene_path, front, items);
+            } catch (const InputError& e) {
+                throw InputError(axis.where, fmt::format("at {} = {}: {}", axis.name, end, e.message()));
+            }
+        }
 }
 
 std::vector<std::string> comma_list(const std::string& text) {

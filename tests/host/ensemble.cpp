@@ -186,3 +186,25 @@ BOOST_AUTO_TEST_CASE(bad_specifications_are_refused_before_any_run) {
     r.base.integrator = "dopri7";
     BOOST_CHECK_THROW(run_ensemble(r), eomc::InputError);
 }
+
+// The bundled damped bead on a spinning hoop swept over ω: it settles at θ = 0 below the pitchfork
+// ω² = g/R and at cos θ* = g/(R ω²) above it (θ* > 0: from θ = 0.1 at rest, with ω² above
+// (g/R)·2/(1 + cos 0.1), the bead's energy is already below the barrier's at θ = 0). At every grid
+// point here the drag rate c/(mR²) = 2 s⁻¹ damps the approach at e⁻ᵗ (ω = 4 and 4.5, the nearest,
+// are underdamped), so at t = 40 the transient is ~0.1 e⁻⁴⁰ ≈ 4e-19; dopri5's global error at
+// rtol 1e-10, atol 1e-12 over < 2000 steps is below 2e-7, the bound used.
+BOOST_AUTO_TEST_CASE(the_hoop_pitchfork_from_a_sweep) {
+    const Kernel k = test_support::kernel_of(test_support::bundled_scene("bead_on_hoop_damped"));
+    EnsembleRequest r = request_for(k, 40.0);
+    r.spec.grid = {parse_grid("omega=0:8:17")};
+    const EnsembleResult e = run_ensemble(r);
+    BOOST_TEST_REQUIRE(e.members.size() == 17u);
+    const double g = 9.81, R = 0.5;
+    for (const auto& m : e.members) {
+        const double w = m.inputs[0];
+        BOOST_TEST_INFO("omega = " << w);
+        BOOST_TEST(m.status == "ok");
+        const double expected = w * w <= g / R ? 0.0 : std::acos(g / (R * w * w));
+        BOOST_TEST(std::abs(final_value(e, m, "theta") - expected) < 2e-7);
+    }
+}

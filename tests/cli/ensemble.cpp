@@ -1,0 +1,87 @@
+// `eomc sweep` and `eomc ensemble` as a user meets them: the CSV and summaries, the same bytes on
+// 1 and 2 threads, bad specifications refused at their flag with exit 2 and nothing written.
+#define BOOST_TEST_MODULE cli_ensemble
+#include <boost/test/unit_test.hpp>
+
+#include <string>
+
+#include "command.hpp"
+
+namespace fs = std::filesystem;
+using test_support::run_eomc;
+using test_support::scratch;
+using test_support::slurp;
+
+namespace {
+
+const std::string damped = EOMC_SOURCE_DIR "/scenes/damped_oscillator.toml";
+// Each test's kernels cached in the build tree, never the user's ~/.cache.
+const std::string cache = " --cache-dir " EOMC_BINARY_DIR "/test-cache";
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(an_ensemble_is_the_same_on_one_and_two_threads) {
+    const fs::path dir = scratch("cli-ensemble", "threads");
+    const std::string common = "ensemble " + damped + cache +
+                               " --vary 'w=normal(1,0.1)' --vary 'x=uniform(0.5,1.5)' --samples 300 --seed 99"
+                               " --t-end 5 --format json";
+    const auto one = run_eomc(common + " --threads 1 -o " + (dir / "one.csv").string(), dir);
+    const auto two = run_eomc(common + " --threads 2 -o " + (dir / "two.csv").string(), dir);
+    BOOST_TEST_REQUIRE(one.status == 0, one.err);
+    BOOST_TEST_REQUIRE(two.status == 0, two.err);
+    const std::string a = slurp(dir / "one.csv"), b = slurp(dir / "two.csv");
+    BOOST_TEST(a == b);
+    BOOST_TEST(a.rfind("member,w,x,status,t,x,x_dot,events,message\n0,", 0) == 0u);
+    std::size_t rows = 0;
+    for (char c : a) rows += c == '\n';
+    BOOST_TEST(rows == 301u);
+    // The statistics (everything after the timings) are the same bytes too.
+    BOOST_TEST(one.out.substr(one.out.find("\"statistics\"")) == two.out.substr(two.out.find("\"statistics\"")));
+    BOOST_TEST(one.out.find("\"threads\": 1,") != std::string::npos);
+    BOOST_TEST(two.out.find("\"threads\": 2,") != std::string::npos);
+}
+
+BOOST_AUTO_TEST_CASE(a_sweep_prints_its_statistics) {
+    const fs::path dir = scratch("cli-ensemble", "sweep");
+    const auto r = run_eomc("sweep " + damped + cache + " --grid w=1:2:3 --grid gamma=0.1 -o " +
+                                (dir / "sweep.csv").string(),
+                            dir);
+    BOOST_TEST_REQUIRE(r.status == 0, r.err);
+    BOOST_TEST(r.out.find("3 runs with dopri5") != std::string::npos);
+    BOOST_TEST(r.out.find("3 ok, 0 stopped by a terminal event, 0 failed") != std::string::npos);
+    const std::string csv = slurp(dir / "sweep.csv");
+    BOOST_TEST(csv.find("\n1,1.5,0.10000000000000001,ok,20,") != std::string::npos);
+}
+
+// Each bad specification: exit 2, the flag named on stderr, no CSV (not even a temporary).
+BOOST_AUTO_TEST_CASE(bad_specifications_write_nothing) {
+    const fs::path dir = scratch("cli-ensemble", "refusals");
+    const std::string out = " -o " + (dir / "out.csv").string();
+    const struct {
+        std::string arguments, flag, words;
+    } cases[] = {
+        {"sweep " + damped + " --grid ww=1:2:3", "--grid ww=1:2:3", "did you mean 'w'"},
+        {"sweep " + damped + " --grid w=2:1:3", "--grid w=2:1:3", "reversed"},
+        {"sweep " + damped + " --grid w=1:1:3", "--grid w=1:1:3", "empty"},
+        {"sweep " + damped + " --grid w=1:2:0", "--grid w=1:2:0", "at least 1"},
+        {"sweep " + damped + " --grid w=1:2:3 --set w=2", "--grid w=1:2:3", "--set"},
+        {"ensemble " + damped + " --vary 'w=normal(1,0.1)' --samples=-3", "--samples", "positive"},
+        {"ensemble " + damped + " --vary 'w=normal(1,0.1)' --samples 0", "--samples", "at least 1"},
+        {"ensemble " + damped + " --vary 'w=normal(1,-0.1)' --samples 5", "--vary w=normal(1,-0.1)", "sigma > 0"},
+        {"ensemble " + damped + " --vary 'w=uniform(2,1)' --samples 5", "--vary w=uniform(2,1)", "a < b"},
+        {"ensemble " + damped + " --vary 'w=normal(1,inf)' --samples 5", "--vary w=normal(1,inf)", "not a number"},
+        {"ensemble " + damped + " --vary 'w=normal(1,0.1)' --samples 5 --seed x", "--seed", "whole number"},
+    };
+    for (const auto& c : cases) {
+        BOOST_TEST_INFO(c.arguments);
+        const auto r = run_eomc(c.arguments + cache + out, dir);
+        BOOST_TEST(r.status == 2);
+        BOOST_TEST(r.err.find(c.flag + ": error: ") != std::string::npos, r.err);
+        BOOST_TEST(r.err.find(c.words) != std::string::npos, r.err);
+        BOOST_TEST(!fs::exists(dir / "out.csv"));
+    }
+    std::size_t left = 0;
+    for (const auto& entry : fs::directory_iterator(dir)) left += entry.path().filename() != "stdout" &&
+                                                                 entry.path().filename() != "stderr";
+    BOOST_TEST(left == 0u);
+}
