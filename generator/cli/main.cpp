@@ -18,6 +18,7 @@
 #include "codegen/cpp_text.hpp"
 #include "host/bench.hpp"
 #include "host/ensemble.hpp"
+#include "host/ensemble_mpi.hpp"
 #include "host/orbit_bench.hpp"
 #include "host/pipeline.hpp"
 #include "host/rigid_bench.hpp"
@@ -267,7 +268,12 @@ void ensemble_command(const Pipeline& p, const Options& o) {
     cli::check_grid_against_scene(o.scene_path, o.front, o.simulate.overrides, r.spec);
     host::check_separable(r.base.integrator, r.base.integrator_pos, ir.separable, ir.scene_name);
     r.threads = o.ensemble.threads;
-    const host::EnsembleResult result = host::run_ensemble(r);
+    const host::MpiSession mpi;  // rank 0 of 1 unless launched by mpirun
+    r.rank = mpi.rank();
+    r.ranks = mpi.size();
+    host::EnsembleResult result = host::run_ensemble(r);
+    if (!mpi.gather(result)) return;  // rank 0 writes and prints for all
+    host::refuse_if_all_refused(result);
     if (!o.ensemble.output.empty()) write_file_atomically(o.ensemble.output, host::ensemble_csv(result));
     host::print_ensemble_summary(result, o.ensemble.format, std::cout);
 }

@@ -49,6 +49,7 @@ MemberResult run_member(const SimulationRequest& proto, const KernelLibrary& lib
         m.message = e.what();
     } catch (const InputError& e) {  // this member's values refused (a start below a surface, …)
         m.message = e.what();
+        m.refused = true;
         refusal.emplace(e);
     } catch (const std::exception& e) {
         m.message = e.what();
@@ -159,11 +160,20 @@ EnsembleResult run_ensemble(const EnsembleRequest& request) {
         work(true);
     }
     result.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
-    // Bad input for every member is bad input for the command, not a table of identical failures.
-    if (mine > 0 && std::all_of(refusals.begin(), refusals.end(), [](const auto& r) { return r.has_value(); }))
+    // Bad input for every member is bad input for the command, not a table of identical failures
+    // (with several ranks, rank 0 decides once it holds them all).
+    if (request.ranks == 1 && mine > 0 &&
+        std::all_of(refusals.begin(), refusals.end(), [](const auto& r) { return r.has_value(); }))
         throw InputError(refusals.front()->where(),
                          fmt::format("every member was refused; member 0: {}", refusals.front()->message()));
     return result;
+}
+
+void refuse_if_all_refused(const EnsembleResult& result) {
+    if (!result.members.empty() &&
+        std::all_of(result.members.begin(), result.members.end(), [](const MemberResult& m) { return m.refused; }))
+        throw InputError(SourcePos{}, fmt::format("every member was refused; member {}: {}", result.members.front().index,
+                                                  result.members.front().message));
 }
 
 std::string ensemble_csv(const EnsembleResult& r) {
@@ -233,10 +243,10 @@ void print_ensemble_summary(const EnsembleResult& r, const std::string& format, 
     constexpr std::size_t listed = 10;  // failures named in the summary (all are in the CSV)
     if (format == "json") {
         std::string s = fmt::format("{{\"scene\": {}, \"method\": {}, \"members\": {}, \"ok\": {}, \"stopped\": {}, "
-                                    "\"failed\": {}, \"threads\": {}, \"wall_s\": {}, \"runs_per_s\": {}, "
+                                    "\"failed\": {}, \"ranks\": {}, \"threads\": {}, \"wall_s\": {}, \"runs_per_s\": {}, "
                                     "\"compile_s\": {}, \"statistics\": {{",
                                     json_string(r.scene_name), json_string(r.method), r.members.size(), ok, stopped,
-                                    failed, r.threads, json_number(r.wall_s), json_number(rate),
+                                    failed, r.ranks, r.threads, json_number(r.wall_s), json_number(rate),
                                     json_number(r.compile_s));
         for (std::size_t i = 0; i < stats.size(); ++i) {
             const auto& c = stats[i];
@@ -269,8 +279,9 @@ void print_ensemble_summary(const EnsembleResult& r, const std::string& format, 
     for (const auto& m : r.members)
         if (m.status == "failed" && n++ < listed) s += fmt::format("failed      member {}: {}\n", m.index, m.message);
     if (failed > listed) s += fmt::format("            ... {} more (all in the CSV)\n", failed - listed);
-    s += fmt::format("time        {:.3g} s on {} thread{} ({:.4g} runs/s); kernel {:.3g} s{}\n", r.wall_s, r.threads,
-                     r.threads == 1 ? "" : "s", rate, r.compile_s, r.cache_hit ? " (cached)" : "");
+    s += fmt::format("time        {:.3g} s on {}{} thread{} ({:.4g} runs/s); kernel {:.3g} s{}\n", r.wall_s,
+                     r.ranks > 1 ? fmt::format("{} ranks × ", r.ranks) : "", r.threads, r.threads == 1 ? "" : "s", rate,
+                     r.compile_s, r.cache_hit ? " (cached)" : "");
     out << s;
 }
 

@@ -37,13 +37,15 @@ struct MemberResult {
     std::vector<double> state;   // the final state, in state_names order
     std::vector<double> drifts;  // each invariant's max |I(t) − I(0)|
     std::size_t events = 0;      // located events (and contact events)
+    bool refused = false;        // failed as bad input (its values refused), not in the integration
 };
 
 struct EnsembleResult {
     std::string scene_name, method;
     std::vector<std::string> input_names, state_names, invariant_names;
     std::vector<MemberResult> members;  // by index (only this rank's when ranks > 1)
-    unsigned threads = 1;
+    unsigned threads = 1;        // per rank
+    std::size_t ranks = 1;       // MPI ranks whose members were gathered here
     double wall_s = 0.0, compile_s = 0.0;
     bool cache_hit = false;
 };
@@ -52,6 +54,10 @@ struct EnsembleResult {
 // any member runs, and when every member is refused as bad input (the first one's error); a
 // member that fails otherwise is recorded and the others run on.
 EnsembleResult run_ensemble(const EnsembleRequest& request);
+
+// Throws InputError when every member was refused as bad input: then the specification is bad,
+// not the members (run_ensemble calls it; after an MPI gather, rank 0 does).
+void refuse_if_all_refused(const EnsembleResult& result);
 
 // One row per member: member, the inputs, status, t, the final state, <invariant>_max_drift,
 // events, message (quoted). Numbers to 17 significant digits; a failed member's empty cells.

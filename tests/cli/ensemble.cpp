@@ -85,3 +85,24 @@ BOOST_AUTO_TEST_CASE(bad_specifications_write_nothing) {
                                                                  entry.path().filename() != "stderr";
     BOOST_TEST(left == 0u);
 }
+
+#ifdef EOMC_MPIEXEC
+// Under mpirun -np 2 (oversubscribed on a small machine) each rank runs every other member and
+// rank 0 gathers them: the CSV and the statistics are the bytes of one process.
+BOOST_AUTO_TEST_CASE(two_mpi_ranks_give_the_bytes_of_one_process) {
+    const fs::path dir = scratch("cli-ensemble", "mpi");
+    const std::string args = "ensemble " + damped + cache +
+                             " --vary 'w=lognormal(0,0.2)' --vary 'gamma=uniform(0,0.3)' --samples 101 --seed 5"
+                             " --t-end 5 --threads 1 --format json -o ";
+    const auto one = run_eomc(args + (dir / "one.csv").string(), dir);
+    BOOST_TEST_REQUIRE(one.status == 0, one.err);
+    // CI runs as root, which Open MPI refuses unless told.
+    const auto two = test_support::run_command(std::string(EOMC_MPIEXEC) + " -np 2 --oversubscribe " +
+                                                   EOMC_EXECUTABLE + " " + args + (dir / "two.csv").string(),
+                                               dir, "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1");
+    BOOST_TEST_REQUIRE(two.status == 0, two.err);
+    BOOST_TEST(slurp(dir / "one.csv") == slurp(dir / "two.csv"));
+    BOOST_TEST(two.out.find("\"ranks\": 2,") != std::string::npos, two.out);
+    BOOST_TEST(one.out.substr(one.out.find("\"statistics\"")) == two.out.substr(two.out.find("\"statistics\"")));
+}
+#endif
