@@ -19,6 +19,7 @@
 #include "host/bench.hpp"
 #include "host/ensemble.hpp"
 #include "host/ensemble_mpi.hpp"
+#include "host/gnuplot.hpp"
 #include "host/orbit_bench.hpp"
 #include "host/pipeline.hpp"
 #include "host/rigid_bench.hpp"
@@ -261,6 +262,9 @@ void ensemble_command(const Pipeline& p, const Options& o) {
     host::EnsembleRequest r;
     r.spec = cli::ensemble_spec(o.ensemble);
     if (!o.ensemble.output.empty()) check_output_target(o.ensemble.output);
+    if (!o.ensemble.plot.empty()) check_output_target(o.ensemble.plot);
+    if (host::has_control_character(o.ensemble.plot))  // the path reaches the plot script
+        throw InputError(SourcePos{"--plot"}, "the path contains a control character");
     codegen::KernelIR ir;
     const std::string header = host::kernel_header(p, nullptr, &ir);
     r.base = cli::simulation_request(p, header, o.simulate);
@@ -274,8 +278,17 @@ void ensemble_command(const Pipeline& p, const Options& o) {
     host::EnsembleResult result = host::run_ensemble(r);
     if (!mpi.gather(result)) return;  // rank 0 writes and prints for all
     host::refuse_if_all_refused(result);
+    const std::string& column = o.ensemble.plot_column.empty() && !result.state_names.empty()
+                                    ? result.state_names.front() : o.ensemble.plot_column;
+    const auto script = [&](const std::string& terminal, const fs::path& png) {
+        return host::ensemble_plot_script(result, r.spec, column, terminal, png);
+    };
+    if (!o.ensemble.plot.empty()) (void)script("png", o.ensemble.plot);  // a bad picture is refused before any output
     if (!o.ensemble.output.empty()) write_file_atomically(o.ensemble.output, host::ensemble_csv(result));
     host::print_ensemble_summary(result, o.ensemble.format, std::cout);
+    if (!o.ensemble.plot.empty())
+        if (const std::string note = host::write_plot(script, o.ensemble.plot); !note.empty())
+            std::cerr << "eomc: warning: " << note << "\n";
 }
 
 void bench_command(const Pipeline& p, const Options& o) {

@@ -183,6 +183,11 @@ void add_ensemble_options(CLI::App* cmd, EnsembleOptions& o, bool sweep) {
     cmd->add_option("-o,--output", o.output, "one CSV row per member (inputs, status, final state, invariant drifts, "
                                              "events, message)");
     cmd->add_option("--format", o.format, "summary statistics as text | json")->check(CLI::IsMember({"text", "json"}));
+    cmd->add_option("--plot", o.plot, sweep ? "a PNG (gnuplot) of --plot-column against the one varied axis (a "
+                                              "bifurcation diagram), or a map of it over two"
+                                            : "a PNG (gnuplot): the histogram of --plot-column");
+    cmd->add_option("--plot-column", o.plot_column, "t, a state variable or <invariant>_max_drift (default: the "
+                                                    "first state variable)");
 }
 
 host::EnsembleSpec ensemble_spec(const EnsembleOptions& o) {

@@ -53,6 +53,7 @@ struct EnsembleOptions {
     std::string samples, seed = "0";
     unsigned threads = 0;  // 0 = the hardware's
     std::string output, format = "text";
+    std::string plot, plot_column;  // --plot FILE.png, --plot-column NAME ("" = the first state variable)
 };
 
 void add_ensemble_options(CLI::App* cmd, EnsembleOptions& o, bool sweep);

@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 
 #include "eomc/runtime/errors.hpp"
+#include "host/gnuplot.hpp"
 #include "host/kernel_loader.hpp"
 #include "scene/scene.hpp"
 #include "support/json.hpp"
@@ -137,8 +138,8 @@ EnsembleResult run_ensemble(const EnsembleRequest& request) {
     const std::size_t mine = total > request.rank ? (total - request.rank + request.ranks - 1) / request.ranks : 0;
     result.members.resize(mine);
     const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
-    const unsigned threads = static_cast<unsigned>(
-        std::max<std::size_t>(1, std::min<std::size_t>(request.threads ? request.threads : hardware, std::max<std::size_t>(mine, 1))));
+    const std::size_t wanted = request.threads ? request.threads : hardware;
+    const unsigned threads = static_cast<unsigned>(std::clamp<std::size_t>(std::min(wanted, mine), 1, wanted));
     result.threads = threads;
     std::vector<std::optional<InputError>> refusals(mine);
     std::atomic<std::size_t> next{0}, done{0};
@@ -283,6 +284,84 @@ void print_ensemble_summary(const EnsembleResult& r, const std::string& format, 
                      r.ranks > 1 ? fmt::format("{} ranks × ", r.ranks) : "", r.threads, r.threads == 1 ? "" : "s", rate,
                      r.compile_s, r.cache_hit ? " (cached)" : "");
     out << s;
+}
+
+std::vector<double> ensemble_column(const EnsembleResult& r, const std::string& column) {
+    std::vector<std::string> names{"t"};
+    names.insert(names.end(), r.state_names.begin(), r.state_names.end());
+    for (const auto& n : r.invariant_names) names.push_back(n + "_max_drift");
+    const auto at = std::find(names.begin(), names.end(), column);
+    if (at == names.end()) {
+        const std::string near = nearest_name(column, names);
+        throw InputError(SourcePos{"--plot-column"},
+                         fmt::format("no column '{}'{} (expected one of {})", column,
+                                     near.empty() ? "" : "; did you mean '" + near + "'?", fmt::join(names, ", ")));
+    }
+    const std::size_t c = static_cast<std::size_t>(at - names.begin());
+    std::vector<double> out;
+    for (const auto& m : r.members) {
+        const double v = c == 0 ? m.t : c <= m.state.size() ? m.state[c - 1] : m.drifts[c - 1 - m.state.size()];
+        out.push_back(m.status == "failed" ? MemberResult::nan : v);
+    }
+    return out;
+}
+
+std::string ensemble_plot_script(const EnsembleResult& r, const EnsembleSpec& spec, const std::string& column,
+                                 const std::string& terminal, const std::filesystem::path& output) {
+    const std::vector<double> values = ensemble_column(r, column);
+    const auto cell = [](double v) { return std::isfinite(v) ? fmt::format("{:.17g}", v) : std::string("NaN"); };
+    const auto label = [](const std::string& text) { return gnuplot_quoted(gnuplot_text(text)); };
+    std::string s = fmt::format("set terminal {} size 1000,700 font ',10'\nset output {}\nset grid\n", terminal,
+                                gnuplot_quoted(output.string()));
+    if (!spec.vary.empty()) {
+        // The histogram: about √n bins (5 to 60) over the finite values' range.
+        std::vector<double> finite;
+        for (double v : values)
+            if (std::isfinite(v)) finite.push_back(v);
+        const std::size_t bins = std::clamp<std::size_t>(
+            static_cast<std::size_t>(std::ceil(std::sqrt(static_cast<double>(finite.size())))), 5, 60);
+        const double lo = finite.empty() ? 0.0 : *std::min_element(finite.begin(), finite.end());
+        const double hi = finite.empty() ? 1.0 : *std::max_element(finite.begin(), finite.end());
+        const double width = hi > lo ? (hi - lo) / static_cast<double>(bins) : 1.0;
+        std::vector<std::size_t> count(bins, 0);
+        for (double v : finite)
+            ++count[std::min(bins - 1, static_cast<std::size_t>((v - lo) / width))];
+        s += "$h << EOD\n";
+        for (std::size_t b = 0; b < bins; ++b)
+            s += fmt::format("{} {} {}\n", cell(lo + (static_cast<double>(b) + 0.5) * width), count[b], cell(width));
+        s += "EOD\n";
+        s += fmt::format("set title {}\nset xlabel {}\nset ylabel 'members'\nset yrange [0:*]\n"
+                         "set style fill solid 0.5 border\nplot $h using 1:2:3 with boxes lc rgb '#1f77b4' notitle\n",
+                         label(fmt::format("{}: {} over {} draws ({} failed, left out)", r.scene_name, column,
+                                           r.members.size(), r.members.size() - finite.size())),
+                         label(column));
+        return s;
+    }
+    std::vector<std::size_t> varied;
+    for (std::size_t k = 0; k < spec.grid.size(); ++k)
+        if (spec.grid[k].count > 1) varied.push_back(k);
+    if (varied.empty() || varied.size() > 2)
+        throw InputError(SourcePos{"--plot"}, fmt::format("a picture of a sweep needs a grid that varies one axis (a "
+                                                          "bifurcation diagram) or two (a map); this one varies {}",
+                                                          varied.size()));
+    s += "$d << EOD\n";
+    for (std::size_t i = 0; i < r.members.size(); ++i) {
+        const auto& in = r.members[i].inputs;
+        s += varied.size() == 1 ? fmt::format("{} {}\n", cell(in[varied[0]]), cell(values[i]))
+                                : fmt::format("{} {} {}\n", cell(in[varied[0]]), cell(in[varied[1]]), cell(values[i]));
+    }
+    s += "EOD\n";
+    const std::string& x = spec.grid[varied[0]].name;
+    if (varied.size() == 1)
+        return s + fmt::format("set title {}\nset xlabel {}\nset ylabel {}\n"
+                               "plot $d using 1:2 with linespoints pt 7 ps 0.6 lc rgb '#1f77b4' notitle\n",
+                               label(fmt::format("{}: {} at the end of each run", r.scene_name, column)), label(x),
+                               label(column));
+    const std::string& y = spec.grid[varied[1]].name;
+    return s + fmt::format("set title {}\nset xlabel {}\nset ylabel {}\nset cblabel {}\nset palette rgb 33,13,10\n"
+                           "plot $d using 1:2:3 with image notitle\n",
+                           label(fmt::format("{}: {} at the end of each run", r.scene_name, column)), label(x),
+                           label(y), label(column));
 }
 
 }  // namespace eomc::host

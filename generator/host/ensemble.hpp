@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstddef>
+#include <filesystem>
 #include <limits>
 #include <ostream>
 #include <string>
@@ -75,5 +76,16 @@ std::vector<ColumnStatistics> ensemble_statistics(const EnsembleResult& result);
 
 // format: "text" or "json" (one object; NaN as null).
 void print_ensemble_summary(const EnsembleResult& result, const std::string& format, std::ostream& out);
+
+// A column of the CSV per member (NaN for a failed one): t, a state variable or
+// <invariant>_max_drift. Throws InputError at --plot-column when there is no such column.
+std::vector<double> ensemble_column(const EnsembleResult& result, const std::string& column);
+
+// The picture (a gnuplot script for `terminal`, writing `output`): over a grid that varies one
+// axis, `column` against it (a bifurcation diagram); over two, a map of `column` on the grid; for
+// random draws, the histogram of `column`. Throws InputError at --plot for a grid that varies no
+// axis or more than two, at --plot-column for an unknown column.
+std::string ensemble_plot_script(const EnsembleResult& result, const EnsembleSpec& spec, const std::string& column,
+                                 const std::string& terminal, const std::filesystem::path& output);
 
 }  // namespace eomc::host

@@ -86,6 +86,33 @@ BOOST_AUTO_TEST_CASE(bad_specifications_write_nothing) {
     BOOST_TEST(left == 0u);
 }
 
+// --plot draws the bifurcation diagram as a PNG; without gnuplot the CSV is still written, with a
+// warning; a bad column is refused before anything is written.
+BOOST_AUTO_TEST_CASE(a_sweep_draws_its_picture) {
+    const fs::path dir = scratch("cli-ensemble", "plot");
+    const std::string hoop = EOMC_SOURCE_DIR "/scenes/bead_on_hoop_damped.toml";
+    const std::string args = "sweep " + hoop + cache + " --grid omega=0:8:9 --t-end 5 -o " + (dir / "h.csv").string() +
+                             " --plot " + (dir / "h.png").string();
+    const auto drawn = run_eomc(args, dir);
+    BOOST_TEST_REQUIRE(drawn.status == 0, drawn.err);
+    if (!test_support::run_command("command -v gnuplot", dir).out.empty())
+        BOOST_TEST(slurp(dir / "h.png").substr(0, 8) == std::string("\x89PNG\r\n\x1a\n"));
+    fs::remove(dir / "h.png");
+    fs::remove(dir / "h.csv");
+    const auto none = test_support::run_command(std::string(EOMC_EXECUTABLE) + " " + args, dir,
+                                                "EOMC_GNUPLOT=/nonexistent/gnuplot");
+    BOOST_TEST(none.status == 0, none.err);
+    BOOST_TEST(none.err.find("warning: gnuplot was not found") != std::string::npos, none.err);
+    BOOST_TEST(fs::exists(dir / "h.csv"));
+    BOOST_TEST(!fs::exists(dir / "h.png"));
+    fs::remove(dir / "h.csv");
+    const auto bad = run_eomc(args + " --plot-column thet", dir);
+    BOOST_TEST(bad.status == 2);
+    BOOST_TEST(bad.err.find("--plot-column: error: no column 'thet'; did you mean 'theta'?") != std::string::npos, bad.err);
+    BOOST_TEST(!fs::exists(dir / "h.csv"));
+    BOOST_TEST(!fs::exists(dir / "h.png"));
+}
+
 #ifdef EOMC_MPIEXEC
 // Under mpirun -np 2 (oversubscribed on a small machine) each rank runs every other member and
 // rank 0 gathers them: the CSV and the statistics are the bytes of one process.

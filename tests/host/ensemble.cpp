@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include "host/ensemble.hpp"
 #include "support/diagnostic.hpp"
 
@@ -207,4 +209,45 @@ BOOST_AUTO_TEST_CASE(the_hoop_pitchfork_from_a_sweep) {
         const double expected = w * w <= g / R ? 0.0 : std::acos(g / (R * w * w));
         BOOST_TEST(std::abs(final_value(e, m, "theta") - expected) < 2e-7);
     }
+}
+
+// The pictures' scripts: one row of data per member (a failed one as NaN, which gnuplot leaves
+// out), a map over two varied axes, a histogram whose counts add up to the members that ran.
+BOOST_AUTO_TEST_CASE(the_pictures_hold_every_member) {
+    const Kernel k = oscillator();
+    EnsembleRequest r = request_for(k, 1.0);
+    r.spec.grid = {parse_grid("k=1:4:4")};
+    const EnsembleResult line = run_ensemble(r);
+    const std::string s1 = ensemble_plot_script(line, r.spec, "q", "png", "out.png");
+    BOOST_TEST(s1.find("set output 'out.png'") != std::string::npos);
+    BOOST_TEST(s1.find("plot $d using 1:2 with linespoints") != std::string::npos);
+    for (const auto& m : line.members)  // each member's (k, q(1)) row, as the CSV has it
+        BOOST_TEST(s1.find(fmt::format("\n{:.17g} {:.17g}\n", m.inputs[0], m.state[0])) != std::string::npos);
+    BOOST_CHECK_THROW(ensemble_plot_script(line, r.spec, "p", "png", "out.png"), eomc::InputError);
+
+    r.spec.grid = {parse_grid("k=1:4:4"), parse_grid("q=0.5:1:3")};
+    const EnsembleResult map = run_ensemble(r);
+    const std::string s2 = ensemble_plot_script(map, r.spec, "energy_max_drift", "png", "out.png");
+    BOOST_TEST(s2.find("with image") != std::string::npos);
+    r.spec.grid.push_back(parse_grid("q_dot=0:1:2"));
+    const EnsembleResult cube = run_ensemble(r);
+    try {
+        (void)ensemble_plot_script(cube, r.spec, "q", "png", "out.png");
+        BOOST_FAIL("a picture of a three-axis grid was drawn");
+    } catch (const eomc::InputError& e) {
+        BOOST_TEST(e.where().file == "--plot");
+    }
+
+    r.spec.grid.clear();
+    r.spec.vary = {parse_variation("q=normal(0,1)")};
+    r.spec.samples = 400;
+    const EnsembleResult draws = run_ensemble(r);
+    const std::string s3 = ensemble_plot_script(draws, r.spec, "q", "png", "out.png");
+    const std::size_t from = s3.find("$h << EOD\n") + 10;
+    const std::string data = s3.substr(from, s3.find("EOD\n", from) - from);
+    std::istringstream rows(data);
+    std::size_t total = 0, bins = 0;
+    for (double centre, count, width; rows >> centre >> count >> width; ++bins) total += static_cast<std::size_t>(count);
+    BOOST_TEST(bins == 20u);  // √400
+    BOOST_TEST(total == 400u);
 }
