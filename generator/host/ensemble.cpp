@@ -54,6 +54,8 @@ MemberResult run_member(const SimulationRequest& proto, const KernelLibrary& lib
         refusal.emplace(e);
     } catch (const std::exception& e) {
         m.message = e.what();
+    } catch (...) {  // nothing may leave a pool thread (std::terminate)
+        m.message = "an unknown error";
     }
     if (m.state.size() != n_state) m.state.assign(n_state, MemberResult::nan);
     if (m.drifts.size() != n_inv) m.drifts.assign(n_inv, MemberResult::nan);

@@ -5,6 +5,7 @@
 #include <boost/test/unit_test.hpp>
 
 #include <cmath>
+#include <numbers>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -250,4 +251,31 @@ BOOST_AUTO_TEST_CASE(the_pictures_hold_every_member) {
     for (double centre, count, width; rows >> centre >> count >> width; ++bins) total += static_cast<std::size_t>(count);
     BOOST_TEST(bins == 20u);  // √400
     BOOST_TEST(total == 400u);
+}
+
+// The bundled LEO under drag, swept ±5 % in CdA/m: each run stops at the re_entry event
+// ("stopped"). In the orbit-averaged decay da/dt ∝ (CdA/m) ρ(a), so the lifetime goes as
+// 1/(CdA/m) and t·(CdA/m) is the same for every member, but for where in its last orbit each
+// meets the surface: at most one period P = 2π √(a³/μ) ≈ 5.4e3 s, so they agree within P/t_min.
+BOOST_AUTO_TEST_CASE(the_leo_lifetime_goes_as_the_inverse_ballistic_coefficient) {
+    const Kernel k = test_support::kernel_of(test_support::bundled_scene("leo_drag"));
+    EnsembleRequest r = request_for(k, 2592000.0);
+    r.base.integrator = "dop853";
+    r.base.rtol = 1e-10;
+    r.base.atol = 1e-9;
+    r.spec.grid = {parse_grid("CdA_m=0.0209:0.0231:3")};
+    const EnsembleResult e = run_ensemble(r);
+    BOOST_TEST_REQUIRE(e.members.size() == 3u);
+    const double period = 2 * std::numbers::pi * std::sqrt(std::pow(6628.137, 3) / 398600.4418);
+    double t_min = e.members.back().t;
+    for (const auto& m : e.members) {
+        BOOST_TEST(m.status == "stopped");
+        BOOST_TEST(m.message == "re_entry");
+        BOOST_TEST(m.events == 1u);
+        t_min = std::min(t_min, m.t);
+    }
+    BOOST_TEST(t_min > 3e5);  // days, not the whole 30 days nor minutes
+    const double reference = e.members[1].t * e.members[1].inputs[0];
+    for (const auto& m : e.members)
+        BOOST_TEST(std::abs(m.t * m.inputs[0] / reference - 1) < period / t_min, "member " << m.index);
 }
