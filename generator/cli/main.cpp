@@ -268,6 +268,10 @@ void ensemble_command(const Pipeline& p, const Options& o) {
     codegen::KernelIR ir;
     const std::string header = host::kernel_header(p, nullptr, &ir);
     r.base = cli::simulation_request(p, header, o.simulate);
+    std::vector<std::string> parameters, states;  // the kernel's names, known before it compiles
+    for (const auto& s : ir.parameters) parameters.push_back(s.name);
+    for (const auto& s : ir.state) states.push_back(s.name);
+    host::check_names(r.spec, parameters, states, r.base.overrides);
     cli::check_overrides_against_scene(o.scene_path, o.front, o.simulate.overrides);
     cli::check_grid_against_scene(o.scene_path, o.front, o.simulate.overrides, r.spec);
     host::check_separable(r.base.integrator, r.base.integrator_pos, ir.separable, ir.scene_name);
