@@ -29,10 +29,12 @@
 #include "mechanics/rigid/euler_poisson.hpp"
 #include "mechanics/rigid/integrals.hpp"
 #include "mechanics/rigid/equilibria.hpp"
+#include "mechanics/unilateral/equilibria.hpp"
 #include "report/derivation_printer.hpp"
 #include "report/equilibria_printer.hpp"
 #include "report/rigid_printer.hpp"
 #include "report/inverse_printer.hpp"
+#include "report/unilateral_equilibria_printer.hpp"
 #include "scene/scene.hpp"
 #include "support/cleanup.hpp"
 #include "support/diagnostic.hpp"
@@ -156,9 +158,11 @@ Commands declare_commands(CLI::App& app, Options& o) {
     cli::add_ensemble_options(c.ensemble, o.ensemble, false);
 
     c.equilibria = app.add_subcommand("equilibria", "relative equilibria of a steady carrier and their stability; "
-                                                    "a rigid body's permanent rotations (Staude)");
+                                                    "a rigid body's permanent rotations (Staude); with [[unilateral]] "
+                                                    "gaps, the KKT equilibria (Mei §6.4)");
     scene_argument(c.equilibria);
-    c.equilibria->add_option("--format", o.format, "text | json")->check(CLI::IsMember({"text", "json"}));
+    c.equilibria->add_option("--format", o.format, "text | json (| latex with [[unilateral]] gaps)")
+        ->check(CLI::IsMember({"text", "latex", "json"}));
     c.equilibria->add_option("--spin", o.spin,
                              "a rigid body: the spin Ω at which the rotations about principal axes holding the mass "
                              "centre are linearised (default: ω0·γ0 of the scene)");
@@ -318,6 +322,23 @@ void bench_command(const Pipeline& p, const Options& o) {
     host::print_bench_table(host::bench(r), std::cout);
 }
 
+// `eomc equilibria`: the KKT equilibria with unilateral gaps, a rigid body's permanent rotations,
+// or the relative equilibria.
+void equilibria_command(const Pipeline& p, const Options& o) {
+    if (!p.model.unilateral.empty()) {
+        report::print_unilateral_equilibria(p.model, mechanics::unilateral::kkt_equilibria(p.model, p.equations),
+                                            derivation_format(o.format), std::cout);
+        return;
+    }
+    if (o.format == "latex")
+        throw InputError(SourcePos{"--format"}, "`eomc equilibria` writes LaTeX for scenes with [[unilateral]] gaps only; "
+                                                "use text or json");
+    if (p.model.kind() == model::ModelKind::rigid)
+        report::print_rigid_equilibria(p.model, mechanics::rigid::rigid_equilibria(p.model, o.spin), o.format, std::cout);
+    else
+        report::print_equilibria(p.model, mechanics::relative_equilibria(p.model, p.equations), o.format, std::cout);
+}
+
 void inverse_command(const Pipeline& p, const Options& o) {
     const auto analysis = mechanics::inverse::analyse(p.model, p.equations, o.search_budget);
     // Everything is computed before anything is written: a refusal leaves no file behind.
@@ -369,11 +390,7 @@ int main(int argc, char** argv) {
         else if (c.run->parsed()) simulate_command(p, o, true);
         else if (c.bench->parsed()) bench_command(p, o);
         else if (c.sweep->parsed() || c.ensemble->parsed()) ensemble_command(p, o);
-        else if (c.equilibria->parsed() && p.model.kind() == model::ModelKind::rigid)
-            report::print_rigid_equilibria(p.model, mechanics::rigid::rigid_equilibria(p.model, o.spin), o.format,
-                                           std::cout);
-        else if (c.equilibria->parsed())
-            report::print_equilibria(p.model, mechanics::relative_equilibria(p.model, p.equations), o.format, std::cout);
+        else if (c.equilibria->parsed()) equilibria_command(p, o);
         else if (c.inverse->parsed()) inverse_command(p, o);
         else if (c.integrals->parsed()) integrals_command(p, o);
     } catch (const InputError& e) {

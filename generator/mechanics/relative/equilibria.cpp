@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "support/diagnostic.hpp"
+#include "symbolic/closed_form.hpp"
 #include "symbolic/differentiation.hpp"
 #include "symbolic/numeric_probe.hpp"
 
@@ -247,227 +248,16 @@ Equilibrium classify(const RestSystem& r, Evaluation& at, const Eigen::VectorXd&
     return e;
 }
 
-// ---- Closed forms ------------------------------------------------------------------------
-
-// sin q_k and cos q_k as polynomial variables, so that factor() splits products of them.
-struct TrigVariables {
-    GiNaC::exmap to_variables, to_functions;
-    std::vector<GiNaC::symbol> sin_of, cos_of;  // per coordinate
-    explicit TrigVariables(const model::Model& model) {
-        for (const auto& c : model.coordinates) {
-            sin_of.emplace_back("sin_" + c.name);
-            cos_of.emplace_back("cos_" + c.name);
-            to_variables[GiNaC::sin(c.q)] = sin_of.back();
-            to_variables[GiNaC::cos(c.q)] = cos_of.back();
-            to_functions[sin_of.back()] = GiNaC::sin(c.q);
-            to_functions[cos_of.back()] = GiNaC::cos(c.q);
-        }
-    }
-};
-
-// A root q* with sin q* and cos q* in closed form, so that substituting it leaves algebra
-// (no cos(−acos x) for GiNaC to puzzle over).
-struct Root {
-    ex q, sin, cos;
-};
-
-// The roots of one factor in its one coordinate; periodic when they came through sin/cos
-// (then every image q + 2πk is a root too).
-struct FactorRoots {
-    std::vector<Root> values;
-    bool periodic = false;
-};
-
-// Roots of a·x + b = 0 or a·x² + b·x + c = 0 in x; nullopt for higher degrees.
-std::optional<std::vector<ex>> polynomial_roots(const ex& p, const ex& x) {
-    if (!p.is_polynomial(x)) return std::nullopt;
-    const int degree = p.degree(x);
-    if (degree == 1) return std::vector<ex>{(-p.coeff(x, 0) / p.coeff(x, 1)).normal()};
-    if (degree == 2) {
-        const ex a = p.coeff(x, 2), b = p.coeff(x, 1), c = p.coeff(x, 0);
-        const ex root = GiNaC::sqrt((b * b - 4 * a * c).normal());
-        return std::vector<ex>{((-b - root) / (2 * a)).normal(), ((-b + root) / (2 * a)).normal()};
-    }
-    return std::nullopt;
-}
-
-std::optional<FactorRoots> solve_factor(const ex& factor, const ex& q, const GiNaC::symbol& S, const GiNaC::symbol& C) {
-    const bool bare = factor.has(q), has_sin = factor.has(S), has_cos = factor.has(C);
-    if (bare && !has_sin && !has_cos) {
-        auto roots = polynomial_roots(factor, q);
-        if (!roots) return std::nullopt;
-        FactorRoots out{{}, false};
-        for (const ex& r : *roots) out.values.push_back({r, GiNaC::sin(r), GiNaC::cos(r)});
-        return out;
-    }
-    if (bare) return std::nullopt;  // q both bare and inside sin/cos: transcendental
-    FactorRoots out{{}, true};
-    if (has_sin && !has_cos) {  // sin q = s: q = asin s, π − asin s
-        auto roots = polynomial_roots(factor, S);
-        if (!roots) return std::nullopt;
-        for (const ex& r : *roots) {
-            const ex c = GiNaC::sqrt((1 - r * r).normal());
-            out.values.push_back({GiNaC::asin(r), r, c});
-            out.values.push_back({GiNaC::Pi - GiNaC::asin(r), r, -c});
-        }
-        return out;
-    }
-    if (has_cos && !has_sin) {  // cos q = c: q = ±acos c
-        auto roots = polynomial_roots(factor, C);
-        if (!roots) return std::nullopt;
-        for (const ex& r : *roots) {
-            const ex s = GiNaC::sqrt((1 - r * r).normal());
-            out.values.push_back({GiNaC::acos(r), s, r});
-            out.values.push_back({-GiNaC::acos(r), -s, r});
-        }
-        return out;
-    }
-    // a sin q + b cos q = 0: tan q = −b/a, two roots a half-turn apart.
-    if (factor.is_polynomial(GiNaC::lst{S, C}) && factor.degree(S) == 1 && factor.degree(C) == 1) {
-        const ex a = factor.coeff(S, 1), b = factor.coeff(C, 1);
-        if (a.has(C) || b.has(S) || !(factor - a * S - b * C).expand().is_zero()) return std::nullopt;
-        const ex tangent = (-b / a).normal(), angle = GiNaC::atan(tangent);
-        const ex c = 1 / GiNaC::sqrt((1 + tangent * tangent).normal());
-        return FactorRoots{{{angle, tangent * c, c}, {angle - GiNaC::Pi, -tangent * c, -c}}, true};
-    }
-    return std::nullopt;
-}
-
-// The value of a closed form at the parameters' defaults; nullopt when it is not real there
-// (asin/acos of an argument beyond ±1, the square root of a negative discriminant).
+// The value of a closed form at the parameters' defaults; nullopt when it is not real there.
 std::optional<double> at_defaults(const model::Model& model, const ex& value) {
-    GiNaC::exmap values;
-    for (const auto& p : model.parameters) values[p.symbol] = p.value;
-    const ex v = value.subs(values).evalf();
-    if (!GiNaC::is_a<GiNaC::numeric>(v)) return std::nullopt;
-    const GiNaC::numeric n = GiNaC::ex_to<GiNaC::numeric>(v);
-    const double re = GiNaC::real(n).to_double(), im = GiNaC::imag(n).to_double();
-    if (!std::isfinite(re) || std::abs(im) > 1e-12 * (1 + std::abs(re))) return std::nullopt;
-    return re;
+    return real_value(model.parameter_defaults(), value);
 }
 
-struct ClosedForm {
-    std::vector<Root> q;          // per coordinate
-    std::vector<bool> periodic;   // per coordinate: its value came through sin/cos
-    GiNaC::exmap substitution;    // q_k, sin q_k, cos q_k → their closed forms (equations in TrigVariables)
-};
-
-class ClosedFormSolver {
-public:
-    ClosedFormSolver(const model::Model& model, const TrigVariables& trig) : model_(model), trig_(trig) {}
-
-    // Every closed-form solution of f = 0 (f in TrigVariables); `complete` false when some
-    // branch could not be solved (a factor of no form solved here, a continuum, too many
-    // branches). Elimination goes through numerators, so a solution may be spurious where a
-    // denominator vanishes: the caller checks each one numerically.
-    // Free coordinates (absent from f) are held at 0, as in the numeric search.
-    std::vector<ClosedForm> solve(const std::vector<ex>& f, const std::vector<bool>& free, bool& complete) {
-        complete = true;
-        complete_ = &complete;
-        solutions_.clear();
-        const std::size_t n = model_.coordinates.size();
-        ClosedForm start{std::vector<Root>(n), std::vector<bool>(n, false), {}};
-        for (std::size_t k = 0; k < n; ++k)
-            if (free[k]) start = with(start, k, Root{0, 0, 1}, false);
-        branch(f, std::vector<bool>(f.size(), false), start);
-        return solutions_;
-    }
-
-private:
-    static constexpr std::size_t max_solutions = 64;
-
-    std::vector<std::size_t> unknowns_in(const ex& e, const GiNaC::exmap& solved) const {
-        std::vector<std::size_t> out;
-        for (std::size_t k = 0; k < model_.coordinates.size(); ++k) {
-            if (solved.count(model_.coordinates[k].q)) continue;
-            if (e.has(model_.coordinates[k].q) || e.has(trig_.sin_of[k]) || e.has(trig_.cos_of[k])) out.push_back(k);
-        }
-        return out;
-    }
-
-    // An equation with the solved coordinates substituted, as a polynomial where possible:
-    // its numerator, with sin² q = 1 − cos² q.
-    ex reduce(const ex& e, const GiNaC::exmap& solved) const {
-        ex out = GiNaC::numer(e.subs(solved).normal());
-        for (std::size_t k = 0; k < model_.coordinates.size(); ++k)
-            out = out.expand().subs(GiNaC::pow(trig_.sin_of[k], 2) == 1 - GiNaC::pow(trig_.cos_of[k], 2),
-                                    GiNaC::subs_options::algebraic);
-        return out.expand();
-    }
-
-    void branch(const std::vector<ex>& f, const std::vector<bool>& done, const ClosedForm& partial) {
-        if (solutions_.size() >= max_solutions) {
-            *complete_ = false;
-            return;
-        }
-        const GiNaC::exmap& solved = partial.substitution;
-        for (std::size_t i = 0; i < f.size(); ++i) {
-            if (done[i]) continue;
-            const ex reduced = reduce(f[i], solved);
-            if (reduced.is_zero()) continue;
-            std::vector<bool> next_done = done;
-            next_done[i] = true;
-            if (unknowns_in(reduced, solved).empty()) {
-                // A condition on the parameters alone: the branch lives only where it holds.
-                if (holds_at_defaults(reduced)) branch(f, next_done, partial);
-                return;
-            }
-            // The equation holds where any of its factors vanishes: one branch per factor, each
-            // solved for one of its unknowns (the others stay symbolic until solved later).
-            const ex factored = GiNaC::factor(reduced);
-            std::vector<ex> factors;
-            if (GiNaC::is_a<GiNaC::mul>(factored))
-                for (const ex& op : factored) factors.push_back(op);
-            else
-                factors.push_back(factored);
-            for (ex factor : factors) {
-                if (GiNaC::is_a<GiNaC::power>(factor) && factor.op(1).info(GiNaC::info_flags::posint)) factor = factor.op(0);
-                const auto unknowns = unknowns_in(factor, solved);
-                if (unknowns.empty()) continue;  // a factor of parameters: non-zero for generic values
-                bool solvable = false;
-                for (std::size_t k : unknowns) {
-                    const auto roots = solve_factor(factor, model_.coordinates[k].q, trig_.sin_of[k], trig_.cos_of[k]);
-                    if (!roots) continue;
-                    solvable = true;
-                    for (const Root& root : roots->values) branch(f, next_done, with(partial, k, root, roots->periodic));
-                    break;
-                }
-                if (!solvable) *complete_ = false;
-            }
-            return;
-        }
-        // Every equation holds: a solution when every coordinate is fixed, a continuum otherwise.
-        if (solved.size() == 3 * model_.coordinates.size()) solutions_.push_back(partial);
-        else *complete_ = false;
-    }
-
-    // `partial` with q_k = root, substituted into the values found earlier.
-    ClosedForm with(const ClosedForm& partial, std::size_t k, const Root& root, bool periodic) const {
-        const GiNaC::exmap fixed{{model_.coordinates[k].q, root.q}, {trig_.sin_of[k], root.sin}, {trig_.cos_of[k], root.cos}};
-        ClosedForm next = partial;
-        for (auto& [key, value] : next.substitution) value = value.subs(fixed);
-        next.substitution.insert(fixed.begin(), fixed.end());
-        next.periodic[k] = periodic;
-        for (auto& [key, value] : next.substitution) value = value.normal();
-        for (std::size_t j = 0; j < next.q.size(); ++j) {
-            const ex& q = model_.coordinates[j].q;
-            if (next.substitution.count(q))
-                next.q[j] = {next.substitution.at(q), next.substitution.at(trig_.sin_of[j]), next.substitution.at(trig_.cos_of[j])};
-        }
-        return next;
-    }
-
-    bool holds_at_defaults(const ex& e) const {
-        const auto v = at_defaults(model_, e);
-        return v && std::abs(*v) < 1e-12;
-    }
-
-    const model::Model& model_;
-    const TrigVariables& trig_;
-    std::vector<ClosedForm> solutions_;
-    bool* complete_ = nullptr;
-};
-
+std::vector<GiNaC::symbol> coordinate_symbols(const model::Model& model) {
+    std::vector<GiNaC::symbol> out;
+    for (const auto& c : model.coordinates) out.push_back(c.q);
+    return out;
+}
 
 }  // namespace
 
@@ -513,12 +303,12 @@ std::vector<Equilibrium> relative_equilibria(const model::Model& model, const Eq
 
     // The closed forms: each real one (at the defaults), with its images q + 2πk in the range
     // for coordinates it reaches through sin/cos, names a numeric root or adds one Newton missed.
-    const TrigVariables trig(model);
+    const TrigVariables trig(coordinate_symbols(model));
     std::vector<ex> f_trig;
     for (const ex& e : r.f) f_trig.push_back(e.subs(trig.to_variables).expand());
     bool complete = true;
     std::vector<std::optional<GiNaC::exmap>> exact(roots.size());  // per root: q, sin q, cos q in closed form
-    for (const ClosedForm& form : ClosedFormSolver(model, trig).solve(f_trig, r.free, complete)) {
+    for (const ClosedForm& form : ClosedFormSolver(coordinate_symbols(model), trig, model.parameter_defaults()).solve(f_trig, r.free, complete)) {
         Eigen::VectorXd q(static_cast<Eigen::Index>(n));
         bool real = true;
         for (std::size_t k = 0; k < n && real; ++k) {
