@@ -13,7 +13,7 @@ packages=(
   libboost-test-dev                         # the test suite
   libboost-dev                              # Boost.Odeint (the bench peer), Boost.Math (the tests' elliptic integrals), header-only
   libopenmpi-dev openmpi-bin                # optional: `eomc ensemble` across ranks under mpirun (built only when found)
-  gnuplot-nox                               # the work-precision plot of `eomc bench` (optional at run time)
+  gnuplot-nox                               # the plots of `eomc bench`, `sweep` and `ensemble` (optional at run time)
   libsiconos-kernel-dev libsiconos-numerics-dev  # the contact bench's peer, Siconos (optional: bench_contact_siconos is built only where found)
   texlive-latex-base                        # the test that compiles `eomc derive --format latex`
   python3                                   # the tests that parse the JSON of derive, equilibria and inverse
