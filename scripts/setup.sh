@@ -12,7 +12,8 @@ packages=(
   libtomlplusplus-dev libcli11-dev libfmt-dev
   libboost-test-dev                         # the test suite
   libboost-dev                              # Boost.Odeint (the bench peer), Boost.Math (the tests' elliptic integrals), header-only
-  gnuplot-nox                               # the work-precision plot of `eomc bench` (optional at run time)
+  libopenmpi-dev openmpi-bin                # optional: `eomc ensemble` across ranks under mpirun (built only when found)
+  gnuplot-nox                               # the plots of `eomc bench`, `sweep` and `ensemble` (optional at run time)
   libsiconos-kernel-dev libsiconos-numerics-dev  # the contact bench's peer, Siconos (optional: bench_contact_siconos is built only where found)
   texlive-latex-base                        # the test that compiles `eomc derive --format latex`
   python3                                   # the tests that parse the JSON of derive, equilibria and inverse

@@ -17,6 +17,9 @@
 #include "cli/options.hpp"
 #include "codegen/cpp_text.hpp"
 #include "host/bench.hpp"
+#include "host/ensemble.hpp"
+#include "host/ensemble_mpi.hpp"
+#include "host/gnuplot.hpp"
 #include "host/orbit_bench.hpp"
 #include "host/pipeline.hpp"
 #include "host/rigid_bench.hpp"
@@ -91,13 +94,14 @@ struct Options {
     bool timings = false;
     cli::SimulateOptions simulate;
     cli::BenchOptions bench;
+    cli::EnsembleOptions ensemble;
     mechanics::inverse::SearchBudget search_budget;
     unsigned degree = mechanics::rigid::default_search_degree;
     std::optional<double> spin;  // equilibria of a rigid body: Ω of the sleeping families
 };
 
 struct Commands {
-    CLI::App *derive, *generate, *simulate, *equilibria, *inverse, *control, *integrals, *run, *bench;
+    CLI::App *derive, *generate, *simulate, *equilibria, *inverse, *control, *integrals, *run, *bench, *sweep, *ensemble;
 };
 
 Commands declare_commands(CLI::App& app, Options& o) {
@@ -143,6 +147,17 @@ Commands declare_commands(CLI::App& app, Options& o) {
     hamiltonian_flag(c.simulate);
     orbit_formulation(c.simulate);
     variational_flag(c.simulate, integrate_phi);
+
+    c.sweep = app.add_subcommand("sweep", "one compiled kernel run over a grid of parameters or initial values: a "
+                                          "CSV row per run, statistics printed");
+    scene_argument(c.sweep);
+    cli::add_integration_options(c.sweep, o.simulate);
+    cli::add_ensemble_options(c.sweep, o.ensemble, true);
+    c.ensemble = app.add_subcommand("ensemble", "Monte Carlo: one compiled kernel run for N random draws of "
+                                                "parameters or initial values: a CSV row per run, statistics printed");
+    scene_argument(c.ensemble);
+    cli::add_integration_options(c.ensemble, o.simulate);
+    cli::add_ensemble_options(c.ensemble, o.ensemble, false);
 
     c.equilibria = app.add_subcommand("equilibria", "relative equilibria of a steady carrier and their stability; "
                                                     "a rigid body's permanent rotations (Staude); with [[unilateral]] "
@@ -253,6 +268,44 @@ void simulate_command(const Pipeline& p, Options& o, bool whole_job) {
     if (whole_job) std::cout << "Trajectory: " << o.simulate.output << "\n";
 }
 
+// `sweep` and `ensemble`: everything is checked before the first run, and the CSV written whole.
+void ensemble_command(const Pipeline& p, const Options& o) {
+    host::EnsembleRequest r;
+    r.spec = cli::ensemble_spec(o.ensemble);
+    if (!o.ensemble.output.empty()) check_output_target(o.ensemble.output);
+    if (!o.ensemble.plot.empty()) check_output_target(o.ensemble.plot);
+    if (host::has_control_character(o.ensemble.plot))  // the path reaches the plot script
+        throw InputError(SourcePos{"--plot"}, "the path contains a control character");
+    codegen::KernelIR ir;
+    const std::string header = host::kernel_header(p, nullptr, &ir);
+    r.base = cli::simulation_request(p, header, o.simulate);
+    std::vector<std::string> parameters, states;  // the kernel's names, known before it compiles
+    for (const auto& s : ir.parameters) parameters.push_back(s.name);
+    for (const auto& s : ir.state) states.push_back(s.name);
+    host::check_names(r.spec, parameters, states, r.base.overrides);
+    cli::check_overrides_against_scene(o.scene_path, o.front, o.simulate.overrides);
+    cli::check_grid_against_scene(o.scene_path, o.front, o.simulate.overrides, r.spec);
+    host::check_separable(r.base.integrator, r.base.integrator_pos, ir.separable, ir.scene_name);
+    r.threads = o.ensemble.threads;
+    const host::MpiSession mpi;  // rank 0 of 1 unless launched by mpirun
+    r.rank = mpi.rank();
+    r.ranks = mpi.size();
+    host::EnsembleResult result = host::run_ensemble(r);
+    if (!mpi.gather(result)) return;  // rank 0 writes and prints for all
+    host::refuse_if_all_refused(result);
+    const std::string& column = o.ensemble.plot_column.empty() && !result.state_names.empty()
+                                    ? result.state_names.front() : o.ensemble.plot_column;
+    const auto script = [&](const std::string& terminal, const fs::path& png) {
+        return host::ensemble_plot_script(result, r.spec, column, terminal, png);
+    };
+    if (!o.ensemble.plot.empty()) (void)script("png", o.ensemble.plot);  // a bad picture is refused before any output
+    if (!o.ensemble.output.empty()) write_file_atomically(o.ensemble.output, host::ensemble_csv(result));
+    host::print_ensemble_summary(result, o.ensemble.format, std::cout);
+    if (!o.ensemble.plot.empty())
+        if (const std::string note = host::write_plot(script, o.ensemble.plot); !note.empty())
+            std::cerr << "eomc: warning: " << note << "\n";
+}
+
 void bench_command(const Pipeline& p, const Options& o) {
     codegen::KernelIR ir;
     const std::string header = host::kernel_header(p, nullptr, &ir);
@@ -354,6 +407,7 @@ int main(int argc, char** argv) {
         else if (c.simulate->parsed()) simulate_command(p, o, false);
         else if (c.run->parsed()) simulate_command(p, o, true);
         else if (c.bench->parsed()) bench_command(p, o);
+        else if (c.sweep->parsed() || c.ensemble->parsed()) ensemble_command(p, o);
         else if (c.equilibria->parsed()) equilibria_command(p, o);
         else if (c.inverse->parsed()) inverse_command(p, o);
         else if (c.control->parsed()) control_command(p, o);

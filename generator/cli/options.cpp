@@ -26,38 +26,6 @@ std::string_view trimmed(std::string_view text) {
 
 }  // namespace
 
-// One decimal grammar for every number given on the command line: [+|-] digits [. digits]
-// [e|E [+|-] digits], the whole text, a finite double. Hex floats, "inf" and "nan" are not
-// decimals; subnormal numbers are numbers. std::from_chars (C++17 [charconv.from.chars]) is
-// locale-independent and reports out-of-range results, unlike strtod/stod, whose ERANGE also
-// rejects subnormals. Throws InputError at `where` with the reason.
-double parse_decimal(std::string_view text, const SourcePos& where) {
-    const std::string_view t = trimmed(text);
-    const auto not_a_number = [&] { return InputError(where, fmt::format("'{}' is not a number", text)); };
-    if (t.empty() || t.find_first_not_of("0123456789.eE+-") != std::string_view::npos) throw not_a_number();
-    std::string_view digits = t;
-    if (digits.front() == '+') {  // from_chars takes no '+'; TOML (and people) write +1.5
-        digits.remove_prefix(1);
-        if (digits.empty() || digits.front() == '+' || digits.front() == '-') throw not_a_number();
-    }
-    double v = 0;
-    const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), v, std::chars_format::general);
-    if (end != digits.data() + digits.size() || ec == std::errc::invalid_argument) throw not_a_number();
-    if (ec == std::errc::result_out_of_range)
-        throw InputError(where, fmt::format("'{}' is outside the range of a double ({} in magnitude)", text,
-                                            std::abs(std::strtod(std::string(digits).c_str(), nullptr)) > 1
-                                                ? "above 1.8e308"
-                                                : "below 4.9e-324, the smallest subnormal"));
-    if (!std::isfinite(v)) throw not_a_number();
-    // A subnormal double is a number, but not one the model's exact arithmetic takes: CLN
-    // (under GiNaC) has no subnormal floats and stops with "floating point underflow".
-    if (v != 0 && std::abs(v) < std::numeric_limits<double>::min())
-        throw InputError(where, fmt::format("'{}' is a subnormal double (below 2.2e-308 in magnitude), which eomc's "
-                                            "exact arithmetic cannot hold; use 0 or a normal number",
-                                            text));
-    return v;
-}
-
 // --set NAME=VALUE, checked for shape here; the names are checked against the kernel, the values
 // against the scene (check_overrides_against_scene).
 std::vector<std::pair<std::string, double>> parse_overrides(const std::vector<std::string>& items) {
@@ -123,7 +91,7 @@ const CLI::Validator decimal(
 
 }  // namespace
 
-void add_simulate_options(CLI::App* cmd, SimulateOptions& o) {
+void add_integration_options(CLI::App* cmd, SimulateOptions& o) {
     cmd->add_option("--t-end", o.t_end, "final time (default: [simulate] t_end)")->check(decimal)->check(CLI::PositiveNumber);
     cmd->add_option("--integrator", o.integrator,
                     fmt::format("{} (default: [simulate] integrator; {} need a separable system)",
@@ -150,8 +118,6 @@ void add_simulate_options(CLI::App* cmd, SimulateOptions& o) {
                     "else on for gl4-8, verlet, yoshida6, kahanli8 and off for the others)")
         ->check(CLI::IsMember({"on", "off"}));
     cmd->add_option("--set", o.overrides, "NAME=VALUE: a parameter, or an initial value (q, q_dot)");
-    cmd->add_option("--output", o.output, "trajectory CSV (t, state, invariants)");
-    cmd->add_option("--summary", o.summary, "text | json")->check(CLI::IsMember({"text", "json"}));
     cmd->add_option("--cache-dir", o.cache_dir, "where compiled kernels are kept (default ~/.cache/eomc)");
     cmd->add_option("--max-steps", o.max_steps,
                     fmt::format("the most steps the run may take (default: {} for the fixed-step methods, refused "
@@ -159,6 +125,12 @@ void add_simulate_options(CLI::App* cmd, SimulateOptions& o) {
                                 host::SimulationRequest::default_max_fixed_steps, runtime::Limits{}.max_steps,
                                 integrator_list(adaptive, " and ")))
         ->check(CLI::PositiveNumber);
+}
+
+void add_simulate_options(CLI::App* cmd, SimulateOptions& o) {
+    add_integration_options(cmd, o);
+    cmd->add_option("--output", o.output, "trajectory CSV (t, state, invariants)");
+    cmd->add_option("--summary", o.summary, "text | json")->check(CLI::IsMember({"text", "json"}));
     cmd->add_option("--max-rows", o.max_rows,
                     fmt::format("the most rows the CSV may hold (default {}); a run that would write more leaves no CSV",
                                 host::SimulationRequest::default_max_rows))
@@ -202,6 +174,57 @@ host::SimulationRequest simulation_request(const host::Pipeline& p, const std::s
         r.impact_law_pos = p.model.impact_law_pos;
     }
     return r;
+}
+
+void add_ensemble_options(CLI::App* cmd, EnsembleOptions& o, bool sweep) {
+    if (sweep) {
+        cmd->add_option("--grid", o.grid, "NAME=a:b:n (n points from a to b inclusive) or NAME=value: a parameter "
+                                          "or an initial value; several make a grid, the last varying fastest")
+            ->required();
+    } else {
+        cmd->add_option("--vary", o.vary, "NAME=normal(mu,sigma) | uniform(a,b) | lognormal(mu,sigma): a parameter "
+                                          "or an initial value drawn for each member")
+            ->required();
+        cmd->add_option("--samples", o.samples, "the number of members")->required();
+        cmd->add_option("--seed", o.seed, "the random seed, 0 to 2^64 - 1 (default 0); member i draws from "
+                                          "splitmix64(seed, i), the same on any thread");
+    }
+    cmd->add_option("--threads", o.threads, "threads running members (default: the hardware's)")
+        ->check(CLI::Range(1u, 4096u));
+    cmd->add_option("-o,--output", o.output, "one CSV row per member (inputs, status, final state, invariant drifts, "
+                                             "events, message)");
+    cmd->add_option("--format", o.format, "summary statistics as text | json")->check(CLI::IsMember({"text", "json"}));
+    cmd->add_option("--plot", o.plot, sweep ? "a PNG (gnuplot) of --plot-column against the one varied axis (a "
+                                              "bifurcation diagram), or a map of it over two"
+                                            : "a PNG (gnuplot): the histogram of --plot-column");
+    cmd->add_option("--plot-column", o.plot_column, "t, a state variable or <invariant>_max_drift (default: the "
+                                                    "first state variable)");
+}
+
+host::EnsembleSpec ensemble_spec(const EnsembleOptions& o) {
+    host::EnsembleSpec spec;
+    for (const auto& g : o.grid) spec.grid.push_back(host::parse_grid(g));
+    for (const auto& v : o.vary) spec.vary.push_back(host::parse_variation(v));
+    if (!o.vary.empty()) {
+        spec.samples = host::parse_samples(o.samples);
+        spec.seed = host::parse_seed(o.seed);
+    }
+    (void)spec.members();  // a grid too large is refused now
+    return spec;
+}
+
+void check_grid_against_scene(const std::string& scene_path, const host::FrontEndOptions& front,
+                              const std::vector<std::string>& overrides, const host::EnsembleSpec& spec) {
+    for (const auto& axis : spec.grid)
+        for (double end : {axis.first, axis.last}) {
+            std::vector<std::string> items = overrides;
+            items.push_back(fmt::format("{}={:.17g}", axis.name, end));
+            try {
+                check_overrides_against_scene(scene_path, front, items);
+            } catch (const InputError& e) {
+                throw InputError(axis.where, fmt::format("at {} = {}: {}", axis.name, end, e.message()));
+            }
+        }
 }
 
 std::vector<std::string> comma_list(const std::string& text) {

@@ -12,15 +12,16 @@
 #include <CLI/CLI.hpp>
 
 #include "host/bench.hpp"
+#include "host/ensemble_spec.hpp"
 #include "host/pipeline.hpp"
 #include "host/simulate.hpp"
+#include "support/decimal.hpp"
 #include "support/diagnostic.hpp"
 
 namespace eomc::cli {
 
-// [+|-] digits [. digits] [e|E [+|-] digits], the whole text, a finite normal double (or 0).
-// Throws InputError at `where` with the reason.
-double parse_decimal(std::string_view text, const SourcePos& where);
+// The one decimal grammar (support/decimal.hpp).
+using eomc::parse_decimal;
 
 // --set NAME=VALUE items, checked for shape.
 std::vector<std::pair<std::string, double>> parse_overrides(const std::vector<std::string>& items);
@@ -40,8 +41,28 @@ struct SimulateOptions {
     std::size_t max_rows = host::SimulationRequest::default_max_rows;
 };
 
+// The run's method and inputs (--t-end … --set, --cache-dir, --max-steps), shared with the ensembles.
+void add_integration_options(CLI::App* cmd, SimulateOptions& o);
+// add_integration_options and the trajectory's outputs (--output, --summary, --max-rows).
 void add_simulate_options(CLI::App* cmd, SimulateOptions& o);
 host::SimulationRequest simulation_request(const host::Pipeline& p, const std::string& header, const SimulateOptions& o);
+
+// `eomc sweep` (--grid) and `eomc ensemble` (--vary, --samples, --seed); counts are taken as text
+// so that a bad one is refused by the specification's own checks, at its flag.
+struct EnsembleOptions {
+    std::vector<std::string> grid, vary;
+    std::string samples, seed = "0";
+    unsigned threads = 0;  // 0 = the hardware's
+    std::string output, format = "text";
+    std::string plot, plot_column;  // --plot FILE.png, --plot-column NAME ("" = the first state variable)
+};
+
+void add_ensemble_options(CLI::App* cmd, EnsembleOptions& o, bool sweep);
+host::EnsembleSpec ensemble_spec(const EnsembleOptions& o);
+// The scene's own checks (check_overrides_against_scene) on a grid's end points: the axes are
+// linear, so a value the scene accepts at both ends it accepts between. Throws at the --grid.
+void check_grid_against_scene(const std::string& scene_path, const host::FrontEndOptions& front,
+                              const std::vector<std::string>& overrides, const host::EnsembleSpec& spec);
 
 struct BenchOptions {
     std::optional<double> t_end;

@@ -20,6 +20,7 @@
 
 #include "codegen/cpp_text.hpp"
 #include "codegen/templates.hpp"
+#include "host/gnuplot.hpp"
 #include "host/toolchain.hpp"
 #include "support/diagnostic.hpp"
 #include "support/output_file.hpp"
@@ -39,10 +40,6 @@ std::string join(const std::vector<std::string>& items, const char* separator = 
         out += s;
     }
     return out;
-}
-
-bool has_control_character(std::string_view s) {
-    return std::any_of(s.begin(), s.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7F; });
 }
 
 // Everything that can be checked before compiling, so that a typo costs no compile.
@@ -142,39 +139,6 @@ std::string read_text(const fs::path& path) {
 }
 
 // --- the plot ------------------------------------------------------------------------------
-
-// $EOMC_GNUPLOT (a path or a name on PATH; tests point it at nothing) or gnuplot on PATH.
-std::string find_gnuplot() {
-    const char* configured = std::getenv("EOMC_GNUPLOT");
-    const std::string name = configured && *configured ? configured : "gnuplot";
-    if (name.find('/') != std::string::npos) return ::access(name.c_str(), X_OK) == 0 ? name : "";
-    const char* path = std::getenv("PATH");
-    for (const std::string& dir : split(path ? path : "", ':')) {
-        const fs::path candidate = fs::path(dir.empty() ? "." : dir) / name;
-        if (::access(candidate.c_str(), X_OK) == 0 && !fs::is_directory(candidate)) return candidate.string();
-    }
-    return "";
-}
-
-// A single-quoted gnuplot string: no backslash, backquote or macro processing happens inside
-// one (gnuplot's "quote marks" and "substitution"), so only a line break could end it and
-// start a command; validate() refuses those in the paths, and this refuses them anyway.
-std::string gnuplot_quoted(const std::string& s) {
-    if (has_control_character(s)) throw std::logic_error("a control character in a gnuplot string: " + codegen::comment_text(s));
-    std::string out = "'";
-    for (char c : s) out += c == '\'' ? std::string("''") : std::string(1, c);
-    return out + "'";
-}
-
-// Text for an enhanced-mode label: '_' and '^' would start sub- and superscripts.
-std::string gnuplot_text(const std::string& s) {
-    std::string out;
-    for (char c : s) {
-        if (c == '_' || c == '^' || c == '@' || c == '&' || c == '~' || c == '{' || c == '}') out += '\\';
-        out += c;
-    }
-    return out;
-}
 
 // Two panels, log-log, one curve per method against the median wall time of a run: the error of
 // the final state, and the largest relative drift of the invariants. Ours solid, odeint dashed.
@@ -303,34 +267,6 @@ std::string formulation_gnuplot_script(const BenchRequest& request, const BenchR
     return s;
 }
 
-// Writes `png` through gnuplot (pngcairo, else png) with the script script(terminal, output).
-// Returns "" on success, else the reason there is no plot.
-std::string plot(const std::function<std::string(const std::string&, const fs::path&)>& script_for,
-                 const fs::path& png) {
-    const std::string gnuplot = find_gnuplot();
-    if (gnuplot.empty())
-        return "gnuplot was not found (install gnuplot-nox); " + png.string() + " was not written";
-    TempDir dir("eomc-plot-");
-    const fs::path partial = png.parent_path() / fmt::format(".{}.{}.tmp", png.filename().string(), ::getpid());
-    std::string log;
-    for (const char* terminal : {"pngcairo", "png"}) {
-        const fs::path script = dir.path() / "plot.gp";
-        std::ofstream(script) << script_for(terminal, partial);
-        const int status = run_process({gnuplot, script.string()}, dir.path() / "gnuplot.log", true);
-        if (WIFEXITED(status) && WEXITSTATUS(status) == 0 && fs::exists(partial)) {
-            std::error_code ec;
-            fs::rename(partial, png, ec);
-            if (!ec) return "";
-            log = ec.message();
-            break;
-        }
-        log = read_text(dir.path() / "gnuplot.log");
-    }
-    std::error_code ignored;
-    fs::remove(partial, ignored);
-    return fmt::format("gnuplot failed, {} was not written:\n{}", png.string(), log);
-}
-
 // The request for one formulation's kernel: the same sweep on another header.
 BenchRequest with_kernel(const BenchRequest& request, const BenchFormulation& f) {
     BenchRequest r = request;
@@ -412,7 +348,7 @@ void write_outputs(const BenchRequest& request, BenchResult& result, const std::
     const fs::path csv_path = dir / "work_precision.csv", png_path = dir / "work_precision.png";
     write_file_atomically(csv_path, csv);
     result.csv_path = csv_path.string();
-    const std::string no_plot = plot(script_for, png_path);
+    const std::string no_plot = write_plot(script_for, png_path);
     if (no_plot.empty()) {
         result.png_path = png_path.string();
     } else {

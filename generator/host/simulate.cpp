@@ -1063,9 +1063,15 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
 }  // namespace
 
 SimulationResult simulate(const SimulationRequest& request) {
-    validate(request);
+    validate(request);  // before the compile: a typo costs none
     const KernelLibrary lib = KernelLibrary::load(request.header_text, request.struct_name, request.cache_dir);
+    return simulate_loaded(request, lib);
+}
 
+void validate_request(const SimulationRequest& request) { validate(request); }
+
+SimulationResult simulate_loaded(const SimulationRequest& request, const KernelLibrary& lib) {
+    validate(request);
     std::vector<double> parameter_values = lib.parameter_defaults();
     State<double> x(lib.initial_state().begin(), lib.initial_state().end());
     apply_overrides(request, lib, parameter_values, x);

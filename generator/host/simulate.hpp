@@ -165,6 +165,15 @@ struct SimulationResult {
 // runtime::IntegrationError when the integration fails (then no CSV is left behind).
 SimulationResult simulate(const SimulationRequest& request);
 
+// The checks simulate() makes before compiling (integrator, t_end, step, tolerances, budgets).
+void validate_request(const SimulationRequest& request);
+
+class KernelLibrary;
+// simulate() on a kernel already loaded (request.header_text, struct_name and cache_dir unused):
+// the ensembles run their members through it, many at once on one library; it writes nothing
+// unless request.csv_path is set, and reads no shared state.
+SimulationResult simulate_loaded(const SimulationRequest& request, const KernelLibrary& lib);
+
 // The splitting methods (verlet, yoshida6, kahanli8) step q̈ = a(t, q): throws InputError at
 // `where` when `integrator` is one of them and the kernel is not separable. simulate() calls it
 // on the compiled kernel; the command line calls it on the kernel IR before anything is written.

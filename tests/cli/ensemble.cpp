@@ -1,0 +1,135 @@
+// `eomc sweep` and `eomc ensemble` as a user meets them: the CSV and summaries, the same bytes on
+// 1 and 2 threads, bad specifications refused at their flag with exit 2 and nothing written.
+#define BOOST_TEST_MODULE cli_ensemble
+#include <boost/test/unit_test.hpp>
+
+#include <string>
+
+#include "command.hpp"
+
+namespace fs = std::filesystem;
+using test_support::run_eomc;
+using test_support::scratch;
+using test_support::slurp;
+
+namespace {
+
+const std::string damped = EOMC_SOURCE_DIR "/scenes/damped_oscillator.toml";
+// Each test's kernels cached in the build tree, never the user's ~/.cache.
+const std::string cache = " --cache-dir " EOMC_BINARY_DIR "/test-cache";
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(an_ensemble_is_the_same_on_one_and_two_threads) {
+    const fs::path dir = scratch("cli-ensemble", "threads");
+    const std::string common = "ensemble " + damped + cache +
+                               " --vary 'w=normal(1,0.1)' --vary 'x=uniform(0.5,1.5)' --samples 300 --seed 99"
+                               " --t-end 5 --format json";
+    const auto one = run_eomc(common + " --threads 1 -o " + (dir / "one.csv").string(), dir);
+    const auto two = run_eomc(common + " --threads 2 -o " + (dir / "two.csv").string(), dir);
+    BOOST_TEST_REQUIRE(one.status == 0, one.err);
+    BOOST_TEST_REQUIRE(two.status == 0, two.err);
+    const std::string a = slurp(dir / "one.csv"), b = slurp(dir / "two.csv");
+    BOOST_TEST(a == b);
+    BOOST_TEST(a.rfind("member,w,x,status,t,x,x_dot,events,message\n0,", 0) == 0u);
+    std::size_t rows = 0;
+    for (char c : a) rows += c == '\n';
+    BOOST_TEST(rows == 301u);
+    // The statistics (everything after the timings) are the same bytes too.
+    BOOST_TEST(one.out.substr(one.out.find("\"statistics\"")) == two.out.substr(two.out.find("\"statistics\"")));
+    BOOST_TEST(one.out.find("\"threads\": 1,") != std::string::npos);
+    BOOST_TEST(two.out.find("\"threads\": 2,") != std::string::npos);
+}
+
+BOOST_AUTO_TEST_CASE(a_sweep_prints_its_statistics) {
+    const fs::path dir = scratch("cli-ensemble", "sweep");
+    const auto r = run_eomc("sweep " + damped + cache + " --grid w=1:2:3 --grid gamma=0.1 -o " +
+                                (dir / "sweep.csv").string(),
+                            dir);
+    BOOST_TEST_REQUIRE(r.status == 0, r.err);
+    BOOST_TEST(r.out.find("3 runs with dopri5") != std::string::npos);
+    BOOST_TEST(r.out.find("3 ok, 0 stopped by a terminal event, 0 failed") != std::string::npos);
+    const std::string csv = slurp(dir / "sweep.csv");
+    BOOST_TEST(csv.find("\n1,1.5,0.10000000000000001,ok,20,") != std::string::npos);
+}
+
+// Each bad specification: exit 2, the flag named on stderr, no CSV (not even a temporary).
+BOOST_AUTO_TEST_CASE(bad_specifications_write_nothing) {
+    const fs::path dir = scratch("cli-ensemble", "refusals");
+    const std::string out = " -o " + (dir / "out.csv").string();
+    const struct {
+        std::string arguments, flag, words;
+    } cases[] = {
+        {"sweep " + damped + " --grid ww=1:2:3", "--grid ww=1:2:3", "did you mean 'w'"},
+        {"sweep " + damped + " --grid w=2:1:3", "--grid w=2:1:3", "reversed"},
+        {"sweep " + damped + " --grid w=1:1:3", "--grid w=1:1:3", "empty"},
+        {"sweep " + damped + " --grid w=1:2:0", "--grid w=1:2:0", "at least 1"},
+        {"sweep " + damped + " --grid w=1:2:3 --set w=2", "--grid w=1:2:3", "--set"},
+        {"ensemble " + damped + " --vary 'w=normal(1,0.1)' --samples=-3", "--samples", "positive"},
+        {"ensemble " + damped + " --vary 'w=normal(1,0.1)' --samples 0", "--samples", "at least 1"},
+        {"ensemble " + damped + " --vary 'w=normal(1,-0.1)' --samples 5", "--vary w=normal(1,-0.1)", "sigma > 0"},
+        {"ensemble " + damped + " --vary 'w=uniform(2,1)' --samples 5", "--vary w=uniform(2,1)", "a < b"},
+        {"ensemble " + damped + " --vary 'w=normal(1,inf)' --samples 5", "--vary w=normal(1,inf)", "not a number"},
+        {"ensemble " + damped + " --vary 'w=normal(1,0.1)' --samples 5 --seed x", "--seed", "whole number"},
+    };
+    for (const auto& c : cases) {
+        BOOST_TEST_INFO(c.arguments);
+        const auto r = run_eomc(c.arguments + cache + out, dir);
+        BOOST_TEST(r.status == 2);
+        BOOST_TEST(r.err.find(c.flag + ": error: ") != std::string::npos, r.err);
+        BOOST_TEST(r.err.find(c.words) != std::string::npos, r.err);
+        BOOST_TEST(!fs::exists(dir / "out.csv"));
+    }
+    std::size_t left = 0;
+    for (const auto& entry : fs::directory_iterator(dir)) left += entry.path().filename() != "stdout" &&
+                                                                 entry.path().filename() != "stderr";
+    BOOST_TEST(left == 0u);
+}
+
+// --plot draws the bifurcation diagram as a PNG; without gnuplot the CSV is still written, with a
+// warning; a bad column is refused before anything is written.
+BOOST_AUTO_TEST_CASE(a_sweep_draws_its_picture) {
+    const fs::path dir = scratch("cli-ensemble", "plot");
+    const std::string hoop = EOMC_SOURCE_DIR "/scenes/bead_on_hoop_damped.toml";
+    const std::string args = "sweep " + hoop + cache + " --grid omega=0:8:9 --t-end 5 -o " + (dir / "h.csv").string() +
+                             " --plot " + (dir / "h.png").string();
+    const auto drawn = run_eomc(args, dir);
+    BOOST_TEST_REQUIRE(drawn.status == 0, drawn.err);
+    if (!test_support::run_command("command -v gnuplot", dir).out.empty())
+        BOOST_TEST(slurp(dir / "h.png").substr(0, 8) == std::string("\x89PNG\r\n\x1a\n"));
+    fs::remove(dir / "h.png");
+    fs::remove(dir / "h.csv");
+    const auto none = test_support::run_command(std::string(EOMC_EXECUTABLE) + " " + args, dir,
+                                                "EOMC_GNUPLOT=/nonexistent/gnuplot");
+    BOOST_TEST(none.status == 0, none.err);
+    BOOST_TEST(none.err.find("warning: gnuplot was not found") != std::string::npos, none.err);
+    BOOST_TEST(fs::exists(dir / "h.csv"));
+    BOOST_TEST(!fs::exists(dir / "h.png"));
+    fs::remove(dir / "h.csv");
+    const auto bad = run_eomc(args + " --plot-column thet", dir);
+    BOOST_TEST(bad.status == 2);
+    BOOST_TEST(bad.err.find("--plot-column: error: no column 'thet'; did you mean 'theta'?") != std::string::npos, bad.err);
+    BOOST_TEST(!fs::exists(dir / "h.csv"));
+    BOOST_TEST(!fs::exists(dir / "h.png"));
+}
+
+#ifdef EOMC_MPIEXEC
+// Under mpirun -np 2 (oversubscribed on a small machine) each rank runs every other member and
+// rank 0 gathers them: the CSV and the statistics are the bytes of one process.
+BOOST_AUTO_TEST_CASE(two_mpi_ranks_give_the_bytes_of_one_process) {
+    const fs::path dir = scratch("cli-ensemble", "mpi");
+    const std::string args = "ensemble " + damped + cache +
+                             " --vary 'w=lognormal(0,0.2)' --vary 'gamma=uniform(0,0.3)' --samples 101 --seed 5"
+                             " --t-end 5 --threads 1 --format json -o ";
+    const auto one = run_eomc(args + (dir / "one.csv").string(), dir);
+    BOOST_TEST_REQUIRE(one.status == 0, one.err);
+    // CI runs as root, which Open MPI refuses unless told.
+    const auto two = test_support::run_command(std::string(EOMC_MPIEXEC) + " -np 2 --oversubscribe " +
+                                                   EOMC_EXECUTABLE + " " + args + (dir / "two.csv").string(),
+                                               dir, "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1");
+    BOOST_TEST_REQUIRE(two.status == 0, two.err);
+    BOOST_TEST(slurp(dir / "one.csv") == slurp(dir / "two.csv"));
+    BOOST_TEST(two.out.find("\"ranks\": 2,") != std::string::npos, two.out);
+    BOOST_TEST(one.out.substr(one.out.find("\"statistics\"")) == two.out.substr(two.out.find("\"statistics\"")));
+}
+#endif
