@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "eomc/runtime/events.hpp"
@@ -191,6 +192,43 @@ BOOST_AUTO_TEST_CASE(bouncing_ball_impact_times_with_every_driver) {
 BOOST_AUTO_TEST_CASE(the_cooldown_prevents_a_refire_at_the_same_time) {
   check_cooldown(adaptive_run<rt::Dopri5>(), "dopri5");
   check_cooldown(fixed_run(), "rk4");
+}
+
+// An edit that puts the ball back a hair above the ground, still falling, with no cooldown: the gap
+// crosses zero again within 1e-300 / v of the edit, the same time to the last bit, and the edit
+// would repeat there without end. The drivers refuse it at the second edit with the event's index
+// and time, instead of spinning until the step budget runs out.
+BOOST_AUTO_TEST_CASE(an_edit_that_refires_at_once_is_an_error) {
+  const double t1 = impact_times(1)[0];
+  struct Hover {
+    void operator()(const rt::EventHit<double>&, rt::State<double>& x) const { x[0] = 1e-300; }
+  };
+  const auto run = [&](auto&& integrate) {
+    rt::EventLocator<double> locator({bounce(0.0, rt::EventDirection::down)});
+    rt::State<double> x{drop_height, 0.0};
+    try {
+      integrate(locator, x);
+    } catch (const rt::IntegrationError& e) {
+      BOOST_TEST((e.kind() == rt::IntegrationError::Kind::event_loop));
+      BOOST_TEST(std::abs(e.t() - t1) <= time_bound(rel_tol, abs_tol, t1, 1));
+      BOOST_TEST(std::string(e.what()).find("event 0 fired again") != std::string::npos);
+      return true;
+    }
+    return false;
+  };
+  Ball ball;
+  Gap gap;
+  auto obs = [](double, const rt::State<double>&) {};
+  auto on_event = [](const rt::EventHit<double>&) {};
+  BOOST_TEST(run([&](rt::EventLocator<double>& locator, rt::State<double>& x) {
+    rt::Dopri5<double> stepper;
+    rt::integrate_adaptive_events(stepper, ball, x, 0.0, 2.0, 0.0, rt::Tolerances{rel_tol, abs_tol}, locator, gap, obs,
+                                  on_event, Hover{});
+  }));
+  BOOST_TEST(run([&](rt::EventLocator<double>& locator, rt::State<double>& x) {
+    rt::Rk4<double> stepper;
+    rt::integrate_fixed_events(stepper, ball, x, 0.0, 2.0, step, locator, gap, obs, on_event, Hover{});
+  }));
 }
 
 // EventAction::stop is the terminal event; an edit without an edit callback is refused.

@@ -12,7 +12,7 @@ namespace eomc::runtime {
 
 class IntegrationError : public std::runtime_error {
  public:
-  enum class Kind { step_underflow, step_budget, non_finite, singular_set };
+  enum class Kind { step_underflow, step_budget, non_finite, singular_set, event_loop };
   static constexpr std::size_t no_component = static_cast<std::size_t>(-1);
 
   IntegrationError(Kind kind, double t, const std::string& message, std::size_t component = no_component)
@@ -32,6 +32,15 @@ class IntegrationError : public std::runtime_error {
   static IntegrationError step_budget(S t, std::size_t max_steps) {
     return {Kind::step_budget, static_cast<double>(t),
             "step budget of " + std::to_string(max_steps) + " steps exhausted at t = " + format(t)};
+  }
+  // "event 0 fired again at t = 0.64 right after its edit there: ..."; events count from 0.
+  template <class S>
+  static IntegrationError event_loop(S t, std::size_t event) {
+    return {Kind::event_loop, static_cast<double>(t),
+            "event " + std::to_string(event) + " fired again at t = " + format(t) +
+                " right after its edit there: the edited state lies where the event crosses at once, so the "
+                "edits would repeat without advancing t (give the event a cooldown, or edit the state off "
+                "its surface)"};
   }
   // "non-finite state at t = 0.5 (component 3)"; what is "state" or "derivative"; components count from 0.
   template <class S>

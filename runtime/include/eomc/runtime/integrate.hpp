@@ -265,6 +265,8 @@ struct EventOutcome {
   bool stopped = false;   // a terminal event ended it
   std::size_t event = 0;  // which one, when stopped
   std::size_t edits = 0;  // states edited by EventAction::edit events (each a restart)
+  S last_edit_t = S(0);   // the time and event of the latest edit (valid when edits > 0)
+  std::size_t last_edit_event = 0;
 };
 
 namespace detail {
@@ -299,10 +301,19 @@ StepEnd handle_events(EventLocator<S>& events, G& g, S t_old, S& t_new, State<S>
   }
   if (interrupted) {
     const EventHit<S>& hit = hits.back();
+    // An edit that leaves the state on the old side of its own event's surface, still heading for
+    // it, makes the event cross again at the same time: the loop would edit forever without
+    // advancing t. Refused with the reason rather than left to exhaust the step budget.
+    using std::abs;
+    const S same = S(8) * std::numeric_limits<S>::epsilon() * (abs(hit.t) > S(1) ? abs(hit.t) : S(1));
+    if (out.edits > 0 && hit.index == out.last_edit_event && abs(hit.t - out.last_edit_t) <= same)
+      throw IntegrationError::event_loop(hit.t, hit.index);
     x = hit.x;
     edit(hit, x);
     t_new = hit.t;
     ++out.edits;
+    out.last_edit_t = hit.t;
+    out.last_edit_event = hit.index;
     events.restart(g, t_new, static_cast<const State<S>&>(x));
     observer(t_new, static_cast<const State<S>&>(x));
     return StepEnd::restart;
