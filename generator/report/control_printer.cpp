@@ -24,7 +24,7 @@ const char* control_kind(model::ProgramControl c) {
         case model::ProgramControl::ideal: return "ideal";
         case model::ProgramControl::directions: return "directions";
         case model::ProgramControl::actuated: return "actuated";
-        case model::ProgramControl::moment: return "body-axis moment";
+        case model::ProgramControl::moment: return "moment";
     }
     return "?";
 }

@@ -1119,9 +1119,10 @@ private:
 
     // [[program]]: name, constraint = "ω(q, t)" or "φ(q, q̇, t)", erugin = { alpha, beta } |
     // { kappa } (absent: the open loop), control = "ideal" (default) | { coordinate = "direction" }
-    // | ["coordinate", ...]. Which law fits which kind of relation is the model's to check (it
-    // knows which symbols the relation holds). Only a system given by its energies in coordinates
-    // takes programs, without constraint rows (whose reactions would share the accelerations).
+    // | ["coordinate", ...], or on a [rigid_body] { moment = [m1, m2, m3] } (a body-axis torque
+    // direction, Mei §3.2). Which law fits which kind of relation is the model's to check (it knows
+    // which symbols the relation holds). A system given by its energies in coordinates, or a rigid
+    // body, takes programs, without constraint rows (whose reactions would share the accelerations).
     void read_programs(Scene& s) const {
         const auto rows = table_array("program", "[[program]]", "program");
         if (rows.empty()) return;
@@ -1199,12 +1200,13 @@ private:
                         fail(at(*c), fmt::format("unknown control '{}' in '{}'; expected \"ideal\", a table "
                                                  "{{ coordinate = \"direction\" }} or a list of actuated coordinates",
                                                  str->get(), path));
-                } else if (const toml::table* given = c->as_table(); given && s.rigid_body) {
+                } else if (c->is_table() && s.rigid_body) {
                     // A rigid body (Mei §3.2): the control is a torque about a fixed body-axis direction,
                     // M_c = m λ, entering Euler's equations I ω̇ = (Iω) × ω + M_g + m λ.
                     p.control = "moment";
-                    check_keys(*given, {"moment"}, "in '" + path + ".control' of a [rigid_body] scene");
-                    const toml::node& m = require(*given, "moment", "'" + path + ".control'");
+                    const toml::table& given = *c->as_table();
+                    check_keys(given, {"moment"}, "in '" + path + ".control' of a [rigid_body] scene");
+                    const toml::node& m = require(given, "moment", "'" + path + ".control'");
                     p.moment = read_vec3(m, path + ".control.moment");
                     const bool zero = std::all_of(p.moment.begin(), p.moment.end(), [](const Expr& e) {
                         char* end = nullptr;
@@ -1222,7 +1224,7 @@ private:
                         known_coordinate(name, at(*key), path + ".control");
                         p.directions.emplace_back(name, read_expr(*value, path + ".control." + name));
                     }
-                } else if (const toml::array* list = c->as_array(); list && s.rigid_body) {
+                } else if (c->is_array() && s.rigid_body) {
                     fail(at(*c), fmt::format("'{}.control': a rigid body has no coordinates to actuate; give a body-axis "
                                              "torque direction, control = {{ moment = [1, 0, 0] }}",
                                              path));
