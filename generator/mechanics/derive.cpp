@@ -91,6 +91,15 @@ Equations derive(const model::Model& model) {
                 rigid::add_body_integrals_in_angles(model, eqs);
                 return eqs;
             }
+            if (!model.programs.empty()) {
+                // Programs on ω (Mei §3.2): Euler's equations I ω̇ = f + D λ with torques in the
+                // directions D; the controls do work and turn the body, so no integral is kept.
+                Equations eqs = rigid::derive_rigid(model);
+                eqs.programs = program_rows(model, eqs);
+                eqs.redundant_programs = redundant_ideal(model, eqs);
+                eqs.invariants.clear();
+                return eqs;
+            }
             return rigid::derive_rigid(model);
     }
     throw std::logic_error("derive: unknown model kind");

@@ -804,6 +804,26 @@ static void build_programs(const scene::Scene& scene, const SymbolTable& symbols
             if (row.expression.has(c.q_dot)) row.configuration = false;
         bool moves = false;
         for (const auto& c : model.coordinates) moves = moves || row.expression.has(c.q) || row.expression.has(c.q_dot);
+        if (model.rigid) {
+            // A rigid body (Mei §3.2): programs on the angular velocity, φ(ω, γ, t) = 0, realised by
+            // torques in Euler's equations, in the formulations whose state holds ω itself.
+            const auto kind = model.rigid->formulation;
+            if (kind != scene::RigidFormulationKind::euler_poisson && kind != scene::RigidFormulationKind::quaternion)
+                throw InputError(row.pos, fmt::format("the program '{}' on a rigid body needs the euler_poisson or "
+                                                      "quaternion formulation (the state must hold omega = (p, q, r)), "
+                                                      "not {}",
+                                                      given.name, scene::name(kind)));
+            bool rates = false;
+            for (const auto& w : model.rigid->omega) rates = rates || row.expression.has(w);
+            for (const auto& g : model.rigid->gamma) moves = moves || row.expression.has(g);
+            moves = moves || rates;
+            if (moves && !rates)
+                throw InputError(row.pos, fmt::format("the program '{}' holds the vertical gamma but not the angular "
+                                                      "velocity p, q, r: attitude programs on a rigid body are not "
+                                                      "supported; program the angular velocity (phase space)",
+                                                      given.name));
+            row.configuration = false;
+        }
         if (!moves)
             throw InputError(row.pos, fmt::format("the program '{}' holds no coordinate or rate: a relation of t and the "
                                                   "parameters alone is not a motion a control can realise",
@@ -832,6 +852,12 @@ static void build_programs(const scene::Scene& scene, const SymbolTable& symbols
                 row.direction[k] = symbols.parse(
                     text, phase, fmt::format("the control direction of program '{}' on '{}'", given.name, coordinate));
             }
+        } else if (given.control == "moment") {
+            row.control = ProgramControl::moment;
+            for (const auto& m : given.moment)
+                row.direction.push_back(symbols.parse(
+                    m, unsigned(SymbolKind::parameter),
+                    fmt::format("the control moment of program '{}' (body axes; parameters only)", given.name)));
         } else if (given.control == "actuated") {
             row.control = ProgramControl::actuated;
             for (const auto& [coordinate, where] : given.actuated) {

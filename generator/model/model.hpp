@@ -126,7 +126,8 @@ struct Unilateral {
 // A programmed motion (scene [[program]]; Mei, ch. 3): ω(t, q) = 0 (configuration space) or
 // φ(t, q, q̇) = 0 (phase space, holding a rate), the law of its residual (Erugin, with
 // Galiullin's gains; the open loop ω̈ = 0 or φ̇ = 0 when not closed), and the control's directions.
-enum class ProgramControl { ideal, directions, actuated };
+// moment: a rigid body's torque about a fixed body-axis direction (Mei §3.2), D's column over ω.
+enum class ProgramControl { ideal, directions, actuated, moment };
 
 struct Program {
     std::string name;
@@ -135,7 +136,8 @@ struct Program {
     bool closed_loop = false;
     double alpha = 0.0, beta = 0.0, kappa = 0.0;
     ProgramControl control = ProgramControl::ideal;
-    std::vector<GiNaC::ex> direction;   // directions: one generalized direction per coordinate (0 where not given)
+    std::vector<GiNaC::ex> direction;   // directions: one generalized direction per coordinate (0 where not given);
+                                        // moment: the body-axis torque direction (3 entries, over p, q, r)
     std::vector<std::size_t> actuated;  // actuated: the coordinates' indices, in the scene's order
     SourcePos pos, erugin_pos, control_pos;  // the expression's text, the law and the control values
 };

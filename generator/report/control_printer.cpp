@@ -1,5 +1,6 @@
 #include "report/control_printer.hpp"
 
+#include <array>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -23,8 +24,16 @@ const char* control_kind(model::ProgramControl c) {
         case model::ProgramControl::ideal: return "ideal";
         case model::ProgramControl::directions: return "directions";
         case model::ProgramControl::actuated: return "actuated";
+        case model::ProgramControl::moment: return "moment";
     }
     return "?";
+}
+
+// The name of velocity k (the component of Q_c it carries): a coordinate, or a rigid body's p, q, r
+// (Q_c is then the control torque in body axes).
+std::string velocity_name(const model::Model& model, std::size_t k) {
+    if (model.rigid) return std::array<const char*, 3>{"p", "q", "r"}[k];
+    return model.coordinates[k].name;
 }
 
 // The law a program's residual follows, as words (the same in every format).
@@ -94,7 +103,7 @@ void print_text(const model::Model& model, const mechanics::Equations& eqs, cons
         for (const auto& p : eqs.programs)
             for (const auto& name : p.column_names) out << fmt::format("  {} = {}\n", name, text((*r.lambda)[a++]));
         for (std::size_t k = 0; k < r.Qc->size(); ++k)
-            out << fmt::format("  Qc_{} = {}\n", model.coordinates[k].name, text((*r.Qc)[k]));
+            out << fmt::format("  Qc_{} = {}\n", velocity_name(model, k), text((*r.Qc)[k]));
     } else {
         out << "  not in closed form: " << r.why_not << "\n";
     }
@@ -122,7 +131,7 @@ void print_latex(const model::Model& model, const mechanics::Equations& eqs, con
                 out << "\\lambda_{" << latex_escape(p.name()) << (p.column_names.size() > 1 ? std::to_string(j + 1) : "")
                     << "} &= " << latex((*r.lambda)[a]) << "\\\\\n";
         for (std::size_t k = 0; k < r.Qc->size(); ++k)
-            out << "Q_{c," << latex(model.coordinates[k].q) << "} &= " << latex((*r.Qc)[k]) << "\\\\\n";
+            out << "Q_{c," << (model.rigid ? latex(model.rigid->omega[k]) : latex(model.coordinates[k].q)) << "} &= " << latex((*r.Qc)[k]) << "\\\\\n";
         out << "\\end{align*}\n";
     } else {
         out << latex_escape("Not in closed form: " + r.why_not) << "\n\n";
@@ -177,7 +186,7 @@ void print_json(const model::Model& model, const mechanics::Equations& eqs, cons
     if (r.Qc) {
         s += "{";
         for (std::size_t k = 0; k < r.Qc->size(); ++k)
-            s += fmt::format("{}{}: {}", k ? ", " : "", json_string(model.coordinates[k].name), json_string(text((*r.Qc)[k])));
+            s += fmt::format("{}{}: {}", k ? ", " : "", json_string(velocity_name(model, k)), json_string(text((*r.Qc)[k])));
         s += "}";
     } else {
         s += "null";

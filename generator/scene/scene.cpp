@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <limits>
@@ -1118,16 +1119,16 @@ private:
 
     // [[program]]: name, constraint = "ω(q, t)" or "φ(q, q̇, t)", erugin = { alpha, beta } |
     // { kappa } (absent: the open loop), control = "ideal" (default) | { coordinate = "direction" }
-    // | ["coordinate", ...]. Which law fits which kind of relation is the model's to check (it
-    // knows which symbols the relation holds). Only a system given by its energies in coordinates
-    // takes programs, without constraint rows (whose reactions would share the accelerations).
+    // | ["coordinate", ...], or on a [rigid_body] { moment = [m1, m2, m3] } (a body-axis torque
+    // direction, Mei §3.2). Which law fits which kind of relation is the model's to check (it knows
+    // which symbols the relation holds). A system given by its energies in coordinates, or a rigid
+    // body, takes programs, without constraint rows (whose reactions would share the accelerations).
     void read_programs(Scene& s) const {
         const auto rows = table_array("program", "[[program]]", "program");
         if (rows.empty()) return;
         const SourcePos first = at(*rows.front());
         const std::pair<const char*, const char*> refused[] = {
             {"orbit", "an [orbit] scene"},
-            {"rigid_body", "a [rigid_body] scene (write the body's T in Euler angles as a [lagrangian])"},
             {"newtonian", "a [newtonian] scene: its equations are given, so there is no mass matrix for the control "
                           "to act through"},
             {"constraint", "a scene with [[constraint]] rows: their reactions and the controls would share the "
@@ -1199,6 +1200,22 @@ private:
                         fail(at(*c), fmt::format("unknown control '{}' in '{}'; expected \"ideal\", a table "
                                                  "{{ coordinate = \"direction\" }} or a list of actuated coordinates",
                                                  str->get(), path));
+                } else if (c->is_table() && s.rigid_body) {
+                    // A rigid body (Mei §3.2): the control is a torque about a fixed body-axis direction,
+                    // M_c = m λ, entering Euler's equations I ω̇ = (Iω) × ω + M_g + m λ.
+                    p.control = "moment";
+                    const toml::table& given = *c->as_table();
+                    check_keys(given, {"moment"}, "in '" + path + ".control' of a [rigid_body] scene");
+                    const toml::node& m = require(given, "moment", "'" + path + ".control'");
+                    p.moment = read_vec3(m, path + ".control.moment");
+                    const bool zero = std::all_of(p.moment.begin(), p.moment.end(), [](const Expr& e) {
+                        char* end = nullptr;
+                        const double v = std::strtod(e.text.c_str(), &end);
+                        return end && *end == '\0' && v == 0.0;
+                    });
+                    if (zero)
+                        fail(at(m), fmt::format("'{}.control.moment' is the zero vector: it gives no torque direction",
+                                                path));
                 } else if (const toml::table* given = c->as_table()) {
                     p.control = "directions";
                     if (given->empty()) fail(at(*c), fmt::format("'{}.control': an empty table gives no direction", path));
@@ -1207,6 +1224,10 @@ private:
                         known_coordinate(name, at(*key), path + ".control");
                         p.directions.emplace_back(name, read_expr(*value, path + ".control." + name));
                     }
+                } else if (c->is_array() && s.rigid_body) {
+                    fail(at(*c), fmt::format("'{}.control': a rigid body has no coordinates to actuate; give a body-axis "
+                                             "torque direction, control = {{ moment = [1, 0, 0] }}",
+                                             path));
                 } else if (const toml::array* list = c->as_array()) {
                     p.control = "actuated";
                     if (list->empty()) fail(at(*c), fmt::format("'{}.control': an empty list actuates nothing", path));

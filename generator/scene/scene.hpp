@@ -261,9 +261,10 @@ struct Program {
     bool closed_loop = false;     // erugin given
     bool phase_law = false;       // erugin = { kappa }
     double alpha = 0.0, beta = 0.0, kappa = 0.0;
-    std::string control = "ideal";                        // "ideal" | "directions" | "actuated"
+    std::string control = "ideal";                        // "ideal" | "directions" | "actuated" | "moment"
     std::vector<std::pair<std::string, Expr>> directions;  // control = { coordinate = "direction" }, file order
     std::vector<std::pair<std::string, SourcePos>> actuated;  // control = ["coordinate", ...]
+    Vec3 moment;                  // control = { moment = [m1, m2, m3] }: a body-axis torque direction ([rigid_body])
     SourcePos pos;                // the [[program]] table
     SourcePos name_pos, erugin_pos, control_pos;  // the values (the table when absent)
 };

@@ -133,3 +133,53 @@ BOOST_AUTO_TEST_CASE(run_stops_where_the_control_matrix_is_singular) {
         BOOST_TEST(std::string(e.what()).find("last accepted state") != std::string::npos, e.what());
     }
 }
+
+// §3.2 (Mei ch. 3): a free body I = (2, 3, 5) held on its unstable middle axis by torques about
+// body axes 1 and 3, programs p = 0 and r = 0 with κ = 2, from ω0 = (0.01, 1, 0.01). Erugin's law
+// gives p = r = 0.01 e^{−2t} exactly; the unactuated middle equation B q̇ = (C − A) r p then reads
+// q̇ = (3/3) · 1e-4 e^{−4t}, so q(t) = 1 + 1e-4 (1 − e^{−4t})/4: q(1) = 1.00002454210903. The torques
+// (closed form from eomc control, by hand from Euler's equations) are M1 = −4p + 2qr, M3 = −10r + pq.
+// Without them the body tumbles (the Dzhanibekov flip, scenes/dzhanibekov.toml); run to t = 5 so
+// that an uncontrolled drift would show. Tolerance as above: the state is O(1), the run contracts.
+BOOST_AUTO_TEST_CASE(rigid_body_held_on_its_middle_axis) {
+    for (const std::string formulation : {"euler_poisson", "quaternion"}) {
+        const std::string toml = R"toml([scene]
+name = "middle_axis_hold"
+[rigid_body]
+inertia = ["2", "3", "5"]
+weight = "0"
+formulation = ")toml" + formulation + R"toml("
+[rigid_body.initial]
+omega = [0.01, 1.0, 0.01]
+vertical = [0.0, 0.0, 1.0]
+[[program]]
+name = "hold_p"
+constraint = "p"
+erugin = { kappa = 2.0 }
+control = { moment = [1, 0, 0] }
+[[program]]
+name = "hold_r"
+constraint = "r"
+erugin = { kappa = 2.0 }
+control = { moment = [0, 0, 1] }
+)toml";
+        for (double t_end : {1.0, 5.0}) {
+            const auto r = run(toml, t_end);
+            const double decayed = 0.01 * std::exp(-2 * t_end);
+            const double q = 1 + 1e-4 * (1 - std::exp(-4 * t_end)) / 4;
+            BOOST_TEST(std::abs(r.value("p") - decayed) < tolerance, formulation << " p = " << r.value("p"));
+            BOOST_TEST(std::abs(r.value("r") - decayed) < tolerance, formulation << " r = " << r.value("r"));
+            BOOST_TEST(std::abs(r.value("q") - q) < tolerance, formulation << " q = " << r.value("q"));
+            if (t_end == 1.0) BOOST_TEST(std::abs(r.value("q") - 1.00002454210903) < tolerance);
+            BOOST_TEST(std::abs(r.value("program_hold_p") - decayed) < tolerance);
+            // The torques along the run: M1 = −4p + 2qr, M3 = −10r + pq, none about axis 2.
+            const double p_ = r.value("p"), q_ = r.value("q"), r_ = r.value("r");
+            BOOST_TEST(std::abs(r.value("lambda_hold_p") - (-4 * p_ + 2 * q_ * r_)) < tolerance);
+            BOOST_TEST(std::abs(r.value("lambda_hold_r") - (-10 * r_ + p_ * q_)) < tolerance);
+            BOOST_TEST(std::abs(r.value("Qc_q")) < 1e-15);
+            BOOST_TEST_REQUIRE(r.programs.size() == 2u);
+            BOOST_TEST(r.programs[0].max_departure < tolerance);
+            BOOST_TEST(r.programs[1].max_departure < tolerance);
+        }
+    }
+}

@@ -8,8 +8,10 @@
 #include <fmt/format.h>
 
 #include "mechanics/constraints/constraints.hpp"
+#include "symbolic/differentiation.hpp"
 #include "symbolic/numeric_probe.hpp"
 #include "symbolic/simplify.hpp"
+#include "symbolic/vector3.hpp"
 #include "support/diagnostic.hpp"
 
 namespace eomc::mechanics {
@@ -22,6 +24,41 @@ std::size_t column_count(const std::vector<ProgramRow>& rows) {
     std::size_t k = 0;
     for (const auto& p : rows) k += p.columns.size();
     return k;
+}
+
+// The probe points of the rank checks; a rigid body's ω and γ drawn too (γ on the unit sphere).
+std::vector<symbolic::ProbePoint> control_points(const model::Model& model) {
+    auto points = symbolic::probe_points(model, 4, 0xc047201);
+    if (!model.rigid) return points;
+    double x = 0.3;
+    for (auto& point : points)
+        for (std::size_t i = 0; i < 3; ++i) {
+            x = std::fmod(x * 7.31 + 0.417, 1.0);  // a fixed sequence in [0, 1)
+            point.values[model.rigid->omega[i]] = 2 * x - 1;
+            point.values[model.rigid->gamma[i]] = std::sqrt(1.0 / 3.0) * (i == 1 ? -1 : 1);
+        }
+    return points;
+}
+
+// A program on a rigid body's angular velocity (Mei §3.2), φ(ω, γ, t) = 0, as a row over the
+// velocity block ω of Euler's equations I ω̇ = f: W = ∂φ/∂ω (Ā's row) and the bias
+// ∂φ/∂t + ∂φ/∂γ · γ̇ with Poisson's γ̇ = γ × ω, so that φ̇ = W ω̇ + bias.
+ConstraintRow rigid_row(const model::Model& model, const model::Program& given) {
+    const model::RigidBody& body = *model.rigid;
+    ConstraintRow row;
+    row.name = given.name;
+    row.holonomic = false;
+    row.position = 0;
+    row.velocity = given.expression;
+    row.pos = given.pos;
+    const model::Vec3 gamma_rate = symbolic::cross(body.gamma_vector(), body.omega_vector());
+    row.bias = symbolic::derivative(given.expression, model.t);
+    for (std::size_t i = 0; i < 3; ++i) {
+        row.W.push_back(symbolic::derivative(given.expression, body.omega[i]));
+        row.bias += symbolic::derivative(given.expression, body.gamma[i]) * gamma_rate[i];
+    }
+    row.bias = row.bias.expand();
+    return row;
 }
 
 // Ā M⁻¹ D and Ā at a probe point (NaN entries read as 0: a pole is not a rank).
@@ -78,10 +115,11 @@ bool all_ideal(const std::vector<ProgramRow>& rows) {
 // The rows without the rank checks.
 std::vector<ProgramRow> build_rows(const model::Model& model) {
     std::vector<ProgramRow> rows;
-    const std::size_t nu = model.coordinates.size() + model.quasi_velocities.size();
+    const std::size_t nu = model.rigid ? 3 : model.coordinates.size() + model.quasi_velocities.size();
     for (const auto& given : model.programs) {
         ProgramRow p;
-        p.row = constraint_row(model, given.name, given.configuration, given.expression, given.pos);
+        p.row = model.rigid ? rigid_row(model, given)
+                            : constraint_row(model, given.name, given.configuration, given.expression, given.pos);
         p.configuration = given.configuration;
         p.closed_loop = given.closed_loop;
         p.alpha = given.alpha;
@@ -102,7 +140,8 @@ std::vector<ProgramRow> build_rows(const model::Model& model) {
                 p.columns.push_back(p.row.W);
                 p.column_names.push_back("lambda_" + given.name);
                 break;
-            case model::ProgramControl::directions: {
+            case model::ProgramControl::directions:
+            case model::ProgramControl::moment: {
                 std::vector<ex> d(nu, 0);
                 std::copy(given.direction.begin(), given.direction.end(), d.begin());
                 p.columns.push_back(d);
@@ -142,7 +181,7 @@ std::vector<ProgramRow> program_rows(const model::Model& model, const Equations&
                                      "Ā M⁻¹ D λ = c − Ā M⁻¹ f; actuate one coordinate per program",
                                      program_names(rows), k, m));
     }
-    const auto points = symbolic::probe_points(model, 4, 0xc047201);
+    const auto points = control_points(model);
     std::vector<Eigen::MatrixXd> AMD;
     for (const auto& point : points) AMD.push_back(at_point(eqs, rows, point).AMD);
     for (const auto& p : rows)
@@ -162,7 +201,7 @@ std::vector<ProgramRow> program_rows(const model::Model& model, const Equations&
 
 bool redundant_ideal(const model::Model& model, const Equations& eqs) {
     if (eqs.programs.empty() || !all_ideal(eqs.programs)) return false;
-    const auto points = symbolic::probe_points(model, 4, 0xc047201);
+    const auto points = control_points(model);
     std::vector<Eigen::MatrixXd> A;
     for (const auto& point : points) A.push_back(at_point(eqs, eqs.programs, point).A);
     return generic_rank(A) < Eigen::Index(eqs.programs.size());
@@ -221,6 +260,8 @@ Realisation realise(const model::Model& model, const Equations& eqs) {
             state.append(c.q);
             state.append(c.q_dot);
         }
+        if (model.rigid)
+            for (std::size_t i = 0; i < 3; ++i) state.append(model.rigid->omega[i]).append(model.rigid->gamma[i]);
         const ex numerator = GiNaC::factor(GiNaC::numer(det));
         for (const ex& factor : symbolic::factors_of(numerator)) {
             const ex base = GiNaC::is_a<GiNaC::power>(factor) ? factor.op(0) : factor;

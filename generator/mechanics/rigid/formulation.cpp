@@ -65,6 +65,32 @@ void set_state(FirstOrderForm& form, const std::vector<StateComponent>& state, c
     for (std::size_t j = 0; j < rates.size(); ++j) form.explicit_rates.emplace_back(j, rates[j]);
 }
 
+// With programs (Mei §3.2): ω becomes the velocity block, solved from I ω̇ = f + D λ, Ā ω̇ = c by
+// the control chapter's kernel (mechanics/control), the other components keep their explicit
+// rates. `body_of_state` writes γ in the state (the quaternion's), empty when γ is a state.
+void add_programs(const Equations& eqs, const GiNaC::exmap& body_of_state, const model::RigidBody& body,
+                  FirstOrderForm& form) {
+    if (eqs.programs.empty()) return;
+    const char* names[3] = {"p_dot", "q_dot", "r_dot"};
+    for (std::size_t i = 0; i < 3; ++i) form.velocity_rates.push_back({names[i], body.omega_rate[i], 0.0});
+    form.velocity_offset = 0;
+    form.mass_matrix = eqs.mass_matrix;
+    for (const auto& f : eqs.forcing) form.forcing.push_back(f.subs(body_of_state));
+    form.explicit_rates.erase(form.explicit_rates.begin(), form.explicit_rates.begin() + 3);
+    form.programs = eqs.programs;
+    for (auto& p : form.programs) {
+        p.row.velocity = p.row.velocity.subs(body_of_state);
+        p.row.bias = p.row.bias.subs(body_of_state);
+        p.target = p.target.subs(body_of_state);
+        for (auto& w : p.row.W) w = w.subs(body_of_state);
+        for (auto& column : p.columns)
+            for (auto& d : column) d = d.subs(body_of_state);
+    }
+    // The free body's ω̇ no longer describes the motion: the kernel solves for it.
+    std::erase_if(form.derivation, [](const NamedExpression& e) { return e.name == "dp/dt" || e.name == "dq/dt" || e.name == "dr/dt"; });
+    form.redundant_programs = eqs.redundant_programs;
+}
+
 }  // namespace
 
 const RigidFormulation& rigid_formulation(RigidFormulationKind kind) { return registry[static_cast<std::size_t>(kind)]; }
@@ -86,6 +112,7 @@ FirstOrderForm euler_poisson_form(const model::Model& model, const Equations& eq
     for (std::size_t i = 0; i < 3; ++i) form.derivation.push_back({fmt::format("d{}/dt", names[i]), s.omega_rate[i]});
     for (std::size_t i = 0; i < 3; ++i) form.derivation.push_back({fmt::format("d{}/dt", names[3 + i]), s.gamma_rate[i]});
     complete(model, eqs, {}, form);
+    add_programs(eqs, {}, body, form);
     return form;
 }
 
@@ -116,6 +143,7 @@ FirstOrderForm quaternion_form(const model::Model& model, const Equations& eqs) 
     form.unit_quaternions.push_back(3);
     for (std::size_t i = 0; i < 3; ++i) form.derivation.push_back({fmt::format("gamma{}", i + 1), gamma[i]});
     complete(model, eqs, to_state, form);
+    add_programs(eqs, to_state, body, form);
     return form;
 }
 
@@ -165,6 +193,7 @@ FirstOrderForm andoyer_deprit_form(const model::Model& model, const Equations& e
     GiNaC::exmap to_state;
     for (std::size_t i = 0; i < 3; ++i) to_state[body.omega[i]] = omega[i], to_state[body.gamma[i]] = gamma[i];
     complete(model, eqs, to_state, form);
+    add_programs(eqs, to_state, body, form);
     return form;
 }
 

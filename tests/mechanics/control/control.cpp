@@ -284,3 +284,121 @@ BOOST_AUTO_TEST_CASE(refusals_name_the_place) {
         BOOST_TEST(e.message().find("underactuated") != std::string::npos, e.what());
     }
 }
+
+// §3.2: a free body I = (A, B, C) = (2, 3, 5) held on its unstable middle axis by torques about body
+// axes 1 and 3, programs p = 0 and r = 0 with φ̇ + κφ = 0, κ = 2. By hand from Euler's equations
+// (Mei ch. 5) with ṗ = −κp, ṙ = −κr imposed: M1 = A ṗ − (B − C) q r = −4p + 2qr,
+// M3 = C ṙ − (A − B) p q = −10r + pq. Compared exactly (normal() of the difference).
+const std::string middle_axis_programs = R"toml(
+[[program]]
+name = "hold_p"
+constraint = "p"
+erugin = { kappa = 2.0 }
+control = { moment = [1, 0, 0] }
+[[program]]
+name = "hold_r"
+constraint = "r"
+erugin = { kappa = 2.0 }
+control = { moment = [0, 0, 1] }
+)toml";
+
+std::string middle_axis(const std::string& formulation, const std::string& programs = middle_axis_programs) {
+    return R"toml([scene]
+name = "middle_axis_hold"
+[rigid_body]
+inertia = ["2", "3", "5"]
+weight = "0"
+formulation = ")toml" + formulation + R"toml("
+[rigid_body.initial]
+omega = [0.01, 1.0, 0.01]
+vertical = [0.0, 0.0, 1.0]
+)toml" + programs;
+}
+
+BOOST_AUTO_TEST_CASE(rigid_body_held_on_its_middle_axis_torques_in_closed_form) {
+    for (const std::string formulation : {"euler_poisson", "quaternion"}) {
+        const Model model = from_string(middle_axis(formulation));
+        const auto eqs = eomc::mechanics::derive(model);
+        BOOST_TEST_REQUIRE(eqs.programs.size() == 2u);
+        BOOST_TEST(!eqs.programs[0].configuration);
+        const auto r = eomc::mechanics::realise(model, eqs);
+        BOOST_TEST_REQUIRE(r.lambda.has_value(), r.why_not);
+        const ex &p = model.rigid->omega[0], &q = model.rigid->omega[1], &rr = model.rigid->omega[2];
+        const ex l1 = GiNaC::normal((*r.lambda)[0] - (-4 * p + 2 * q * rr));
+        const ex l3 = GiNaC::normal((*r.lambda)[1] - (-10 * rr + p * q));
+        BOOST_TEST(l1.is_zero(), (*r.lambda)[0]);
+        BOOST_TEST(l3.is_zero(), (*r.lambda)[1]);
+        // Q_c = D λ: the torque in body axes, none about the middle axis.
+        BOOST_TEST(GiNaC::normal((*r.Qc)[0] - (*r.lambda)[0]).is_zero());
+        BOOST_TEST((*r.Qc)[1].is_zero(), (*r.Qc)[1]);
+        BOOST_TEST(GiNaC::normal((*r.Qc)[2] - (*r.lambda)[1]).is_zero());
+        // Ā I⁻¹ D = diag(1/A, 1/C): realisable everywhere.
+        BOOST_TEST_REQUIRE(r.determinant.has_value());
+        BOOST_TEST(GiNaC::normal(*r.determinant - GiNaC::numeric(1, 10)).is_zero(), *r.determinant);
+        BOOST_TEST(r.singular.empty());
+    }
+}
+
+// A program holding the vertical: φ = K·γ − k0 (the area), steered by a torque about axis 3. Its
+// bias is ∂φ/∂γ · (γ × ω) = Iω · (γ × ω), and Ā I⁻¹ D = ∂φ/∂ω I⁻¹ e3 = γ3: singular where γ3 = 0
+// (the torque about body axis 3 is then horizontal and cannot change the vertical momentum).
+BOOST_AUTO_TEST_CASE(rigid_body_area_program_singular_where_the_torque_is_horizontal) {
+    const Model model = from_string(middle_axis("euler_poisson", R"toml(
+[[program]]
+name = "area"
+constraint = "2*p*gamma1 + 3*q*gamma2 + 5*r*gamma3 - 1"
+erugin = { kappa = 1.0 }
+control = { moment = [0, 0, 1] }
+)toml"));
+    const auto r = realised(model);
+    BOOST_TEST_REQUIRE(r.determinant.has_value());
+    const ex gamma3 = model.rigid->gamma[2];
+    BOOST_TEST(GiNaC::normal(*r.determinant - gamma3).is_zero(), *r.determinant);
+    BOOST_TEST_REQUIRE(r.singular.size() == 1u);
+    BOOST_TEST(GiNaC::normal(r.singular[0] - gamma3).is_zero());
+    // A free body's K·γ is an integral (Mei ch. 5), so d/dt(K·γ) = λ γ3 and λ γ3 = −κ φ.
+    BOOST_TEST_REQUIRE(r.lambda.has_value(), r.why_not);
+    const auto& w = model.rigid->omega;
+    const auto& g = model.rigid->gamma;
+    const ex phi = 2 * w[0] * g[0] + 3 * w[1] * g[1] + 5 * w[2] * g[2] - 1;
+    const ex difference = GiNaC::normal((*r.lambda)[0] * gamma3 + phi);
+    BOOST_TEST(difference.is_zero(), (*r.lambda)[0]);
+}
+
+BOOST_AUTO_TEST_CASE(rigid_body_program_refusals_name_the_place) {
+    const auto program = [](const std::string& control, const std::string& constraint = "p") {
+        return middle_axis("euler_poisson", "[[program]]\nname = \"c\"\nconstraint = \"" + constraint +
+                                                "\"\nerugin = { kappa = 1 }\ncontrol = " + control + "\n");
+    };
+    // Line 14 holds control = ...; the value starts at column 11 (line 12: the constraint).
+    const std::string zero = where(program("{ moment = [0, 0.0, 0] }"));
+    BOOST_TEST(zero.rfind("14:22", 0) == 0, zero);
+    BOOST_TEST(zero.find("zero vector") != std::string::npos, zero);
+    const std::string two = where(program("{ moment = [1, 0] }"));
+    BOOST_TEST(two.rfind("14:22", 0) == 0, two);
+    BOOST_TEST(two.find("expected 3 components") != std::string::npos, two);
+    const std::string other = where(program("{ torque = [1, 0, 0] }"));
+    BOOST_TEST(other.rfind("14:", 0) == 0, other);
+    BOOST_TEST(other.find("torque") != std::string::npos, other);
+    const std::string list = where(program("[\"p\"]"));
+    BOOST_TEST(list.rfind("14:11", 0) == 0, list);
+    BOOST_TEST(list.find("no coordinates to actuate") != std::string::npos, list);
+    const std::string state = where(program("{ moment = [\"q\", 0, 0] }"));
+    BOOST_TEST(state.rfind("14:", 0) == 0, state);
+    const std::string attitude = where(program("{ moment = [1, 0, 0] }", "gamma1"));
+    BOOST_TEST(attitude.rfind("12:", 0) == 0, attitude);
+    BOOST_TEST(attitude.find("attitude programs") != std::string::npos, attitude);
+    std::string angles = middle_axis("euler_angles");
+    angles.replace(angles.find("vertical = [0.0, 0.0, 1.0]"), 26, "vertical = [0.0, 0.6, 0.8]");
+    const std::string formulation = where(angles);
+    BOOST_TEST(formulation.find("euler_poisson or quaternion") != std::string::npos, formulation);
+    // Underactuated: a torque about the middle axis cannot steer p.
+    const Model model = from_string(program("{ moment = [0, 1, 0] }"));
+    try {
+        eomc::mechanics::derive(model);
+        BOOST_FAIL("an underactuated program was accepted");
+    } catch (const InputError& e) {
+        BOOST_TEST(e.where().line == 14);
+        BOOST_TEST(e.message().find("underactuated") != std::string::npos, e.what());
+    }
+}
