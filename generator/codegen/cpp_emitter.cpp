@@ -337,7 +337,7 @@ bool uses_kepler_solver(const KernelIR& ir) {
                            &ir.outputs, &ir.events, &ir.santilli_residuals, &ir.singular_sets,
                            &ir.mass_forcing_and_constraints, &ir.constraint_residuals, &ir.constraint_jacobian,
                            &ir.restitutions, &ir.contact_gaps, &ir.contact_jacobian, &ir.contact_bias,
-                           &ir.mass_forcing_and_programs, &ir.program_residuals}) {
+                           &ir.contact_time_rates, &ir.mass_forcing_and_programs, &ir.program_residuals}) {
         for (const auto& t : b->temporaries)
             if (model::has_kepler_E(t.value)) return true;
         for (const auto& o : b->outputs)
@@ -838,6 +838,12 @@ std::string contacts_part(const KernelIR& ir, const LocalNames& names) {
         indent(block_body(ir, names, ir.contact_gaps, "out"), 8),
         indent(block_body(ir, names, ir.contact_jacobian, "out"), 8),
         indent(block_body(ir, names, ir.contact_bias, "out"), 8)) +
+           (ir.contact_time_rates.outputs.empty()
+                ? std::string()
+                : fmt::format("\n    // w = ∂f/∂t, one per row: a moving gap's rate is ḟ = W u + w (0 for a kinematic row).\n"
+                              "    template <class S>\n"
+                              "    static void contact_time_rates(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n",
+                              indent(block_body(ir, names, ir.contact_time_rates, "out"), 8))) +
            (ir.constraint_names.empty() ? std::string() : bilateral_rows_for_contacts());
 }
 
@@ -961,6 +967,7 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
         if (!ir.contact_names.empty())
             t += table_row("contact gaps", ir.contact_gaps) + table_row("contact jacobian", ir.contact_jacobian) +
                  table_row("contact bias", ir.contact_bias);
+        if (!ir.contact_time_rates.outputs.empty()) t += table_row("contact time rates", ir.contact_time_rates);
         t.pop_back();
         return t;
     }();

@@ -112,6 +112,10 @@ struct KernelIR {
     Block contact_gaps;      // m: f_α (gap) or φ_α (kinematic)
     Block contact_jacobian;  // W, m × n_velocities row-major
     Block contact_bias;      // m
+    // m: w_α = ∂f_α/∂t of a moving gap (ḟ_α = W_α u + w_α; 0 for a kinematic row). Empty when every
+    // w_α vanishes (fixed walls): nothing is emitted, the kernel keeps its bytes, and the runtime
+    // takes w = 0.
+    Block contact_time_rates;
 
     // Programs realised by controls (mechanics/control/rows.hpp; empty: nothing is emitted and the
     // kernel keeps its bytes): M u̇ = f + D λ, Ā u̇ = c, solved at run time (runtime/program/control.hpp).

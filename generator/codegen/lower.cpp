@@ -96,10 +96,13 @@ void lower_constraints(KernelIR& ir, const mechanics::FirstOrderForm& form, cons
 // Dynamical Systems, Springer 2008): the gaps (f for a gap row, φ for a kinematic row of §6.7), W
 // over the velocities and the bias of f̈ = W u̇ + bias, each CSE'd alone (the event-driven driver
 // asks for them at different times), and the restitution coefficients, which may depend on the
-// parameters only.
+// parameters only. A gap that moves with t (a driven wall or table) also gets its explicit time rate
+// w = ∂f/∂t, so that ḟ = W u + w (the rate on which Newton's impact law acts; Mei §6.5); f̈'s bias
+// already holds ∂²f/∂t² and 2 Σ ∂²f/∂q∂t q̇ (constraint_row's total derivative treats t).
 void lower_unilateral(KernelIR& ir, const mechanics::FirstOrderForm& form, const std::string& prefix) {
     const std::size_t nu = form.n_velocities();
-    std::vector<ex> gaps, W, bias, restitutions;
+    std::vector<ex> gaps, W, bias, restitutions, time_rates;
+    bool moving = false;
     for (const auto& u : form.unilateral) {
         const auto& row = u.row;
         if (row.W.size() != nu)
@@ -117,7 +120,12 @@ void lower_unilateral(KernelIR& ir, const mechanics::FirstOrderForm& form, const
         W.insert(W.end(), row.W.begin(), row.W.end());
         bias.push_back(row.bias);
         restitutions.push_back(u.restitution);
+        // φ of a kinematic row is itself a rate: nothing is added to it.
+        const ex w = row.holonomic ? row.position.diff(GiNaC::ex_to<GiNaC::symbol>(ir.t)).expand() : ex(0);
+        moving = moving || !w.is_zero();
+        time_rates.push_back(w);
     }
+    if (moving) ir.contact_time_rates = eliminate_common_subexpressions(time_rates, prefix);
     ir.restitutions = eliminate_common_subexpressions(restitutions, prefix);
     ir.contact_gaps = eliminate_common_subexpressions(gaps, prefix);
     ir.contact_jacobian = eliminate_common_subexpressions(W, prefix);

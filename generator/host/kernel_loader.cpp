@@ -21,10 +21,11 @@ namespace {
 
 // Bumped whenever the C interface below changes; the loader refuses a library that reports
 // another value (a cache written by an older eomc).
-constexpr int adapter_abi = 12;  // 3: acceleration and events; 4: project; 5: variational_rhs; 6: project(t, x, p);
+constexpr int adapter_abi = 13;  // 3: acceleration and events; 4: project; 5: variational_rhs; 6: project(t, x, p);
                                  // 7: eomc_kernel_identity; 8: constraint rows; 9: singular sets;
                                  // 10: the mechanical form (sizes, M, f) and unilateral rows; 11: programs;
-                                 // 12: bilateral rows beside unilateral ones (constraint_rows)
+                                 // 12: bilateral rows beside unilateral ones (constraint_rows);
+                                 // 13: contact_time_rates (moving gaps; zeros for a kernel without it)
 
 // The adapter: C functions over double, so that the host needs no knowledge of the kernel's
 // C++ types. Parameters travel by position in parameter_names order, never by member name
@@ -200,6 +201,15 @@ void contact_bias(double t, const double* x, double* out, const void* p) {
     else (void)t, (void)x, (void)out, (void)p;
 }
 template <class M>
+void contact_time_rates(double t, const double* x, double* out, const void* p) {
+    if constexpr (rt::MovingContactKernel<M>) {
+        M::template contact_time_rates<double>(t, x, out, *static_cast<const typename M::Parameters*>(p));
+    } else {
+        (void)t, (void)x, (void)p;
+        for (int a = 0; a < n_contacts<M>(); ++a) out[a] = 0.0;  // fixed gaps: w = 0
+    }
+}
+template <class M>
 void events(double t, const double* x, double* out, const void* p) {
     if constexpr (rt::EventKernel<M>) M::template events<double>(t, x, out, *static_cast<const typename M::Parameters*>(p));
     else (void)t, (void)x, (void)out, (void)p;
@@ -290,6 +300,10 @@ EOMC_EXPORT void eomc_contact_jacobian(double t, const double* x, double* out, c
 }
 EOMC_EXPORT void eomc_contact_bias(double t, const double* x, double* out, const void* p) {
     contact_bias<K>(t, x, out, p);
+}
+EOMC_EXPORT int eomc_has_contact_time_rates() { return rt::MovingContactKernel<K> ? 1 : 0; }
+EOMC_EXPORT void eomc_contact_time_rates(double t, const double* x, double* out, const void* p) {
+    contact_time_rates<K>(t, x, out, p);
 }
 EOMC_EXPORT int eomc_n_programs() { return n_programs<K>(); }
 EOMC_EXPORT const char* eomc_program_name(int i) { return program_name<K>(i); }
@@ -474,6 +488,9 @@ KernelLibrary KernelLibrary::load(const std::string& header_text, const std::str
     lib.gaps_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_gaps", p);
     lib.contact_jacobian_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_contact_jacobian", p);
     lib.contact_bias_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_contact_bias", p);
+    lib.moving_contacts_ = symbol<int (*)()>(h, "eomc_has_contact_time_rates", p)() != 0;
+    lib.contact_time_rates_ =
+        symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_contact_time_rates", p);
     lib.seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return lib;
 }
@@ -538,6 +555,8 @@ KernelLibrary& KernelLibrary::operator=(KernelLibrary&& other) noexcept {
         gaps_ = other.gaps_;
         contact_jacobian_ = other.contact_jacobian_;
         contact_bias_ = other.contact_bias_;
+        moving_contacts_ = other.moving_contacts_;
+        contact_time_rates_ = other.contact_time_rates_;
     }
     return *this;
 }

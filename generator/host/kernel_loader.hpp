@@ -135,6 +135,11 @@ public:
     void contact_bias(double t, const double* x, double* out, const Parameters& p) const {
         contact_bias_(t, x, out, p.get());
     }
+    // w = ∂f/∂t per row (ḟ = W u + w); zeros for a kernel whose gaps do not move (moving_contacts()).
+    bool moving_contacts() const { return moving_contacts_; }
+    void contact_time_rates(double t, const double* x, double* out, const Parameters& p) const {
+        contact_time_rates_(t, x, out, p.get());
+    }
 
     // How the library was obtained.
     const std::string& library_path() const { return path_; }
@@ -188,6 +193,8 @@ private:
     void (*gaps_)(double, const double*, double*, const void*) = nullptr;
     void (*contact_jacobian_)(double, const double*, double*, const void*) = nullptr;
     void (*contact_bias_)(double, const double*, double*, const void*) = nullptr;
+    bool moving_contacts_ = false;
+    void (*contact_time_rates_)(double, const double*, double*, const void*) = nullptr;
 };
 
 // Exposed for tests: the adapter source for a struct and its header (it exports the kernel's

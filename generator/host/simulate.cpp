@@ -783,6 +783,12 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
                     for (int k = 0; k < n; ++k) W(Eigen::Index(a), k) = buffer[a * std::size_t(n) + std::size_t(k)];
                 lib.contact_bias(t, scratch.data(), b.data(), parameters);
             };
+            // Moving gaps: ḟ = W u + w, w = ∂f/∂t (fixed gaps leave it out: w = 0).
+            if (lib.moving_contacts())
+                sys.time_rates = [&](double t, const Vector& q, Vector& w) {
+                    put(q, nullptr);
+                    lib.contact_time_rates(t, scratch.data(), w.data(), parameters);
+                };
             if (k > 0)
                 sys.bilateral = [&](double t, const Vector& q, const Vector& u, Vector& f, Vector& phi, Matrix& C,
                                     Vector& r) {
@@ -905,9 +911,17 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
                 u[k] = x[std::size_t(n + k)];
             }
             for (std::size_t a = 0; a < m; ++a) e[Eigen::Index(a)] = restitution[a];
+            // w = ∂f/∂t of moving gaps (zeros for fixed ones): ḟ = W u + w.
+            const auto time_rates = [&](double t, const LcpVector<double>& q) {
+                put(q, nullptr);
+                LcpVector<double> w = LcpVector<double>::Zero(Eigen::Index(m));
+                lib.contact_time_rates(t, scratch.data(), w.data(), parameters);
+                return w;
+            };
             runtime::MoreauJeanOptions<double> options;
             options.theta = request.theta;
             options.kinematic = lib.contact_kinematic();
+            if (lib.moving_contacts()) options.time_rates = time_rates;
             // M̃⁻¹ B: M⁻¹ B with the bilateral rows' reaction taken out (M⁻¹ B without them).
             const auto constrained_solve = [&](double t, const LcpVector<double>& q, const LcpVector<double>& u,
                                                const LcpMatrix<double>& M, const LcpMatrix<double>& B) {
@@ -960,6 +974,11 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
                 for (std::size_t a = 0; a < m; ++a) any = any || step.P[Eigen::Index(a)] > 0.0;
                 LcpMatrix<double> W, M;
                 LcpVector<double> kick;  // the velocity the forces add over one step, h M⁻¹ f
+                LcpVector<double> w0 = LcpVector<double>::Zero(Eigen::Index(m)), w1 = w0;  // ∂f/∂t at t_prev, t
+                if (any && lib.moving_contacts()) {
+                    w0 = time_rates(t_prev, q_prev);
+                    w1 = time_rates(t, q_prev);
+                }
                 if (any) {
                     W = jacobian(t_prev, q_prev);
                     M = mass(t_prev, q_prev);
@@ -974,7 +993,8 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
                     } else if (P > 0.0) {
                         // A bounce slower than twice what the forces change in one step is the scheme's
                         // own chatter at rest (order h), not an impact: the row counts as in contact.
-                        const double before = W.row(Eigen::Index(a)).dot(u_prev), after = W.row(Eigen::Index(a)).dot(un);
+                        const Eigen::Index ia = Eigen::Index(a);
+                        const double before = W.row(ia).dot(u_prev) + w0[ia], after = W.row(ia).dot(un) + w1[ia];
                         const double vtol = scale + 2 * std::abs(W.row(Eigen::Index(a)).dot(kick));
                         if (before < -vtol && after > vtol) {
                             ContactEventReport r;
@@ -987,7 +1007,9 @@ SimulationResult simulate_contacts(const SimulationRequest& request, const Kerne
                             r.energy_change = 0.5 * un.dot(M * un) - 0.5 * u_prev.dot(M * u_prev);
                             const LcpVector<double> du = constrained_solve(
                                 t_prev, q_prev, u_prev, M, LcpMatrix<double>(W.row(Eigen::Index(a)).transpose() * P));
-                            r.carnot = -((1.0 - restitution[a]) / (1.0 + restitution[a])) * 0.5 * du.dot(M * du);
+                            // Carnot's loss in the wall's frame, less the moving wall's work P w.
+                            r.carnot = -((1.0 - restitution[a]) / (1.0 + restitution[a])) * 0.5 * du.dot(M * du) -
+                                       P * w0[ia];
                             add_event(std::move(r));
                         } else {
                             now = true;

@@ -175,6 +175,14 @@ concept ContactKernel =
       K::template contact_bias<S>(t, x, out, p);
     };
 
+// Contact kernels whose gaps move with t (a driven wall or table): contact_time_rates() writes
+// w_α = ∂f_α/∂t per row, so that ḟ_α = W_α u + w_α (runtime::contact::ContactSystem::time_rates).
+// A ContactKernel without it has fixed gaps, w = 0.
+template <class K, class S = double>
+concept MovingContactKernel = ContactKernel<K, S> && requires(S t, const S* x, S* out, const typename K::Parameters& p) {
+  K::template contact_time_rates<S>(t, x, out, p);
+};
+
 // Kernels with bilateral and unilateral rows (Mei §6.6): the bilateral rows as the contact drivers
 // take them, always active with multipliers of free sign: residuals (f or φ), φ, W
 // (n_constraints × n_velocities, row-major) and r of W u̇ = r, and which rows are holonomic.

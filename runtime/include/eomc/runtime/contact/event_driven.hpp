@@ -6,7 +6,19 @@
 // Unilateral Contacts, Wiley 1996, ch. 6 (the phases, the indicators g_α for open and λ_α for
 // closed contacts, the contact-phase LCP) and ch. 7 (Newton's impact law as an LCP).
 //
-//   M(t, q) u̇ = f(t, q, u) + Wᵀ λ,   q̇ = u,   g_α(t, q) ≥ 0,  W_α = ∂g_α/∂q,  g̈_α = W_α u̇ + b_α.
+//   M(t, q) u̇ = f(t, q, u) + Wᵀ λ,   q̇ = u,   g_α(t, q) ≥ 0,  W_α = ∂g_α/∂q,  w_α = ∂g_α/∂t,
+//   ġ_α = W_α u + w_α,   g̈_α = W_α u̇ + b_α.
+//
+// Moving (rheonomic) gaps g_α(t, q), a wall or a table driven in time: the rate of a gap is
+// ġ_α = W_α u + w_α with the explicit time rate w_α = ∂g_α/∂t (zero for a fixed wall), and b_α holds
+// ∂²g_α/∂t² and 2 Σ ∂²g_α/∂q∂t q̇ beside the quadratic terms. Every test on a gap's rate uses ġ_α:
+// the closing test, Newton's law ġ⁺ = −e ġ⁻ on the relative normal velocity (Mei §6.5: the
+// impulsive equations M Δu = Wᵀ P with the restitution acting on the rates of the constraints; for
+// one contact W Δu = −(1 + e) ġ⁻), the resting test and the projection onto ġ = 0, the first step's
+// apex bound. Carnot's theorem then holds in the wall's frame: in the ground frame the wall's
+// impulse does the work −Pᵀw besides, T⁺ − T⁻ = −((1 − e)/(1 + e)) ½ ΔuᵀMΔu − Pᵀw (from
+// T⁺ − T⁻ = ½ Pᵀ W (u⁺ + u⁻) = ½ Pᵀ(ġ⁺ + ġ⁻) − Pᵀw and ½ ΔuᵀMΔu = ½ Pᵀ(ġ⁺ − ġ⁻)), which is what
+// the events record as carnot.
 //
 // Phases and transitions:
 //  * free flight (no active contact): u̇ = M⁻¹ f; the indicators are the gaps g_α, an event is a
@@ -15,7 +27,8 @@
 //    closed form, P = −(1 + e) ġ⁻ / G with G = W M⁻¹ Wᵀ (Pfeiffer-Glocker (7.9)); several by
 //    the LCP 0 ≤ P ⊥ G P + (1 + E) ġ⁻ ≥ 0 (ibid. §7.2), i.e. W u⁺ + E ġ⁻ ≥ 0. u⁺ = u⁻ + M⁻¹WᵀP.
 //    Energy: ΔT = ½ G P² + ġ⁻ P = −((1 − e)/(1 + e)) ½ Δuᵀ M Δu, Carnot's theorem for a Newton
-//    impact (Mei ch. 6; Pfeiffer-Glocker §7.3), recorded beside the measured ΔT.
+//    impact on a fixed wall (Mei ch. 6; Pfeiffer-Glocker §7.3), recorded beside the measured ΔT
+//    (less Pᵀw for a moving wall, above).
 //    With sequential_impacts the closed contacts instead take one-contact Newton impacts one after
 //    another, the fastest approaching first, until none approaches (contact/impact.hpp's sequential
 //    law: Newton's cradle of three balls, e = 1, ends at (0, 0, 1), the simultaneous LCP at
@@ -61,8 +74,8 @@
 //    the dense output of whichever smooth phase holds them (free flight or a contact phase), with
 //    the actions record and stop; they never change the mode.
 //
-// Assumptions: q̇ = u (so W_α is also ∂ġ_α/∂u), scleronomic gaps (ġ_α = W_α u; moving walls are
-// not covered), forward time. Kinematic contacts take no part in impacts.
+// Assumptions: q̇ = u (so W_α is also ∂ġ_α/∂u), forward time. Kinematic contacts take no part in
+// impacts (their φ is already a rate: no time rate is added to it).
 
 #include <cmath>
 #include <cstddef>
@@ -108,7 +121,9 @@ struct Contact {
 //   mass(t, q, M)              M, n × n symmetric positive definite;
 //   force(t, q, u, f)          f, n: every force but the contact reactions (gyroscopic terms too);
 //   gaps(t, q, u, g)           g, m: g_α(t, q) for position contacts, φ_α(t, q, u) for kinematic;
-//   rows(t, q, u, W, b)        W, m × n and b, m: g̈_α = W_α u̇ + b_α (φ̇_α = W_α u̇ + b_α).
+//   rows(t, q, u, W, b)        W, m × n and b, m: g̈_α = W_α u̇ + b_α (φ̇_α = W_α u̇ + b_α);
+//   time_rates(t, q, w)        w, m: w_α = ∂g_α/∂t of a moving gap, ġ_α = W_α u + w_α (0 for a
+//                              kinematic row). Optional: without it every w_α is 0 (fixed walls).
 template <class S>
 struct ContactSystem {
   int dof = 0;
@@ -117,6 +132,7 @@ struct ContactSystem {
   std::function<void(S, const Vector<S>&, const Vector<S>&, Vector<S>&)> force;
   std::function<void(S, const Vector<S>&, const Vector<S>&, Vector<S>&)> gaps;
   std::function<void(S, const Vector<S>&, const Vector<S>&, Matrix<S>&, Vector<S>&)> rows;
+  std::function<void(S, const Vector<S>&, Vector<S>&)> time_rates;
   // Bilateral rows, always active (none by default): which are holonomic, and
   //   bilateral(t, q, u, f, phi, C, r)  f, k: f(t, q) (holonomic) or φ(t, q, u); phi, k: φ (ḟ for a
   //                                     holonomic row); C, k × n: ∂φ/∂u; r, k: C u̇ = r.
@@ -210,7 +226,7 @@ class ContactModel {
   explicit ContactModel(const ContactSystem<S>& sys)
       : sys_(sys), n_(sys.dof), m_(static_cast<int>(sys.contacts.size())),
         k_(static_cast<int>(sys.bilateral_holonomic.size())), q_(n_), u_(n_), M_(n_, n_), f_(n_), g_(m_),
-        W_(m_, n_), b_(m_), bf_(k_), bphi_(k_), C_(k_, n_), r_(k_) {
+        W_(m_, n_), b_(m_), w_(Vector<S>::Zero(m_)), bf_(k_), bphi_(k_), C_(k_, n_), r_(k_) {
     if (k_ > 0 && !sys.bilateral) throw std::invalid_argument("integrate_event_driven: bilateral rows need bilateral()");
   }
 
@@ -227,6 +243,7 @@ class ContactModel {
     sys_.force(t, q_, u_, f_);
     sys_.gaps(t, q_, u_, g_);
     sys_.rows(t, q_, u_, W_, b_);
+    time_rates(t);
     ldlt_.compute(M_);
     free_ = ldlt_.solve(f_);
     if (k_ > 0) {
@@ -247,8 +264,16 @@ class ContactModel {
   const Vector<S>& g() const { return g_; }
   const Matrix<S>& W() const { return W_; }
   const Vector<S>& b() const { return b_; }
-  // The contact's closing rate: ġ_α = W_α u for a gap, φ_α itself for a kinematic constraint.
-  S rate(int a) const { return kinematic(a) ? g_[a] : S(W_.row(a).dot(u_)); }
+  const Vector<S>& w() const { return w_; }
+  // The contact's closing rate: ġ_α = W_α u + w_α for a gap (w_α = ∂g_α/∂t of a moving wall), φ_α
+  // itself for a kinematic constraint.
+  S rate(int a) const { return kinematic(a) ? g_[a] : S(W_.row(a).dot(u_) + w_[a]); }
+  // The time rates of the rows of `set`.
+  Vector<S> time_rates_of(const std::vector<int>& set) const {
+    Vector<S> out(Eigen::Index(set.size()));
+    for (std::size_t i = 0; i < set.size(); ++i) out[Eigen::Index(i)] = w_[set[i]];
+    return out;
+  }
 
   Matrix<S> rows_of(const std::vector<int>& set) const {
     Matrix<S> out(Eigen::Index(set.size()), n_);
@@ -317,6 +342,7 @@ class ContactModel {
       split(xp);
       sys_.gaps(tt, q_, u_, g_);
       sys_.rows(tt, q_, u_, W_, b_);
+      time_rates(tt);
       if (k_ > 0) sys_.bilateral(tt, q_, u_, bf_, bphi_, C_, r_);
       for (int i = 0; i < k_; ++i) {
         f[i] = bf_[i];
@@ -349,6 +375,13 @@ class ContactModel {
 
  private:
   void split(const State<S>& x) { split(x.data()); }
+  // w at (t, q_): the system's, zero on kinematic rows (their φ is already a rate); zero without it.
+  void time_rates(S t) {
+    if (!sys_.time_rates) return;
+    sys_.time_rates(t, q_, w_);
+    for (int a = 0; a < m_; ++a)
+      if (kinematic(a)) w_[a] = S(0);
+  }
   void split(const S* x) {
     for (int k = 0; k < n_; ++k) {
       q_[k] = x[k];
@@ -362,7 +395,7 @@ class ContactModel {
   Matrix<S> M_;
   Vector<S> f_, g_;
   Matrix<S> W_;
-  Vector<S> b_;
+  Vector<S> b_, w_;       // the bias of g̈ and the time rates ∂g/∂t
   Vector<S> bf_, bphi_;  // the bilateral rows' residuals
   Matrix<S> C_, Yc_;     // their Jacobian and M⁻¹Cᵀ
   Vector<S> r_, free_;   // C u̇ = r; the free acceleration (bilateral rows held)
@@ -539,18 +572,19 @@ EventDrivenOutcome<S> integrate_event_driven(Stepper<S>& stepper, const ContactS
     for (int c = 0; c < m; ++c)
       if (!model.kinematic(c) && (c == a || abs(model.g()[c]) <= gtol)) set.push_back(c);
     const Matrix<S> Wi = model.rows_of(set);
-    const Vector<S> u_minus = model.u(), rate_minus = Wi * u_minus;
+    const Vector<S> wi = model.time_rates_of(set);  // ∂g/∂t: ġ = W u + w (a moving wall)
+    const Vector<S> u_minus = model.u(), rate_minus = Wi * u_minus + wi;
     const Eigen::Index ns = Eigen::Index(set.size());
     const auto restitution = [&](Eigen::Index i) { return model.contact(set[std::size_t(i)]).restitution; };
     Vector<S> P = Vector<S>::Zero(ns), u_plus = u_minus;
     S carnot = S(0);
     if (options.sequential_impacts) {
       // One-contact Newton impacts, the fastest approaching contact first, until none approaches
-      // beyond the rounding of its rate (64 ε Σ_j |W_αj u_j|, as contact/impact.hpp).
+      // beyond the rounding of its rate (64 ε (Σ_j |W_αj u_j| + |w_α|), as contact/impact.hpp).
       const Matrix<S> Y = model.solve_mass(Matrix<S>(Wi.transpose()));  // M̃⁻¹ W_Iᵀ
       for (std::size_t count = 0;; ++count) {
-        const Vector<S> rate = Wi * u_plus;
-        const Vector<S> noise = S(64) * eps * (Wi.cwiseAbs() * u_plus.cwiseAbs());
+        const Vector<S> rate = Wi * u_plus + wi;
+        const Vector<S> noise = S(64) * eps * (Wi.cwiseAbs() * u_plus.cwiseAbs() + wi.cwiseAbs());
         Eigen::Index i = -1;
         for (Eigen::Index j = 0; j < ns; ++j)
           if (rate[j] < -noise[j] && (i < 0 || rate[j] < rate[i])) i = j;
@@ -559,7 +593,7 @@ EventDrivenOutcome<S> integrate_event_driven(Stepper<S>& stepper, const ContactS
           throw std::runtime_error("integrate_event_driven: the sequential impact law did not end (inelastic collapse?)");
         const S e = restitution(i), p = -(S(1) + e) * rate[i] / Wi.row(i).dot(Y.col(i));
         const Vector<S> du = Y.col(i) * p;
-        carnot += -((S(1) - e) / (S(1) + e)) * model.kinetic_energy(du);
+        carnot += -((S(1) - e) / (S(1) + e)) * model.kinetic_energy(du) - p * wi[i];
         u_plus += du;
         P[i] += p;
       }
@@ -571,9 +605,9 @@ EventDrivenOutcome<S> integrate_event_driven(Stepper<S>& stepper, const ContactS
       const Vector<S> du = model.solve_mass(Vector<S>(Wi.transpose() * P));
       u_plus = u_minus + du;
       const S e = model.contact(a).restitution;
-      carnot = -((S(1) - e) / (S(1) + e)) * model.kinetic_energy(du);
+      carnot = -((S(1) - e) / (S(1) + e)) * model.kinetic_energy(du) - P.dot(wi);
     }
-    const Vector<S> rate_plus = Wi * u_plus;
+    const Vector<S> rate_plus = Wi * u_plus + wi;
     const S dT = model.kinetic_energy(u_plus) - model.kinetic_energy(u_minus);
     for (int k = 0; k < n; ++k) xs[std::size_t(n + k)] = u_plus[k];
     for (std::size_t i = 0; i < set.size(); ++i) {

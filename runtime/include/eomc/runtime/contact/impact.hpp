@@ -7,12 +7,14 @@
 // Fengxiang, Special Topics in Analytical Mechanics, ch. 6, §6.5 on the impulsive Lagrange
 // equations).
 //
-// The m active contacts have gaps f_α(q) = 0 with Jacobian rows W (m × n), normal velocities
-// ḟ = W u. Over the impact the positions do not move and the impulsive equations of motion give
+// The m active contacts have gaps f_α(q, t) = 0 with Jacobian rows W (m × n), normal velocities
+// ḟ = W u + w, w_α = ∂f_α/∂t the rate of a moving wall (zero for a fixed one; the overloads without
+// w take it zero). Over the impact the positions do not move and the impulsive equations of motion give
 //
 //   M (u⁺ − u⁻) = Wᵀ P,        0 ≤ P ⊥ W u⁺ + e ḟ⁻ ≥ 0       (e ḟ⁻ per contact: e_α ḟ⁻_α),
 //
-// with P the normal impulses. Substituting u⁺ = u⁻ + M⁻¹ Wᵀ P, W u⁺ + e ḟ⁻ = G P + (1 + e) ḟ⁻:
+// (W u⁺ + w + e ḟ⁻ ≥ 0 for a moving wall: the law acts on the relative normal velocity)
+// with P the normal impulses. Substituting u⁺ = u⁻ + M⁻¹ Wᵀ P, ḟ⁺ + e ḟ⁻ = G P + (1 + e) ḟ⁻:
 // the LCP(G, q) of lcp.hpp with the Delassus matrix G = W M⁻¹ Wᵀ (symmetric positive definite
 // for independent rows) and q_α = (1 + e_α) ḟ⁻_α. A contact with P_α > 0 leaves with
 // ḟ⁺_α = −e_α ḟ⁻_α (Newton's law); one with P_α = 0 separates at least that fast. For one contact
@@ -23,7 +25,9 @@
 //
 //   T⁺ − T⁻ = −((1 − e)/(1 + e)) · ½ Δuᵀ M Δu ≤ 0,
 //
-// the kinetic energy of the lost velocities weighted by (1 − e)/(1 + e) (Carnot for e = 0).
+// the kinetic energy of the lost velocities weighted by (1 − e)/(1 + e) (Carnot for e = 0). A moving
+// wall does the work −Pᵀw on top (T⁺ − T⁻ = ½ PᵀW(u⁺ + u⁻) = ½ Pᵀ(ḟ⁺ + ḟ⁻) − Pᵀw), which
+// carnot_prediction includes: Carnot's theorem holds in the wall's frame.
 //
 // Simultaneous and sequential impacts are different laws: for Newton's cradle (three equal balls
 // touching, the first at unit speed, e = 1) Moreau's simultaneous law gives (−1/3, 2/3, 2/3),
@@ -48,8 +52,8 @@ struct ImpactResult {
   LcpVector<S> u_plus;  // velocities after the impact
   LcpVector<S> P;       // normal impulse per contact (the total over the impacts for the sequential law)
   S kinetic_energy_before = S(0), kinetic_energy_after = S(0);
-  // −((1 − e)/(1 + e)) ½ Δuᵀ M Δu: Carnot's prediction of T⁺ − T⁻, valid when all contacts share
-  // one e (carnot_applies) or there is one contact; 0 and false otherwise.
+  // −((1 − e)/(1 + e)) ½ Δuᵀ M Δu − Pᵀw: Carnot's prediction of T⁺ − T⁻, valid when all contacts
+  // share one e (carnot_applies) or there is one contact; 0 and false otherwise.
   S carnot_prediction = S(0);
   bool carnot_applies = false;
   LcpStatus status = LcpStatus::solved;  // of the LCP (solved for the closed forms)
@@ -68,13 +72,13 @@ void check_impact_shapes(const LcpMatrix<S>& M, const LcpMatrix<S>& W, const Lcp
 // The energies and Carnot's prediction of a result whose u_plus is set.
 template <class S>
 void impact_energies(const LcpMatrix<S>& M, const LcpVector<S>& e, const LcpVector<S>& u_minus,
-                     ImpactResult<S>& r) {
+                     const LcpVector<S>& w, ImpactResult<S>& r) {
   r.kinetic_energy_before = S(0.5) * u_minus.dot(M * u_minus);
   r.kinetic_energy_after = S(0.5) * r.u_plus.dot(M * r.u_plus);
   r.carnot_applies = e.size() == 0 || (e.array() == e[0]).all();
   if (r.carnot_applies && e.size() > 0) {
     const LcpVector<S> du = r.u_plus - u_minus;
-    r.carnot_prediction = -((S(1) - e[0]) / (S(1) + e[0])) * S(0.5) * du.dot(M * du);
+    r.carnot_prediction = -((S(1) - e[0]) / (S(1) + e[0])) * S(0.5) * du.dot(M * du) - r.P.dot(w);
   }
 }
 
@@ -82,14 +86,16 @@ void impact_energies(const LcpMatrix<S>& M, const LcpVector<S>& e, const LcpVect
 
 // Moreau's simultaneous impact law on all m contacts: M n × n symmetric positive definite, W m × n,
 // restitution e_α ∈ [0, 1] per contact, u⁻ of n.
+// w: the time rates ∂f_α/∂t of moving walls, ḟ = W u + w.
 template <class S>
 ImpactResult<S> newton_impact(const LcpMatrix<S>& M, const LcpMatrix<S>& W, const LcpVector<S>& e,
-                              const LcpVector<S>& u_minus) {
+                              const LcpVector<S>& u_minus, const LcpVector<S>& w) {
   detail::check_impact_shapes(M, W, e, u_minus);
+  if (w.size() != W.rows()) throw std::invalid_argument("impact: w of m");
   const Eigen::LDLT<LcpMatrix<S>> ldlt(M);
   const LcpMatrix<S> Y = ldlt.solve(W.transpose());  // M⁻¹ Wᵀ
   const LcpMatrix<S> G = W * Y;                      // Delassus matrix
-  const LcpVector<S> fdot = W * u_minus;
+  const LcpVector<S> fdot = W * u_minus + w;
   ImpactResult<S> r;
   if (W.rows() == 1) {
     // The scalar LCP in closed form.
@@ -103,18 +109,27 @@ ImpactResult<S> newton_impact(const LcpMatrix<S>& M, const LcpMatrix<S>& W, cons
   }
   r.u_plus = u_minus + Y * r.P;
   r.impacts = 1;
-  detail::impact_energies(M, e, u_minus, r);
+  detail::impact_energies(M, e, u_minus, w, r);
   return r;
+}
+
+// Fixed walls (w = 0).
+template <class S>
+ImpactResult<S> newton_impact(const LcpMatrix<S>& M, const LcpMatrix<S>& W, const LcpVector<S>& e,
+                              const LcpVector<S>& u_minus) {
+  return newton_impact<S>(M, W, e, u_minus, LcpVector<S>(LcpVector<S>::Zero(W.rows())));
 }
 
 // The sequential law: the contact approaching fastest (most negative ḟ_α) takes a one-contact
 // Newton impact, and so on until no contact approaches (ḟ_α ≥ −rounding for all α) or
 // max_impacts ran out (status pivot_limit; e < 1 chains can need infinitely many, inelastic
 // collapse). P accumulates each contact's impulses.
+// w: the time rates of moving walls, ḟ = W u + w.
 template <class S>
 ImpactResult<S> sequential_impacts(const LcpMatrix<S>& M, const LcpMatrix<S>& W, const LcpVector<S>& e,
-                                   const LcpVector<S>& u_minus, int max_impacts = 10000) {
+                                   const LcpVector<S>& u_minus, const LcpVector<S>& w, int max_impacts = 10000) {
   detail::check_impact_shapes(M, W, e, u_minus);
+  if (w.size() != W.rows()) throw std::invalid_argument("impact: w of m");
   const Eigen::LDLT<LcpMatrix<S>> ldlt(M);
   const LcpMatrix<S> Y = ldlt.solve(W.transpose());
   const Eigen::Index m = W.rows();
@@ -123,9 +138,9 @@ ImpactResult<S> sequential_impacts(const LcpMatrix<S>& M, const LcpMatrix<S>& W,
   r.u_plus = u_minus;
   r.P = LcpVector<S>::Zero(m);
   for (;;) {
-    // ḟ_α, and the rounding it carries: 64 ε Σ_j |W_αj u_j|.
-    const LcpVector<S> fdot = W * r.u_plus;
-    const LcpVector<S> noise = S(64) * eps * (W.cwiseAbs() * r.u_plus.cwiseAbs());
+    // ḟ_α, and the rounding it carries: 64 ε (Σ_j |W_αj u_j| + |w_α|).
+    const LcpVector<S> fdot = W * r.u_plus + w;
+    const LcpVector<S> noise = S(64) * eps * (W.cwiseAbs() * r.u_plus.cwiseAbs() + w.cwiseAbs());
     Eigen::Index a = -1;
     for (Eigen::Index k = 0; k < m; ++k)
       if (fdot[k] < -noise[k] && (a < 0 || fdot[k] < fdot[a])) a = k;
@@ -139,7 +154,7 @@ ImpactResult<S> sequential_impacts(const LcpMatrix<S>& M, const LcpMatrix<S>& W,
     r.P[a] += P;
     ++r.impacts;
   }
-  detail::impact_energies(M, e, u_minus, r);
+  detail::impact_energies(M, e, u_minus, w, r);
   // Carnot holds for each two-body impact, not for their sum (the lost velocities add, their
   // energies do not): no prediction after more than one.
   if (r.impacts > 1) {
@@ -147,6 +162,13 @@ ImpactResult<S> sequential_impacts(const LcpMatrix<S>& M, const LcpMatrix<S>& W,
     r.carnot_prediction = S(0);
   }
   return r;
+}
+
+// Fixed walls (w = 0).
+template <class S>
+ImpactResult<S> sequential_impacts(const LcpMatrix<S>& M, const LcpMatrix<S>& W, const LcpVector<S>& e,
+                                   const LcpVector<S>& u_minus, int max_impacts = 10000) {
+  return sequential_impacts<S>(M, W, e, u_minus, LcpVector<S>(LcpVector<S>::Zero(W.rows())), max_impacts);
 }
 
 }  // namespace eomc::runtime

@@ -33,6 +33,12 @@
 // for nonsmooth elastodynamics with contact", Z. Angew. Math. Mech. 96 (2016), analyses this and
 // modifies the law to dissipate always; not done here.
 //
+// Moving gaps g_α(t, q) (options.time_rates): the rate is ḟ_α = W_α u + w_α with w_α = ∂g_α/∂t, and
+// Newton's law holds on it, 0 ≤ P_α ⊥ W_α u_{k+1} + w_α(t_{k+1}) + e_α (W_α u_k + w_α(t_k)) ≥ 0 (Acary
+// & Brogliato's velocity-level condition for rheonomic constraints: U_{k+1} + e U_k ≥ 0 with U the
+// relative normal velocity), w taken at q_k like W; the prediction g_α + γ h ḟ_α(u_k) ≤ 0 uses the
+// same rate.
+//
 // Kinematic rows φ_α(t, q, u) ≥ 0, linear in u (Mei §6.7; options.kinematic): already velocity
 // constraints, so each step imposes them at the step's end, 0 ≤ P_α ⊥ φ_α(q_k, u_{k+1}) ≥ 0 with
 // φ_α(q_k, u_{k+1}) = W_α u_{k+1} + (φ_α(q_k, u_k) − W_α u_k), W_α = ∂φ_α/∂u: always in the LCP, no
@@ -65,6 +71,9 @@ struct MoreauJeanOptions {
   // Rows that are kinematic, φ(t, q, u) ≥ 0 (empty: none); gaps() then takes (t, q, u) and writes φ
   // for them, jacobian() ∂φ/∂u.
   std::vector<bool> kinematic;
+  // The time rates of moving gaps, time_rates(t, q) -> m vector w = ∂g/∂t (empty: all zero; a
+  // kinematic row's entry is ignored).
+  std::function<LcpVector<S>(S, const LcpVector<S>&)> time_rates;
   // Bilateral rows (empty: none): bilateral(t, q, u, C, d) writes C (k × n) and d of C u_{k+1} = d.
   std::function<void(S, const LcpVector<S>&, const LcpVector<S>&, LcpMatrix<S>&, LcpVector<S>&)> bilateral;
   // Called after every step with (t_{k+1}, q, u) to edit them (the bilateral rows' projection).
@@ -130,7 +139,17 @@ MoreauJeanStep<S> moreau_jean_step(Mass&& mass, Force&& force, Gaps&& gaps, Jaco
 
   MoreauJeanStep<S> step;
   step.P = LcpVector<S>::Zero(g.size());
-  const LcpVector<S> fdot = W * u;
+  // ḟ at the step's start and the time rates at its end (zero without time_rates).
+  LcpVector<S> w0 = LcpVector<S>::Zero(g.size()), w1 = w0;
+  if (options.time_rates) {
+    w0 = options.time_rates(t, static_cast<const LcpVector<S>&>(q));
+    w1 = options.time_rates(t + h, static_cast<const LcpVector<S>&>(q));
+    if (w0.size() != g.size() || w1.size() != g.size())
+      throw std::invalid_argument("Moreau-Jean: time_rates must give one value per row");
+    for (Eigen::Index a = 0; a < g.size(); ++a)
+      if (kinematic(a)) w0[a] = w1[a] = S(0);
+  }
+  const LcpVector<S> Wu = W * u, fdot = Wu + w0;
   for (Eigen::Index a = 0; a < g.size(); ++a)
     if (kinematic(a) || g[a] + options.gamma * h * fdot[a] <= S(0)) step.active.push_back(a);
 
@@ -138,11 +157,12 @@ MoreauJeanStep<S> moreau_jean_step(Mass&& mass, Force&& force, Gaps&& gaps, Jaco
   if (!step.active.empty()) {
     const Eigen::Index k = Eigen::Index(step.active.size());
     LcpMatrix<S> Wa(k, W.cols());
-    LcpVector<S> offset(k);  // e_α ḟ_α(u_k) for a gap, φ_α(q_k, u_k) − W_α u_k for a kinematic row
+    // w_α(t_{k+1}) + e_α ḟ_α(u_k) for a gap, φ_α(q_k, u_k) − W_α u_k for a kinematic row
+    LcpVector<S> offset(k);
     for (Eigen::Index i = 0; i < k; ++i) {
       const Eigen::Index a = step.active[std::size_t(i)];
       Wa.row(i) = W.row(a);
-      offset[i] = kinematic(a) ? S(g[a] - fdot[a]) : S(restitution[a] * fdot[a]);
+      offset[i] = kinematic(a) ? S(g[a] - Wu[a]) : S(w1[a] + restitution[a] * fdot[a]);
     }
     const LcpMatrix<S> Y = solve_mass(Wa.transpose());  // M̃⁻¹ W_Iᵀ
     const LcpMatrix<S> G = Wa * Y;
