@@ -29,7 +29,8 @@ erugin = { alpha = 200, beta = 200 }
 
 def simulate(step):
     return subprocess.run([eomc, "simulate", scene, "--integrator", "rk4", "--step", step, "--t-end", "0.1"],
-                          capture_output=True, text=True, cwd=work)
+                          capture_output=True, text=True, cwd=work,
+                          env=dict(os.environ, XDG_CACHE_HOME=os.path.join(work, "cache")))
 
 
 stiff = simulate("0.02")
