@@ -49,7 +49,7 @@ def sympy_control(scene):
     rows, targets, columns, column_names = [], [], [], []
     for p in scene["program"]:
         e = parse(p["constraint"], names)
-        law = p.get("erugin", {})
+        law = {k: sp.nsimplify(v) for k, v in p.get("erugin", {}).items()}  # exact gains
         if any(e.has(v) for v in u):  # phase program φ(q, q̇, t)
             W = [sp.diff(e, v) for v in u]
             b = sum(sp.diff(e, q[j]) * u[j] for j in range(n)) + sp.diff(e, t)
