@@ -241,8 +241,10 @@ BOOST_AUTO_TEST_CASE(dependent_programs_with_contradicting_laws_are_refused) {
 // and N ∝ T: the bound grows like T² (a velocity-level error δ = N ε 10 / T per unit time, integrated
 // twice: δ T²). (The step's estimate, not the true local error, is bounded; the estimate of the
 // embedded 4th-order solution overstates the 5th-order step taken, which makes the bound safe.)
-// Galiullin's closed loop (α = 1, β = 2) on the same system contracts each error, e^{−t} per unit
-// time, so its residual stays at the level of one step's error over the whole run.
+// Galiullin's closed loop (α = 1, β = 2, ν = √3) on the same system: an error made at t_k reaches T
+// as e^{−(T − t_k)} times at most |δω|(1 + α/ν) + |δω̇|/ν ≤ ε (2·1.58 + 10/1.73) < 9ε, and the sum of
+// e^{−(T − t_k)} over steps of density N/T (the factor 2 for non-uniform steps) is ≤ 2(N/T + 1):
+// a bound 18 ε (N/T + 1) that does not grow with T, where the open loop's grows like T².
 BOOST_AUTO_TEST_CASE(open_loop_residual_drifts_closed_loop_holds_it) {
     const auto scene = [](const std::string& law) {
         std::string toml = circle(law);
@@ -252,7 +254,6 @@ BOOST_AUTO_TEST_CASE(open_loop_residual_drifts_closed_loop_holds_it) {
     std::string open = scene("{}");
     open.replace(open.find("erugin = {}"), 11, "");
     const double eps = 2.0 * (1e-12 + 1e-10 * 5.0);  // √n (atol + rtol X), n = 4
-    double previous = 0.0;
     for (double t_end : {5.0, 10.0, 20.0, 40.0}) {
         const auto r = run(open, t_end);
         BOOST_TEST(r.programs.at(0).law == "omega_ddot = 0 (open loop)");
@@ -262,10 +263,10 @@ BOOST_AUTO_TEST_CASE(open_loop_residual_drifts_closed_loop_holds_it) {
                                              << ", steps " << r.steps);
         BOOST_TEST(drift < bound, "T = " << t_end << ": " << drift << " >= " << bound);
         BOOST_TEST(r.programs.at(0).max_abs_residual < bound);
-        previous = drift;
         const auto closed = run(scene("{ alpha = 1, beta = 2 }"), t_end);
-        BOOST_TEST_MESSAGE("closed loop T = " << t_end << ": max |omega| = " << closed.programs.at(0).max_abs_residual);
-        BOOST_TEST(closed.programs.at(0).max_abs_residual < 1e-12);
+        const double held = 18 * eps * (double(closed.steps) / t_end + 1);
+        BOOST_TEST_MESSAGE("closed loop T = " << t_end << ": max |omega| = " << closed.programs.at(0).max_abs_residual
+                                               << ", bound " << held);
+        BOOST_TEST(closed.programs.at(0).max_abs_residual < held);
     }
-    (void)previous;
 }
