@@ -259,6 +259,9 @@ void simulate_command(const Pipeline& p, Options& o, bool whole_job) {
     const host::SimulationRequest request = cli::simulation_request(p, header, o.simulate);
     cli::check_overrides_against_scene(o.scene_path, o.front, o.simulate.overrides);
     host::check_separable(request.integrator, request.integrator_pos, ir.separable, ir.scene_name);
+    // Gains too large for the explicit integrator chosen (Mei ch. 3): warned, the run still made.
+    for (const std::string& w : mechanics::stiffness_warnings(p.model, request.integrator, request.step, request.t_end))
+        std::cerr << "eomc: warning: " << w << "\n";
     if (whole_job) {
         report::print_derivation(p.model, p.equations, report::DerivationFormat::text, std::cout, canonical(p));
         write_file_atomically(header_path, header);

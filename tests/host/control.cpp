@@ -183,3 +183,90 @@ control = { moment = [0, 0, 1] }
         }
     }
 }
+
+// Dependent ideal programs (Udwadia & Kalaba, Analytical Dynamics: A New Approach, 1996, ch. 2):
+// the circle written twice, ω₁ = x² + y² − 1 and ω₂ = 2ω₁, both with α = 1, β = 2. Ā = [∇ω₁; 2∇ω₁]
+// has rank 1, so the kernel takes the pseudo-inverse path; the motion is Gauss's minimiser under
+// the one relation, i.e. the single program's: same trajectory, same Q_c = ∇ω₁ λ. The multipliers
+// are the minimum-norm ones with Āᵀ (λ₁, λ₂) = ∇ω₁ λ, (λ₁, λ₂) = λ (1, 2)/5. Tolerance: the two runs
+// integrate one ODE with right-hand sides equal to round-off, each within the file's global error
+// of the exact motion, so they agree to 2 × tolerance; ω₂ = 2ω₁ follows twice the law.
+BOOST_AUTO_TEST_CASE(dependent_ideal_programs_move_as_the_single_one) {
+    const std::string law = "{ alpha = 1, beta = 2 }";
+    const std::string twice = circle(law) + "[[program]]\nname = \"circle2\"\nconstraint = \"2*(x^2 + y^2 - 1)\"\n"
+                                            "erugin = " + law + "\n";
+    for (double t_end : {1.0, 3.0}) {
+        const auto single = run(circle(law), t_end);
+        const auto pair = run(twice, t_end);
+        for (const char* name : {"x", "y", "x_dot", "y_dot", "Qc_x", "Qc_y"})
+            BOOST_TEST(std::abs(pair.value(name) - single.value(name)) < 2 * tolerance,
+                       name << ": " << pair.value(name) << " against " << single.value(name));
+        const double lambda = single.value("lambda_circle");
+        BOOST_TEST(std::abs(lambda) > 1.0);  // the control is at work (g = 9.81 is held by it)
+        BOOST_TEST(std::abs(pair.value("lambda_circle") - lambda / 5) < 2 * tolerance);
+        BOOST_TEST(std::abs(pair.value("lambda_circle2") - 2 * lambda / 5) < 2 * tolerance);
+        const double expected = eomc::runtime::program::erugin_configuration(1.0, 2.0, 0.21, 0.0, t_end);
+        BOOST_TEST(std::abs(pair.value("program_circle") - expected) < tolerance);
+        BOOST_TEST(std::abs(pair.value("program_circle2") - 2 * expected) < 2 * tolerance);
+        BOOST_TEST_REQUIRE(pair.programs.size() == 2u);
+        BOOST_TEST(pair.programs[0].max_departure < tolerance);
+        BOOST_TEST(pair.programs[1].max_departure < 2 * tolerance);
+    }
+}
+
+// The same relation under two different laws (α = 1, β = 2 and α = β = 2): off the circle ω₂ = 2ω₁
+// cannot follow both, Ā q̈ = c has no solution, and the scene is refused before anything is emitted.
+BOOST_AUTO_TEST_CASE(dependent_programs_with_contradicting_laws_are_refused) {
+    const std::string toml = circle("{ alpha = 1, beta = 2 }") +
+                             "[[program]]\nname = \"circle2\"\nconstraint = \"2*(x^2 + y^2 - 1)\"\n"
+                             "erugin = { alpha = 2, beta = 2 }\n";
+    try {
+        (void)test_support::kernel_of(toml);
+        BOOST_FAIL("contradicting dependent programs were accepted");
+    } catch (const std::exception& e) {
+        const std::string what = e.what();
+        BOOST_TEST(what.find("are dependent") != std::string::npos, what);
+        BOOST_TEST(what.find("contradict") != std::string::npos, what);
+        BOOST_TEST(what.find("'circle' and 'circle2'") != std::string::npos, what);
+    }
+}
+
+// The open loop (no erugin: ω̈ = 0). Started on the circle at rest in ω (x = 1, y = 0, ẋ = 0, ẏ = 1:
+// ω = ω̇ = 0), the exact motion keeps ω = 0, but nothing pulls it back: ω̈ = 0 holds exactly for the
+// controlled vector field at every state, so an error (δω_k, δω̇_k) made by step k persists as
+// δω_k + δω̇_k (T − t_k) at T. Each accepted dopri5 step has error norm ≤ 1, RMS_i e_i/(atol + rtol|x_i|)
+// ≤ 1, so |e| ≤ √n (atol + rtol X) =: ε with X = 5 ≥ |x_i| (|x|, |y| ≤ 1, speed² ≤ 1 + 2g·1 < 21);
+// |∇ω| = 2|(x, y)| = 2 and |∇ω̇| = 2|(ẋ, ẏ, x, y)| ≤ 2·√22 < 10. Hence, with N accepted steps,
+//     |ω(T)| ≤ N ε (2 + 10 T),
+// and N ∝ T: the bound grows like T² (a velocity-level error δ = N ε 10 / T per unit time, integrated
+// twice: δ T²). (The step's estimate, not the true local error, is bounded; the estimate of the
+// embedded 4th-order solution overstates the 5th-order step taken, which makes the bound safe.)
+// Galiullin's closed loop (α = 1, β = 2, ν = √3) on the same system: an error made at t_k reaches T
+// as e^{−(T − t_k)} times at most |δω|(1 + α/ν) + |δω̇|/ν ≤ ε (2·1.58 + 10/1.73) < 9ε, and the sum of
+// e^{−(T − t_k)} over steps of density N/T (the factor 2 for non-uniform steps) is ≤ 2(N/T + 1):
+// a bound 18 ε (N/T + 1) that does not grow with T, where the open loop's grows like T².
+BOOST_AUTO_TEST_CASE(open_loop_residual_drifts_closed_loop_holds_it) {
+    const auto scene = [](const std::string& law) {
+        std::string toml = circle(law);
+        toml.replace(toml.find("initial = 1.1"), 13, "initial = 1.0");
+        return toml;
+    };
+    std::string open = scene("{}");
+    open.replace(open.find("erugin = {}"), 11, "");
+    const double eps = 2.0 * (1e-12 + 1e-10 * 5.0);  // √n (atol + rtol X), n = 4
+    for (double t_end : {5.0, 10.0, 20.0, 40.0}) {
+        const auto r = run(open, t_end);
+        BOOST_TEST(r.programs.at(0).law == "omega_ddot = 0 (open loop)");
+        const double drift = std::abs(r.value("program_circle"));
+        const double bound = double(r.steps) * eps * (2 + 10 * t_end);
+        BOOST_TEST_MESSAGE("open loop T = " << t_end << ": |omega| = " << drift << ", bound " << bound
+                                             << ", steps " << r.steps);
+        BOOST_TEST(drift < bound, "T = " << t_end << ": " << drift << " >= " << bound);
+        BOOST_TEST(r.programs.at(0).max_abs_residual < bound);
+        const auto closed = run(scene("{ alpha = 1, beta = 2 }"), t_end);
+        const double held = 18 * eps * (double(closed.steps) / t_end + 1);
+        BOOST_TEST_MESSAGE("closed loop T = " << t_end << ": max |omega| = " << closed.programs.at(0).max_abs_residual
+                                               << ", bound " << held);
+        BOOST_TEST(closed.programs.at(0).max_abs_residual < held);
+    }
+}

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <string>
 
 #include <Eigen/Dense>
@@ -64,6 +65,7 @@ ConstraintRow rigid_row(const model::Model& model, const model::Program& given) 
 // Ā M⁻¹ D and Ā at a probe point (NaN entries read as 0: a pole is not a rank).
 struct AtPoint {
     Eigen::MatrixXd A, AMD;
+    Eigen::VectorXd c;  // the targets, Ā q̈ = c
 };
 
 AtPoint at_point(const Equations& eqs, const std::vector<ProgramRow>& rows, const symbolic::ProbePoint& point) {
@@ -76,15 +78,17 @@ AtPoint at_point(const Equations& eqs, const std::vector<ProgramRow>& rows, cons
     Eigen::MatrixXd M(n, n), A(m, n), D(n, k);
     for (Eigen::Index i = 0; i < n; ++i)
         for (Eigen::Index j = 0; j < n; ++j) M(i, j) = value(eqs.mass_matrix(unsigned(i), unsigned(j)));
+    Eigen::VectorXd c(m);
     Eigen::Index column = 0;
     for (Eigen::Index a = 0; a < m; ++a) {
+        c(a) = value(rows[std::size_t(a)].target);
         for (Eigen::Index j = 0; j < n; ++j) A(a, j) = value(rows[std::size_t(a)].row.W[std::size_t(j)]);
         for (const auto& d : rows[std::size_t(a)].columns) {
             for (Eigen::Index j = 0; j < n; ++j) D(j, column) = value(d[std::size_t(j)]);
             ++column;
         }
     }
-    return {A, A * M.ldlt().solve(D)};
+    return {A, A * M.ldlt().solve(D), c};
 }
 
 // The largest numeric rank over the points, each matrix scaled to unit size so that the
@@ -189,7 +193,30 @@ std::vector<ProgramRow> program_rows(const model::Model& model, const Equations&
             throw InputError(p.pos, fmt::format("the program '{}' does not reach the accelerations (its row of Ā "
                                                 "vanishes): no force can steer it",
                                                 p.name()));
-    if (all_ideal(rows)) return rows;  // dependent ideal programs: Udwadia–Kalaba (redundant_ideal)
+    if (all_ideal(rows)) {
+        // Dependent ideal programs are realised by Udwadia and Kalaba's pseudo-inverse (Analytical
+        // Dynamics: A New Approach, 1996, ch. 2), which needs Ā q̈ = c to be consistent: c in the
+        // range of Ā wherever the programs are dependent. Two laws imposed on one relation (the same
+        // ω with other gains, or ω and 2ω with different α, β) are not, off the programs, and the
+        // pseudo-inverse would silently realise a least-squares compromise that follows neither law.
+        for (const auto& point : points) {
+            const AtPoint at = at_point(eqs, rows, point);
+            Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(at.A);
+            cod.setThreshold(1e-9);
+            if (cod.rank() == Eigen::Index(m)) continue;  // independent here: any c is reached
+            const Eigen::VectorXd x = cod.solve(at.c);
+            const double scale = at.c.norm() + at.A.norm() * x.norm();
+            if (const double miss = (at.A * x - at.c).norm(); scale > 0 && miss > 1e-8 * scale)
+                throw InputError(rows.back().pos,
+                                 fmt::format("the ideal programs {} are dependent (Ā has rank {} < {}) but their "
+                                             "laws contradict each other: Ā q̈ = c has no solution off the programs "
+                                             "(|Ā q̈ − c| ≥ {:.3g} of its scale at a probe state), so no control "
+                                             "realises both; give a relation written twice the same erugin gains, "
+                                             "or drop the repeated program",
+                                             program_names(rows), cod.rank(), m, miss / scale));
+        }
+        return rows;
+    }
     if (generic_rank(AMD) < Eigen::Index(m))
         throw InputError(rows.front().control_pos,
                          fmt::format("the programs {} are not realisable by these controls: Ā M⁻¹ D is singular at "
@@ -293,6 +320,83 @@ Realisation realise(const model::Model& model, const Equations& eqs) {
         r.why_not = std::string("GiNaC could not form it: ") + e.what();
     }
     return r;
+}
+
+namespace {
+
+// RK4's stability function, R(z) = Σ_{k ≤ 4} z^k / k!.
+std::complex<double> rk4_stability(std::complex<double> z) {
+    return 1.0 + z * (1.0 + z * (0.5 + z * (1.0 / 6 + z / 24.0)));
+}
+
+// The largest r with |R(r e^{iθ})| ≤ 1 on [0, r], along the direction of λ (Re λ < 0).
+double rk4_reach(std::complex<double> lambda) {
+    const std::complex<double> unit = lambda / std::abs(lambda);
+    double r = 0.0;
+    while (r < 4.0 && std::abs(rk4_stability((r + 1e-3) * unit)) <= 1.0) r += 1e-3;
+    return r;
+}
+
+std::string gains(const model::Program& p) {
+    return p.configuration ? fmt::format("alpha = {:g}, beta = {:g}", p.alpha, p.beta)
+                           : fmt::format("kappa = {:g}", p.kappa);
+}
+
+}  // namespace
+
+std::vector<std::string> stiffness_warnings(const model::Model& model, const std::string& integrator, double step,
+                                            double t_end) {
+    std::vector<std::string> out;
+    for (const auto& p : model.programs) {
+        if (!p.closed_loop) continue;
+        // The residual's eigenvalues; the fastest one (largest |λ|) decides.
+        std::vector<std::complex<double>> eigen;
+        if (!p.configuration) {
+            eigen.push_back(-p.kappa);
+        } else {
+            const double d = p.alpha * p.alpha - p.beta * p.beta;
+            if (d < 0) {
+                eigen.push_back({-p.alpha, std::sqrt(-d)});
+            } else {
+                eigen.push_back(-p.alpha - std::sqrt(d));
+                eigen.push_back(-p.alpha + std::sqrt(d));
+            }
+        }
+        const std::string law = p.configuration ? "omega_ddot + 2 alpha omega_dot + beta^2 omega = 0"
+                                                : "phi_dot + kappa phi = 0";
+        if (integrator == "rk4") {
+            for (const auto& lambda : eigen) {
+                if (std::abs(lambda) == 0.0) continue;
+                const std::complex<double> z = step * lambda;
+                if (std::abs(rk4_stability(z)) <= 1.0) continue;
+                const double h_max = rk4_reach(lambda) / std::abs(lambda);
+                out.push_back(fmt::format(
+                    "the program '{}' with {} makes the closed loop stiff for rk4 at step {:g}: its residual law {} "
+                    "has the eigenvalue {} and h lambda = {} lies outside RK4's stability region "
+                    "(|R(h lambda)| = {:.3g} > 1), so the residual will grow instead of decaying; take --step below "
+                    "{:.3g}, lower the gains, or use gl4 (A-stable)",
+                    p.name, gains(p), step, law,
+                    lambda.imag() == 0 ? fmt::format("{:.4g}", lambda.real())
+                                       : fmt::format("{:.4g} ± {:.4g}i", lambda.real(), std::abs(lambda.imag())),
+                    z.imag() == 0 ? fmt::format("{:.4g}", z.real())
+                                  : fmt::format("{:.4g} ± {:.4g}i", z.real(), std::abs(z.imag())),
+                    std::abs(rk4_stability(z)), h_max));
+                break;
+            }
+        } else if (integrator == "dopri5" || integrator == "dop853") {
+            const double reach = integrator == "dopri5" ? 3.3 : 6.1;
+            double fastest = 0.0;
+            for (const auto& lambda : eigen) fastest = std::max(fastest, std::abs(lambda));
+            const double steps = t_end * fastest / reach;
+            if (steps > 1e6)
+                out.push_back(fmt::format(
+                    "the program '{}' with {} makes the closed loop stiff for {}: its residual law {} has |lambda| = "
+                    "{:.4g}, so the step-size control holds h below about {:g}/|lambda| = {:.3g} and the run to "
+                    "t = {:g} costs about {:.3g} steps; lower the gains or use gl4 (A-stable) with a fixed --step",
+                    p.name, gains(p), integrator, law, fastest, reach, reach / fastest, t_end, steps));
+        }
+    }
+    return out;
 }
 
 }  // namespace eomc::mechanics

@@ -402,3 +402,61 @@ BOOST_AUTO_TEST_CASE(rigid_body_program_refusals_name_the_place) {
         BOOST_TEST(e.message().find("underactuated") != std::string::npos, e.what());
     }
 }
+
+// The stiffness warning (mechanics::stiffness_warnings). Known boundaries: RK4's stability interval
+// on the negative real axis ends at z = −2.7853 (|R(−2.78)| = 0.992, |R(−2.79)| = 1.007), so at
+// h = 0.01 the phase program φ̇ + κφ = 0 is stable for κ = 278 and not for κ = 279. For dopri5 the
+// step is held near 3.3/|λ|: κ = 10⁶ to t = 10 costs ≈ 3.0·10⁶ steps (warned), κ = 10⁴ ≈ 3·10⁴ (not).
+// The Gauss–Legendre methods are A-stable: never a warning.
+namespace {
+Model speed_program(const std::string& law) {
+    return from_string(R"toml([scene]
+name = "speed"
+[coordinates]
+x = { initial = 0.0, rate = 1.0 }
+[lagrangian]
+T = "x_dot^2/2"
+V = "0"
+[[program]]
+name = "speed"
+constraint = "x_dot - 2"
+erugin = )toml" + law + "\ncontrol = [\"x\"]\n");
+}
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(stiffness_warning_at_the_integrators_stability_boundary) {
+    using eomc::mechanics::stiffness_warnings;
+    BOOST_TEST(stiffness_warnings(speed_program("{ kappa = 278 }"), "rk4", 0.01, 10.0).empty());
+    const auto rk4 = stiffness_warnings(speed_program("{ kappa = 279 }"), "rk4", 0.01, 10.0);
+    BOOST_TEST_REQUIRE(rk4.size() == 1u);
+    BOOST_TEST(rk4[0].find("'speed' with kappa = 279") != std::string::npos, rk4[0]);
+    BOOST_TEST(rk4[0].find("rk4") != std::string::npos, rk4[0]);
+    BOOST_TEST(rk4[0].find("step below 0.00998") != std::string::npos, rk4[0]);  // 2.785/279
+    BOOST_TEST(stiffness_warnings(speed_program("{ kappa = 1e6 }"), "gl4", 0.01, 10.0).empty());
+    BOOST_TEST(stiffness_warnings(speed_program("{ kappa = 1e4 }"), "dopri5", 0.01, 10.0).empty());
+    const auto adaptive = stiffness_warnings(speed_program("{ kappa = 1e6 }"), "dopri5", 0.01, 10.0);
+    BOOST_TEST_REQUIRE(adaptive.size() == 1u);
+    BOOST_TEST(adaptive[0].find("about 3.03e+06 steps") != std::string::npos, adaptive[0]);
+    // dop853's region reaches ≈ 6.1: the same run costs ≈ 1.6·10⁶ steps, still warned.
+    BOOST_TEST(stiffness_warnings(speed_program("{ kappa = 1e6 }"), "dop853", 0.01, 10.0).size() == 1u);
+    // Complex eigenvalues: α = 1, β = 200 gives λ = −1 ± 199.997i. RK4's region reaches ±2.83 along
+    // the imaginary axis: h = 0.01 puts hλ ≈ −0.01 ± 2.0i inside (|R| = 0.735), h = 0.02 puts it at
+    // −0.02 ± 4.0i, outside (|R| = 7.56).
+    Model circle = from_string(R"toml([scene]
+name = "circle"
+[coordinates]
+x = { initial = 1.0, rate = 0.0 }
+y = { initial = 0.0, rate = 1.0 }
+[lagrangian]
+T = "(x_dot^2 + y_dot^2)/2"
+V = "0"
+[[program]]
+name = "circle"
+constraint = "x^2 + y^2 - 1"
+erugin = { alpha = 1, beta = 200 }
+)toml");
+    BOOST_TEST(stiffness_warnings(circle, "rk4", 0.01, 10.0).empty());
+    const auto complex = stiffness_warnings(circle, "rk4", 0.02, 10.0);
+    BOOST_TEST_REQUIRE(complex.size() == 1u);
+    BOOST_TEST(complex[0].find("alpha = 1, beta = 200") != std::string::npos, complex[0]);
+}
