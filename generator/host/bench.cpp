@@ -24,6 +24,7 @@
 #include "host/toolchain.hpp"
 #include "support/diagnostic.hpp"
 #include "support/output_file.hpp"
+#include "support/input_file.hpp"
 
 namespace eomc::host {
 
@@ -129,13 +130,6 @@ BenchRow parse_row(const std::string& line, const std::string& formulation) {
     r.seconds = parse_double(f[9]);
     r.repetitions = std::stoi(f[10]);
     return r;
-}
-
-std::string read_text(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
 }
 
 // --- the plot ------------------------------------------------------------------------------
@@ -305,7 +299,7 @@ std::string run_driver(const std::vector<std::string>& argv) {
     const int status = run_process(argv, output, false);
     if (!(WIFEXITED(status) && WEXITSTATUS(status) == 0))
         throw std::runtime_error(fmt::format("the benchmark driver {} {}", argv.front(), describe_status(status)));
-    return read_text(output);
+    return read_whole_file(output);
 }
 
 // The sweep's options, as the driver takes them.
@@ -373,7 +367,7 @@ FormulationReference formulation_reference(const BenchRequest& request, const fs
                                            request.reference_tolerance, join(request.axis.judged, "_"));
     std::string text;
     if (fs::exists(cached)) {
-        text = read_text(cached);
+        text = read_whole_file(cached);
     } else {
         std::cerr << "computing the float128 " << request.axis.reference << " reference for " << request.scene_name
                   << " over t = 0 .. " << fmt::format("{:.6g}", request.t_end) << " (once; it is cached as "

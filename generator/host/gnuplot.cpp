@@ -14,6 +14,7 @@
 
 #include "codegen/cpp_text.hpp"
 #include "host/toolchain.hpp"
+#include "support/input_file.hpp"
 
 namespace eomc::host {
 
@@ -26,13 +27,6 @@ std::vector<std::string> path_entries(const std::string& path) {
     std::stringstream in(path);
     for (std::string dir; std::getline(in, dir, ':');) out.push_back(dir);
     return out;
-}
-
-std::string read_log(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
 }
 
 }  // namespace
@@ -91,7 +85,7 @@ std::string write_plot(const std::function<std::string(const std::string&, const
             log = ec.message();
             break;
         }
-        log = read_log(dir.path() / "gnuplot.log");
+        log = read_whole_file(dir.path() / "gnuplot.log");
     }
     std::error_code ignored;
     fs::remove(partial, ignored);

@@ -25,6 +25,7 @@
 #include "support/cleanup.hpp"
 #include "support/diagnostic.hpp"
 #include "support/sha256.hpp"
+#include "support/input_file.hpp"
 
 extern char** environ;
 
@@ -38,13 +39,6 @@ namespace {
 // code is compiled (DESIGN, habit 11).
 std::vector<std::string> common_flags() {
     return {"-std=c++20", "-O2", "-ffp-contract=off", "-I", EOMC_KERNEL_RUNTIME_INCLUDE, "-I", EOMC_KERNEL_EIGEN_INCLUDE};
-}
-
-std::string read_file(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
 }
 
 void write_file(const fs::path& path, const std::string& text) {
@@ -142,7 +136,7 @@ std::string verify_cache_entry(const fs::path& path, const std::string& key) {
     if (::lstat(path.c_str(), &st) != 0) return errno == ENOENT ? "missing" : std::strerror(errno);
     if (!S_ISREG(st.st_mode)) return "it is not a regular file";
     if (st.st_uid != ::geteuid()) return fmt::format("it is owned by uid {}, not by this user", st.st_uid);
-    const std::string bytes = read_file(path);
+    const std::string bytes = read_whole_file(path);
     if (bytes.size() < record_size || bytes.compare(bytes.size() - record_size, record_magic.size(), record_magic) != 0)
         return "it has no eomc record (truncated, damaged, or not written by this eomc)";
     const std::string_view object(bytes.data(), bytes.size() - record_size);
@@ -314,7 +308,7 @@ void compile(const CompileRequest& request, const fs::path& target) {
         throw std::runtime_error(fmt::format("cannot run the C++ compiler: {}", e.what()));
     }
     if (!(WIFEXITED(status) && WEXITSTATUS(status) == 0)) {
-        std::string output = read_file(log);
+        std::string output = read_whole_file(log);
         constexpr std::size_t max_output = 64 * 1024;  // template errors can run to megabytes
         if (output.size() > max_output) output = output.substr(0, max_output) + "\n[... compiler output truncated]\n";
         throw std::runtime_error(fmt::format("compiling {} failed: {} {}:\n{}", request.what, argv[0],
@@ -325,7 +319,7 @@ void compile(const CompileRequest& request, const fs::path& target) {
     // must not find a short file under the key).
     // A compiler that says it succeeded must have written an ELF object (Linux loads nothing else):
     // a stand-in that wrote nothing must not become a cache entry.
-    const std::string object = read_file(partial.path());
+    const std::string object = read_whole_file(partial.path());
     if (object.compare(0, 4, "\x7f" "ELF") != 0)
         throw std::runtime_error(fmt::format("compiling {}: {} exited with status 0 but wrote {} to {}", request.what,
                                              argv[0], object.empty() ? "nothing" : "no ELF object",
