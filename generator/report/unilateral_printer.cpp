@@ -8,6 +8,7 @@
 
 #include "report/derivation_printer.hpp"
 #include "support/json.hpp"
+#include "symbolic/differentiation.hpp"
 #include "symbolic/expression_text.hpp"
 #include "symbolic/simplify.hpp"
 
@@ -34,7 +35,8 @@ struct RowView {
     ex lambda, lambda_latex, P, P_latex;  // λ_α and P_α, by their text and LaTeX names
     std::optional<ex> G;              // W M⁻¹ Wᵀ, when M is small enough to invert here
     std::optional<ex> impulse;        // P = −(1 + e) ḟ⁻/G (a single impact)
-    std::optional<ex> carnot;         // T⁺ − T⁻ = −(1 − e²)(ḟ⁻)²/(2G) (a single impact)
+    std::optional<ex> carnot;         // T⁺ − T⁻ = −(1 − e²)(ḟ⁻)²/(2G) + (1 + e) ḟ⁻ ∂f/∂t / G (a single impact)
+    bool moving = false;              // the gap depends on t
 };
 
 // ḟ⁻, the approach velocity of a gap, as a symbol in the printed formulas.
@@ -105,7 +107,13 @@ Section section_of(const model::Model& model, const mechanics::Equations& eqs) {
                         v.G = G;
                         const ex& e = u.restitution;
                         v.impulse = symbolic::normalized(-(1 + e) * approach() / G);
-                        v.carnot = symbolic::normalized(-(1 - e * e) * GiNaC::pow(approach(), 2) / (2 * G));
+                        // A moving gap (w = ∂f/∂t ≠ 0): ḟ = W q̇ + w, and the wall's impulse does the work
+                        // −P w, so T⁺ − T⁻ = ½ P (ḟ⁺ + ḟ⁻) − P w gains (1 + e) ḟ⁻ w / G: Carnot's loss holds
+                        // in the wall's frame.
+                        const ex w = symbolic::derivative(u.row.position, model.t);
+                        v.carnot = symbolic::normalized(-(1 - e * e) * GiNaC::pow(approach(), 2) / (2 * G) +
+                                                        (1 + e) * approach() * w / G);
+                        v.moving = !symbolic::normalized(w).is_zero();
                     }
                 }
             } catch (const std::exception&) {
@@ -170,6 +178,10 @@ void print_unilateral_text(const model::Model& model, const mechanics::Equations
             out << "\n";
         }
         out << "  Carnot's theorem: T⁺ − T⁻ = −((1 − e)/(1 + e)) ½ Δq̇ᵀ M Δq̇ ≤ 0 (kept only for e = 1)\n";
+        for (const auto& v : s.rows)
+            if (v.gap && v.moving)
+                out << "    " << v.row->row.name << " moves (∂f/∂t ≠ 0): ḟ = W q̇ + ∂f/∂t, the wall's impulse does the "
+                                                    "work −P ∂f/∂t, and the loss holds in the wall's frame\n";
         for (const auto& v : s.rows)
             if (v.gap && v.carnot)
                 out << "    " << v.row->row.name << " alone: T⁺ − T⁻ = " << text(*v.carnot) << "  (fdot_minus = ḟ⁻)\n";
