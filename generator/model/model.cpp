@@ -36,9 +36,31 @@ GiNaC::lst Model::state_symbols() const {
     for (const auto& c : coordinates) out.append(c.q);
     for (const auto& c : coordinates) out.append(c.q_dot);
     for (const auto& v : quasi_velocities) out.append(v.symbol);
-    if (rigid)
+    if (rigid) {
         for (std::size_t i = 0; i < 3; ++i) out.append(rigid->omega[i]).append(rigid->gamma[i]);
+        if (rigid->attitude)
+            for (const auto& e : *rigid->attitude) out.append(e);
+    }
     for (const auto& p : parameters) out.append(p.symbol);
+    return out;
+}
+
+std::vector<std::pair<GiNaC::symbol, GiNaC::ex>> RigidBody::attitude_rates() const {
+    std::vector<std::pair<GiNaC::symbol, GiNaC::ex>> out;
+    const Vec3 g = gamma_vector(), w = omega_vector();
+    // γ̇ = γ × ω (Poisson).
+    out.emplace_back(gamma[0], g[1] * w[2] - g[2] * w[1]);
+    out.emplace_back(gamma[1], g[2] * w[0] - g[0] * w[2]);
+    out.emplace_back(gamma[2], g[0] * w[1] - g[1] * w[0]);
+    if (attitude) {
+        // ė = ½ e ⊗ (0, ω), ω in body axes (Kuipers, Quaternions and Rotation Sequences, 1999, §11.5).
+        const auto& [e0, e1, e2, e3] = *attitude;
+        const GiNaC::ex half = GiNaC::numeric(1, 2);
+        out.emplace_back(e0, -half * (e1 * w[0] + e2 * w[1] + e3 * w[2]));
+        out.emplace_back(e1, half * (e0 * w[0] + e2 * w[2] - e3 * w[1]));
+        out.emplace_back(e2, half * (e0 * w[1] + e3 * w[0] - e1 * w[2]));
+        out.emplace_back(e3, half * (e0 * w[2] + e1 * w[1] - e2 * w[0]));
+    }
     return out;
 }
 
@@ -409,6 +431,11 @@ void build_rigid_body(const scene::Scene& scene, SymbolTable& symbols, Model& mo
         body.omega[i] = symbols.declare(rigid_physical_names[i], SymbolKind::velocity);
         body.omega_rate[i] = symbols.declare(std::string(rigid_physical_names[i]) + "_dot", SymbolKind::acceleration);
         body.gamma[i] = symbols.declare(rigid_physical_names[3 + i], SymbolKind::coordinate);
+    }
+    if (given.formulation == scene::RigidFormulationKind::quaternion) {
+        std::array<GiNaC::symbol, 4> e;
+        for (std::size_t k = 0; k < 4; ++k) e[k] = symbols.declare(fmt::format("e{}", k), SymbolKind::coordinate);
+        body.attitude = e;
     }
     body.omega0 = given.omega;
     double phi = 0, theta = 0, psi = 0;
@@ -805,8 +832,10 @@ static void build_programs(const scene::Scene& scene, const SymbolTable& symbols
         bool moves = false;
         for (const auto& c : model.coordinates) moves = moves || row.expression.has(c.q) || row.expression.has(c.q_dot);
         if (model.rigid) {
-            // A rigid body (Mei §3.2): programs on the angular velocity, φ(ω, γ, t) = 0, realised by
-            // torques in Euler's equations, in the formulations whose state holds ω itself.
+            // A rigid body (Mei §3.2): programs on the angular velocity, φ(ω, attitude, t) = 0, or on
+            // the attitude alone, ω(γ, e, t) = 0 (configuration space: e the quaternion formulation's
+            // attitude, for an error quaternion), realised by torques in Euler's equations, in the
+            // formulations whose state holds ω itself.
             const auto kind = model.rigid->formulation;
             if (kind != scene::RigidFormulationKind::euler_poisson && kind != scene::RigidFormulationKind::quaternion)
                 throw InputError(row.pos, fmt::format("the program '{}' on a rigid body needs the euler_poisson or "
@@ -816,13 +845,10 @@ static void build_programs(const scene::Scene& scene, const SymbolTable& symbols
             bool rates = false;
             for (const auto& w : model.rigid->omega) rates = rates || row.expression.has(w);
             for (const auto& g : model.rigid->gamma) moves = moves || row.expression.has(g);
+            if (model.rigid->attitude)
+                for (const auto& e : *model.rigid->attitude) moves = moves || row.expression.has(e);
             moves = moves || rates;
-            if (moves && !rates)
-                throw InputError(row.pos, fmt::format("the program '{}' holds the vertical gamma but not the angular "
-                                                      "velocity p, q, r: attitude programs on a rigid body are not "
-                                                      "supported; program the angular velocity (phase space)",
-                                                      given.name));
-            row.configuration = false;
+            row.configuration = !rates;
         }
         if (!moves)
             throw InputError(row.pos, fmt::format("the program '{}' holds no coordinate or rate: a relation of t and the "

@@ -183,6 +183,9 @@ struct RigidBody {
     std::array<GiNaC::symbol, 3> omega;           // p, q, r
     std::array<GiNaC::symbol, 3> omega_rate;      // p_dot, q_dot, r_dot
     std::array<GiNaC::symbol, 3> gamma;           // gamma1, gamma2, gamma3
+    // The quaternion formulation's attitude e0..e3 (body → space), a state that programs may hold
+    // (Mei §3.2: an attitude programmed through the error quaternion); absent in the others.
+    std::optional<std::array<GiNaC::symbol, 4>> attitude;
     std::array<double, 3> omega0{0, 0, 0};        // ω(0)
     std::array<double, 4> attitude0{1, 0, 0, 0};  // body → space unit quaternion at t = 0
     std::array<double, 3> vertical0{0, 0, 1};     // γ(0) = R(0)ᵀ e_Z
@@ -195,6 +198,9 @@ struct RigidBody {
 
     Vec3 omega_vector() const { return {omega[0], omega[1], omega[2]}; }
     Vec3 gamma_vector() const { return {gamma[0], gamma[1], gamma[2]}; }
+    // The symbols of the attitude, each with its rate along the motion, linear in ω: γ̇ = γ × ω and,
+    // in the quaternion formulation, ė = ½ e ⊗ (0, ω).
+    std::vector<std::pair<GiNaC::symbol, GiNaC::ex>> attitude_rates() const;
 };
 
 // What a scene describes, which decides the chapter that derives its equations (mechanics/derive).

@@ -69,8 +69,14 @@ std::string verdict(const mechanics::Realisation& r) {
 
 void print_text(const model::Model& model, const mechanics::Equations& eqs, const mechanics::Realisation& r,
                 std::ostream& out) {
-    out << fmt::format("Programmed motion of {} (Mei ch. 3): {} program(s), {} control(s), {} coordinate(s)\n\n",
-                       model.name, r.programs, r.controls, r.velocities);
+    // A rigid body's controls are torques about body axes, acting on Euler's equations in p, q, r.
+    if (model.rigid)
+        out << fmt::format("Programmed motion of {} (Mei ch. 3): {} program(s), {} body-axis torque(s) on Euler's "
+                           "equations in p, q, r\n\n",
+                           model.name, r.programs, r.controls);
+    else
+        out << fmt::format("Programmed motion of {} (Mei ch. 3): {} program(s), {} control(s), {} coordinate(s)\n\n",
+                           model.name, r.programs, r.controls, r.velocities);
     out << "1. Programs and their derivatives\n";
     for (const auto& p : eqs.programs) {
         out << fmt::format("  {} ({} space): {} = {} = 0\n", p.name(), p.configuration ? "configuration" : "phase",

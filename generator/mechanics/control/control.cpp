@@ -38,27 +38,45 @@ std::vector<symbolic::ProbePoint> control_points(const model::Model& model) {
             point.values[model.rigid->omega[i]] = 2 * x - 1;
             point.values[model.rigid->gamma[i]] = std::sqrt(1.0 / 3.0) * (i == 1 ? -1 : 1);
         }
+    if (model.rigid->attitude) {
+        // A unit quaternion per point, away from the error quaternion's singular set δ0 = 0 of any
+        // particular program (the points differ).
+        for (auto& point : points) {
+            std::array<double, 4> e{};
+            double n = 0;
+            for (auto& c : e) {
+                x = std::fmod(x * 7.31 + 0.417, 1.0);
+                c = 2 * x - 1;
+                n += c * c;
+            }
+            for (std::size_t k = 0; k < 4; ++k) point.values[(*model.rigid->attitude)[k]] = e[k] / std::sqrt(n);
+        }
+    }
     return points;
 }
 
-// A program on a rigid body's angular velocity (Mei §3.2), φ(ω, γ, t) = 0, as a row over the
-// velocity block ω of Euler's equations I ω̇ = f: W = ∂φ/∂ω (Ā's row) and the bias
-// ∂φ/∂t + ∂φ/∂γ · γ̇ with Poisson's γ̇ = γ × ω, so that φ̇ = W ω̇ + bias.
+// A program on a rigid body (Mei §3.2) as a row over the velocity block ω of Euler's equations
+// I ω̇ = f. Its attitude (γ, and e in the quaternion formulation) moves by rates linear in ω
+// (RigidBody::attitude_rates), so with v the program's first-order form — φ(ω, attitude, t) itself
+// (phase space), or ω̇ = Σ ∂ω/∂s ṡ + ∂ω/∂t for an attitude program ω(attitude, t) (configuration
+// space, v linear in ω) — the next derivative is v̇ = W ω̇ + bias with W = ∂v/∂ω (Ā's row) and
+// bias = Σ ∂v/∂s ṡ + ∂v/∂t over the attitude's symbols s.
 ConstraintRow rigid_row(const model::Model& model, const model::Program& given) {
     const model::RigidBody& body = *model.rigid;
+    const auto kinematics = body.attitude_rates();
+    const auto along = [&](const ex& h) {  // ∂h/∂t + Σ ∂h/∂s ṡ
+        ex rate = symbolic::derivative(h, model.t);
+        for (const auto& [s, s_dot] : kinematics) rate += symbolic::derivative(h, s) * s_dot;
+        return rate.expand();
+    };
     ConstraintRow row;
     row.name = given.name;
-    row.holonomic = false;
-    row.position = 0;
-    row.velocity = given.expression;
+    row.holonomic = given.configuration;
+    row.position = given.configuration ? given.expression : ex(0);
+    row.velocity = given.configuration ? along(given.expression) : given.expression;
     row.pos = given.pos;
-    const model::Vec3 gamma_rate = symbolic::cross(body.gamma_vector(), body.omega_vector());
-    row.bias = symbolic::derivative(given.expression, model.t);
-    for (std::size_t i = 0; i < 3; ++i) {
-        row.W.push_back(symbolic::derivative(given.expression, body.omega[i]));
-        row.bias += symbolic::derivative(given.expression, body.gamma[i]) * gamma_rate[i];
-    }
-    row.bias = row.bias.expand();
+    row.bias = along(row.velocity);
+    for (std::size_t i = 0; i < 3; ++i) row.W.push_back(symbolic::derivative(row.velocity, body.omega[i]).expand());
     return row;
 }
 
@@ -287,8 +305,11 @@ Realisation realise(const model::Model& model, const Equations& eqs) {
             state.append(c.q);
             state.append(c.q_dot);
         }
-        if (model.rigid)
+        if (model.rigid) {
             for (std::size_t i = 0; i < 3; ++i) state.append(model.rigid->omega[i]).append(model.rigid->gamma[i]);
+            if (model.rigid->attitude)
+                for (const auto& e : *model.rigid->attitude) state.append(e);
+        }
         const ex numerator = GiNaC::factor(GiNaC::numer(det));
         for (const ex& factor : symbolic::factors_of(numerator)) {
             const ex base = GiNaC::is_a<GiNaC::power>(factor) ? factor.op(0) : factor;

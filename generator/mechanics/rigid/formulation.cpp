@@ -79,6 +79,7 @@ void add_programs(const Equations& eqs, const GiNaC::exmap& body_of_state, const
     form.explicit_rates.erase(form.explicit_rates.begin(), form.explicit_rates.begin() + 3);
     form.programs = eqs.programs;
     for (auto& p : form.programs) {
+        p.row.position = p.row.position.subs(body_of_state);
         p.row.velocity = p.row.velocity.subs(body_of_state);
         p.row.bias = p.row.bias.subs(body_of_state);
         p.target = p.target.subs(body_of_state);
@@ -121,7 +122,8 @@ FirstOrderForm quaternion_form(const model::Model& model, const Equations& eqs) 
     FirstOrderForm form;
     form.description = "Euler's equations with the attitude quaternion e (body to space): x = (ω, e), I ω̇ = (Iω + k) "
                        "× ω + P γ × r_c, ė = ½ e ⊗ (0, ω), γ = R(e)ᵀ e_Z/|e|²; project() keeps |e| = 1.";
-    const GiNaC::symbol e0("e0"), e1("e1"), e2("e2"), e3("e3");
+    // The model's own symbols, which attitude programs and events may hold.
+    const auto& [e0, e1, e2, e3] = body.attitude.value();
     const ex n2 = e0 * e0 + e1 * e1 + e2 * e2 + e3 * e3;
     // The third row of R(e), divided by |e|²: exactly the unit vertical for any |e| ≠ 0.
     const Vec3 gamma{2 * (e1 * e3 - e0 * e2) / n2, 2 * (e2 * e3 + e0 * e1) / n2,
@@ -129,17 +131,15 @@ FirstOrderForm quaternion_form(const model::Model& model, const Equations& eqs) 
     GiNaC::exmap to_state;
     for (std::size_t i = 0; i < 3; ++i) to_state[body.gamma[i]] = gamma[i];
     const EulerPoisson s = euler_poisson(body);
-    const ex &w1 = body.omega[0], &w2 = body.omega[1], &w3 = body.omega[2];
-    const ex half = GiNaC::numeric(1, 2);
     std::vector<StateComponent> state;
     const char* names[3] = {"p", "q", "r"};
     for (std::size_t i = 0; i < 3; ++i) state.push_back({names[i], body.omega[i], body.omega0[i]});
     const GiNaC::symbol es[4] = {e0, e1, e2, e3};
     for (std::size_t k = 0; k < 4; ++k) state.push_back({es[k].get_name(), es[k], body.attitude0[k]});
-    set_state(form, state,
-              {s.omega_rate[0].subs(to_state), s.omega_rate[1].subs(to_state), s.omega_rate[2].subs(to_state),
-               -half * (e1 * w1 + e2 * w2 + e3 * w3), half * (e0 * w1 + e2 * w3 - e3 * w2),
-               half * (e0 * w2 + e3 * w1 - e1 * w3), half * (e0 * w3 + e1 * w2 - e2 * w1)});
+    std::vector<ex> rates{s.omega_rate[0].subs(to_state), s.omega_rate[1].subs(to_state), s.omega_rate[2].subs(to_state)};
+    const auto kinematics = body.attitude_rates();  // γ̇ (three), then ė = ½ e ⊗ (0, ω) (four)
+    for (std::size_t k = 3; k < 7; ++k) rates.push_back(kinematics[k].second);
+    set_state(form, state, rates);
     form.unit_quaternions.push_back(3);
     for (std::size_t i = 0; i < 3; ++i) form.derivation.push_back({fmt::format("gamma{}", i + 1), gamma[i]});
     complete(model, eqs, to_state, form);
