@@ -129,6 +129,42 @@ std::string program_names(const std::vector<ProgramRow>& rows) {
     return out;
 }
 
+// What the controls act on, in words, for the underactuation refusal: the velocities that some
+// column of D holds (coordinates, or a rigid body's axes) and the rank of D.
+std::string controls_reach(const model::Model& model, const std::vector<ProgramRow>& rows,
+                           const std::vector<symbolic::ProbePoint>& points) {
+    const std::size_t nu = rows.front().row.W.size();
+    std::vector<std::string> names;
+    for (std::size_t j = 0; j < nu; ++j) {
+        bool held = false;
+        for (const auto& p : rows)
+            for (const auto& d : p.columns) held = held || !d[j].is_zero();
+        if (held)
+            names.push_back(model.rigid ? fmt::format("axis {} ({})", j + 1, std::array{"p", "q", "r"}[j])
+                                        : model.velocity_names()[j]);
+    }
+    std::vector<Eigen::MatrixXd> D;
+    for (const auto& point : points) {
+        Eigen::MatrixXd X(Eigen::Index(nu), Eigen::Index(column_count(rows)));
+        Eigen::Index column = 0;
+        for (const auto& p : rows)
+            for (const auto& d : p.columns) {
+                for (std::size_t j = 0; j < nu; ++j) {
+                    const double v = symbolic::evaluate(d[j], point);
+                    X(Eigen::Index(j), column) = std::isfinite(v) ? v : 0.0;
+                }
+                ++column;
+            }
+        D.push_back(X);
+    }
+    std::string list;
+    for (std::size_t i = 0; i < names.size(); ++i) list += (i ? ", " : "") + names[i];
+    const Eigen::Index rank = generic_rank(D);
+    if (model.rigid)
+        return fmt::format("the torques span {} body ax{} ({})", rank, rank == 1 ? "is" : "es", list);
+    return fmt::format("the controls act in {} direction{} (on {})", rank, rank == 1 ? "" : "s", list);
+}
+
 bool all_ideal(const std::vector<ProgramRow>& rows) {
     return std::all_of(rows.begin(), rows.end(),
                        [](const ProgramRow& p) { return p.control == model::ProgramControl::ideal; });
@@ -235,12 +271,26 @@ std::vector<ProgramRow> program_rows(const model::Model& model, const Equations&
         }
         return rows;
     }
-    if (generic_rank(AMD) < Eigen::Index(m))
-        throw InputError(rows.front().control_pos,
-                         fmt::format("the programs {} are not realisable by these controls: Ā M⁻¹ D is singular at "
-                                     "every probe point (underactuated: the controls' directions do not reach the "
-                                     "programs' accelerations); choose other directions or actuated coordinates",
-                                     program_names(rows)));
+    if (const Eigen::Index rank = generic_rank(AMD); rank < Eigen::Index(m)) {
+        // The first program whose row of Ā M⁻¹ D depends on the rows before it is where the scene
+        // asks for more than the controls can give.
+        std::size_t first = m - 1;
+        for (std::size_t j = 1; j <= m; ++j) {
+            std::vector<Eigen::MatrixXd> head;
+            for (const auto& X : AMD) head.push_back(X.topRows(Eigen::Index(j)));
+            if (generic_rank(head) < Eigen::Index(j)) {
+                first = j - 1;
+                break;
+            }
+        }
+        throw InputError(rows[first].control_pos,
+                         fmt::format("the program{} {} ask{} for {} independent acceleration{} but {}: Ā M⁻¹ D has "
+                                     "rank {} < {} at every probe point (underactuated: the program '{}' is not "
+                                     "reached independently); actuate another {} or drop a program",
+                                     m == 1 ? "" : "s", program_names(rows), m == 1 ? "s" : "", m, m == 1 ? "" : "s",
+                                     controls_reach(model, rows, points), rank, m, rows[first].name(),
+                                     model.rigid ? "body axis" : "coordinate"));
+    }
     return rows;
 }
 
@@ -310,11 +360,46 @@ Realisation realise(const model::Model& model, const Equations& eqs) {
             if (model.rigid->attitude)
                 for (const auto& e : *model.rigid->attitude) state.append(e);
         }
-        const ex numerator = GiNaC::factor(GiNaC::numer(det));
+        // Functions of the parameters (cos(slew/2)) stand in for symbols while factoring, which
+        // GiNaC does over polynomials only.
+        GiNaC::exmap stand_ins;
+        const ex polynomial = GiNaC::numer(det).to_polynomial(stand_ins);
+        GiNaC::exmap back;
+        for (const auto& [s, e] : stand_ins) back[s] = e;
+        const ex numerator = GiNaC::factor(polynomial);
+        r.determinant = numerator.subs(back) / GiNaC::denom(det);  // printed factored
+        // |e|² and |γ|² are 1 on every state: not a singular set.
+        std::vector<ex> unit_norms{model.rigid ? symbolic::dot(model.rigid->gamma_vector(), model.rigid->gamma_vector())
+                                               : ex(0)};
+        if (model.rigid && model.rigid->attitude) {
+            ex n = 0;
+            for (const auto& e : *model.rigid->attitude) n += e * e;
+            unit_norms.push_back(n);
+        }
+        // M's principal minors are positive wherever M is (the kinetic energy is positive definite):
+        // a factor that is one of them, up to a number, is no singular set (an actuated coordinate's
+        // Ā M⁻¹ D = minor / det M).
+        std::vector<ex> minors;
+        for (unsigned i = 0; i < n; ++i) {
+            minors.push_back(eqs.mass_matrix(i, i));
+            for (unsigned j = i + 1; j < n; ++j)
+                minors.push_back(eqs.mass_matrix(i, i) * eqs.mass_matrix(j, j) -
+                                 eqs.mass_matrix(i, j) * eqs.mass_matrix(j, i));
+        }
+        const auto is_minor = [&](const ex& base) {
+            return std::any_of(minors.begin(), minors.end(), [&](const ex& minor) {
+                const ex ratio = symbolic::normalized(base / minor);
+                return GiNaC::is_a<GiNaC::numeric>(ratio) && !ratio.is_zero();
+            });
+        };
         for (const ex& factor : symbolic::factors_of(numerator)) {
-            const ex base = GiNaC::is_a<GiNaC::power>(factor) ? factor.op(0) : factor;
+            const ex base = (GiNaC::is_a<GiNaC::power>(factor) ? factor.op(0) : factor).subs(back);
             bool holds_state = false;
             for (const ex& s : state) holds_state = holds_state || base.has(s);
+            if (model.rigid && std::any_of(unit_norms.begin(), unit_norms.end(),
+                                           [&](const ex& n) { return (n - base).expand().is_zero(); }))
+                holds_state = false;
+            if (holds_state && is_minor(base)) holds_state = false;
             if (holds_state &&
                 std::none_of(r.singular.begin(), r.singular.end(), [&](const ex& e) { return (e - base).is_zero(); }))
                 r.singular.push_back(base);

@@ -5,8 +5,10 @@
 #define BOOST_TEST_MODULE mechanics_control
 #include <boost/test/unit_test.hpp>
 
+#include <array>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include <ginac/ginac.h>
 
@@ -460,4 +462,177 @@ erugin = { alpha = 1, beta = 200 }
     const auto complex = stiffness_warnings(circle, "rk4", 0.02, 10.0);
     BOOST_TEST_REQUIRE(complex.size() == 1u);
     BOOST_TEST(complex[0].find("alpha = 1, beta = 200") != std::string::npos, complex[0]);
+}
+
+// §3.2, an attitude programmed by the error quaternion δq = q_d* ⊗ e (scenes/attitude_slew.toml):
+// the rows δ_v = 0 are of the configuration space, reach ω̇ through ė = ½ e ⊗ (0, ω), and
+// Ā I⁻¹ D for three body-axis torques has det = δ0 |e|²/(8 A B C): singular only where the error
+// is half a turn (δ0 = 0; |e|² = 1 on every state). Torques at rest by hand: with q_d = 1 and e a
+// turn θ about body axis 1, δ̈1 = ½ e0 ṗ = −β² sin(θ/2) gives τ1 = −2 A β² tan(θ/2), τ2 = τ3 = 0;
+// at e = (4/5, 3/5, 0, 0) (tan(θ/2) = 3/4) and A = 2, β = 2: τ1 = −12. The slew scene's torques at
+// its initial state and at a moving one are SymPy's (bench/sympy_control.py, an independent
+// derivation of λ = I Ā⁻¹ c − Iω × ω). The exact inputs and GiNaC's floats of the gains leave
+// round-off only: relative 1e-12.
+namespace {
+std::string attitude_scene(const std::string& target) {
+    std::string toml = R"toml([scene]
+name = "attitude"
+[parameters]
+slew = 1.0
+[rigid_body]
+inertia = ["2", "3", "5"]
+weight = "0"
+formulation = "quaternion"
+[rigid_body.initial]
+omega = [0.0, 0.0, 0.0]
+attitude = { zxz = [0.0, 0.6, 0.0] }
+)toml";
+    const char* axes[3] = {"[1, 0, 0]", "[0, 1, 0]", "[0, 0, 1]"};
+    for (int i = 0; i < 3; ++i)
+        toml += "[[program]]\nname = \"err" + std::to_string(i + 1) + "\"\nconstraint = \"" +
+                std::string(target == "identity" ? std::array{"e1", "e2", "e3"}[std::size_t(i)]
+                                                 : std::array{"cos(slew/2)*e1 + sin(slew/2)*e2",
+                                                              "cos(slew/2)*e2 - sin(slew/2)*e1",
+                                                              "cos(slew/2)*e3 - sin(slew/2)*e0"}[std::size_t(i)]) +
+                "\"\nerugin = { alpha = 1.0, beta = 2.0 }\ncontrol = { moment = " + axes[i] + " }\n";
+    return toml;
+}
+
+// λ at a state of the rigid body (ω, e), the parameters at their defaults.
+std::vector<double> torques_at(const Model& model, const eomc::mechanics::Realisation& r, std::array<double, 3> w,
+                               std::array<double, 4> e) {
+    GiNaC::exmap at = model.parameter_defaults();
+    for (std::size_t i = 0; i < 3; ++i) at[model.rigid->omega[i]] = w[i];
+    for (std::size_t k = 0; k < 4; ++k) at[(*model.rigid->attitude)[k]] = e[k];
+    std::vector<double> out;
+    for (const ex& l : *r.lambda) out.push_back(GiNaC::ex_to<GiNaC::numeric>(GiNaC::evalf(l.subs(at))).to_double());
+    return out;
+}
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(attitude_program_by_the_error_quaternion) {
+    {
+        const Model model = from_string(attitude_scene("identity"));
+        const auto eqs = eomc::mechanics::derive(model);
+        BOOST_TEST_REQUIRE(eqs.programs.size() == 3u);
+        for (const auto& p : eqs.programs) BOOST_TEST(p.configuration);
+        const auto r = eomc::mechanics::realise(model, eqs);
+        BOOST_TEST_REQUIRE(r.lambda.has_value(), r.why_not);
+        const auto tau = torques_at(model, r, {0, 0, 0}, {0.8, 0.6, 0, 0});
+        BOOST_TEST(tau[0] == -12.0, boost::test_tools::tolerance(1e-12));
+        BOOST_TEST(std::abs(tau[1]) < 1e-12);
+        BOOST_TEST(std::abs(tau[2]) < 1e-12);
+        BOOST_TEST_REQUIRE(r.singular.size() == 1u);
+        BOOST_TEST((r.singular[0] - (*model.rigid->attitude)[0]).is_zero(), r.singular[0]);
+        const ex det = GiNaC::normal(*r.determinant - (*model.rigid->attitude)[0] / 240 *
+                                                          (GiNaC::pow((*model.rigid->attitude)[0], 2) +
+                                                           GiNaC::pow((*model.rigid->attitude)[1], 2) +
+                                                           GiNaC::pow((*model.rigid->attitude)[2], 2) +
+                                                           GiNaC::pow((*model.rigid->attitude)[3], 2)));
+        BOOST_TEST(det.is_zero(), *r.determinant);
+    }
+    const Model model = from_string(attitude_scene("slew"));
+    const auto r = realised(model);
+    BOOST_TEST_REQUIRE(r.lambda.has_value(), r.why_not);
+    const auto start = torques_at(model, r, {0, 0, 0}, {std::cos(0.3), std::sin(0.3), 0, 0});
+    const std::array<double, 3> sympy_start{-4.949379993753972, 4.055787920656258, 21.85209959375162};
+    const auto moving = torques_at(model, r, {0.3, -0.2, 0.7}, {0.5, 0.5, -0.5, 0.5});
+    const std::array<double, 3> sympy_moving{-5.992614932740240, 23.64, -18.34153733185060};
+    for (std::size_t i = 0; i < 3; ++i) {
+        BOOST_TEST(start[i] == sympy_start[i], boost::test_tools::tolerance(1e-12));
+        BOOST_TEST(moving[i] == sympy_moving[i], boost::test_tools::tolerance(1e-12));
+    }
+    // Singular where δ0 = cos(slew/2) e0 + sin(slew/2) e3 = 0.
+    BOOST_TEST_REQUIRE(r.singular.size() == 1u);
+    const auto& e = *model.rigid->attitude;
+    const ex slew = symbol_named(model, "slew");
+    BOOST_TEST((r.singular[0] - (GiNaC::cos(slew / 2) * e[0] + GiNaC::sin(slew / 2) * e[3])).expand().is_zero(),
+               r.singular[0]);
+}
+
+// §3.3, an underactuated system of rigid bodies: the Acrobot (Spong, "The swing up control problem
+// for the Acrobot", IEEE Control Systems 15(1), 1995, eqs. 2–7), two links with the torque at the
+// elbow only. Programmed on both angles the two programs ask for two independent accelerations from
+// one torque: refused at the second program's control, with the rank. Programmed on the elbow
+// alone it is Spong's collocated partial feedback linearisation (ibid., eqs. 10–12): q̈2 = v2 by
+// τ = d̄22 v2 + h̄2 + φ̄2, d̄22 = d22 − d21 d12/d11, h̄2 = h2 − d21 h1/d11, φ̄2 = φ2 − d21 φ1/d11, here
+// with v2 = c = −2α q̇2 − β² (q2 − c2), every term written from Spong's d, h, φ (not from eomc's M, f).
+namespace {
+std::string acrobot(const std::string& programs) {
+    return R"toml([scene]
+name = "acrobot"
+[parameters]
+m1 = 1.0
+m2 = 1.0
+l1 = 1.0
+lc1 = 0.5
+lc2 = 0.5
+I1 = 0.083
+I2 = 0.33
+g = 9.8
+c2 = 0.3
+[coordinates]
+q1 = { initial = 0.1, rate = 0.0 }
+q2 = { initial = 0.2, rate = 0.0 }
+[lagrangian]
+T = "((m1*lc1^2 + m2*(l1^2 + lc2^2 + 2*l1*lc2*cos(q2)) + I1 + I2)*q1_dot^2 + 2*(m2*(lc2^2 + l1*lc2*cos(q2)) + I2)*q1_dot*q2_dot + (m2*lc2^2 + I2)*q2_dot^2)/2"
+V = "-(m1*lc1 + m2*l1)*g*cos(q1) - m2*lc2*g*cos(q1 + q2)"
+)toml" + programs;
+}
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(acrobot_underactuated_refused_collocated_accepted) {
+    const Model both = from_string(acrobot(R"toml([[program]]
+name = "shoulder"
+constraint = "q1"
+erugin = { alpha = 1, beta = 2 }
+control = ["q2"]
+[[program]]
+name = "elbow"
+constraint = "q2 - c2"
+erugin = { alpha = 1, beta = 2 }
+control = ["q2"]
+)toml"));
+    try {
+        eomc::mechanics::derive(both);
+        BOOST_FAIL("two programs on one torque were accepted");
+    } catch (const InputError& e) {
+        // The elbow's control = [...] is the scene's line 28, its value at column 11.
+        BOOST_TEST(e.where().line == 28);
+        BOOST_TEST(e.where().column == 11);
+        const std::string m = e.message();
+        BOOST_TEST(m.find("ask for 2 independent accelerations but the controls act in 1 direction (on q2)") !=
+                       std::string::npos,
+                   m);
+        BOOST_TEST(m.find("rank 1 < 2") != std::string::npos, m);
+        BOOST_TEST(m.find("underactuated") != std::string::npos, m);
+    }
+    const Model elbow = from_string(acrobot(R"toml([[program]]
+name = "elbow"
+constraint = "q2 - c2"
+erugin = { alpha = 1, beta = 2 }
+control = ["q2"]
+)toml"));
+    const auto r = realised(elbow);
+    BOOST_TEST_REQUIRE(r.lambda.has_value(), r.why_not);
+    const auto s = [&](const char* n) { return ex(symbol_named(elbow, n)); };
+    const ex q1 = s("q1"), q2 = s("q2"), u1 = s("q1_dot"), u2 = s("q2_dot"), m1 = s("m1"), m2 = s("m2"), l1 = s("l1"),
+             lc1 = s("lc1"), lc2 = s("lc2"), I1 = s("I1"), I2 = s("I2"), g = s("g");
+    const ex d11 = m1 * lc1 * lc1 + m2 * (l1 * l1 + lc2 * lc2 + 2 * l1 * lc2 * cos(q2)) + I1 + I2;
+    const ex d12 = m2 * (lc2 * lc2 + l1 * lc2 * cos(q2)) + I2, d22 = m2 * lc2 * lc2 + I2;
+    const ex h1 = -m2 * l1 * lc2 * sin(q2) * u2 * u2 - 2 * m2 * l1 * lc2 * sin(q2) * u2 * u1;
+    const ex h2 = m2 * l1 * lc2 * sin(q2) * u1 * u1;
+    const ex phi1 = (m1 * lc1 + m2 * l1) * g * sin(q1) + m2 * lc2 * g * sin(q1 + q2);
+    const ex phi2 = m2 * lc2 * g * sin(q1 + q2);
+    const ex v2 = -2 * u2 - 4 * (q2 - s("c2"));
+    const ex spong = (d22 - d12 * d12 / d11) * v2 + h2 - d12 * h1 / d11 + phi2 - d12 * phi1 / d11;
+    // Compared at rational points of the state, evaluated to doubles: round-off only.
+    for (const auto& point : {std::array<int, 4>{1, 2, 3, -1}, std::array<int, 4>{-2, 5, -1, 4}}) {
+        const GiNaC::exmap at{{q1, GiNaC::numeric(point[0], 7)}, {q2, GiNaC::numeric(point[1], 9)},
+                              {u1, GiNaC::numeric(point[2], 5)}, {u2, GiNaC::numeric(point[3], 3)}};
+        const double got = GiNaC::ex_to<GiNaC::numeric>(GiNaC::evalf((*r.lambda)[0].subs(at).subs(elbow.parameter_defaults()))).to_double();
+        const double want = GiNaC::ex_to<GiNaC::numeric>(GiNaC::evalf(spong.subs(at).subs(elbow.parameter_defaults()))).to_double();
+        BOOST_TEST(got == want, boost::test_tools::tolerance(1e-12));
+    }
+    BOOST_TEST(r.singular.empty(), r.singular.size());  // Ā M⁻¹ D = d11/det M: a principal minor, > 0
 }
