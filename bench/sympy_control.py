@@ -10,7 +10,7 @@ own λ and Q_c in closed form. Both are compared symbolically (sympy.simplify of
 at random states; the largest relative difference is printed.
 
 Usage: python3 bench/sympy_control.py [path/to/eomc] [scene.toml ...]
-   (default scenes: scenes/meshchersky_circle.toml scenes/two_link_arm.toml)
+   (default scenes: scenes/meshchersky_circle.toml scenes/two_link_arm.toml scenes/attitude_slew.toml)
 """
 import json
 import random
@@ -22,7 +22,7 @@ import tomllib
 import sympy as sp
 
 EOMC = sys.argv[1] if len(sys.argv) > 1 else "build/generator/eomc"
-SCENES = sys.argv[2:] or ["scenes/meshchersky_circle.toml", "scenes/two_link_arm.toml"]
+SCENES = sys.argv[2:] or ["scenes/meshchersky_circle.toml", "scenes/two_link_arm.toml", "scenes/attitude_slew.toml"]
 
 
 def parse(text, names):
@@ -79,12 +79,68 @@ def sympy_control(scene):
     return names, q + u, dict(zip(column_names, lam)), Qc
 
 
+def sympy_rigid_control(scene):
+    """A free rigid body in the quaternion formulation (Mei §3.2), programs on ω = (p, q, r) and the
+    attitude e (body → space): M = I, f = Iω × ω, ė = ½ e ⊗ (0, ω); a program ω(e, t) reaches ω̇ at
+    its second derivative, φ(ω, e, t) at its first; D's columns are the body-axis torques."""
+    body = scene["rigid_body"]
+    assert body.get("weight", "0") == "0" and "gyrostatic_moment" not in body, "a free body only"
+    t = sp.Symbol("t")
+    names = {"t": t}
+    for p in scene.get("parameters", {}):
+        names[p] = sp.Symbol(p)
+    w = sp.symbols("p q r")
+    e = sp.symbols("e0 e1 e2 e3")
+    for s in w + e:
+        names[str(s)] = s
+    inertia = [parse(x, names) for x in body["inertia"]]
+    M = sp.diag(*inertia) if len(inertia) == 3 else sp.Matrix(3, 3, inertia)
+    omega = sp.Matrix(w)
+    f = (M * omega).cross(omega)
+    half = sp.Rational(1, 2)
+    e_rate = [-half * (e[1] * w[0] + e[2] * w[1] + e[3] * w[2]), half * (e[0] * w[0] + e[2] * w[2] - e[3] * w[1]),
+              half * (e[0] * w[1] + e[3] * w[0] - e[1] * w[2]), half * (e[0] * w[2] + e[1] * w[1] - e[2] * w[0])]
+
+    def along(h):  # dh/dt with ω held: ∂h/∂t + ∂h/∂e ė
+        return sp.expand(sp.diff(h, t) + sum(sp.diff(h, e[k]) * e_rate[k] for k in range(4)))
+
+    rows, targets, columns, column_names = [], [], [], []
+    for p in scene["program"]:
+        x = parse(p["constraint"], names)
+        law = {k: sp.nsimplify(v) for k, v in p.get("erugin", {}).items()}
+        if any(x.has(v) for v in w):  # phase program φ(ω, e, t)
+            rows.append([sp.diff(x, v) for v in w])
+            targets.append(-along(x) - law.get("kappa", 0) * x)
+        else:  # attitude program
+            rate = along(x)
+            rows.append([sp.diff(rate, v) for v in w])
+            targets.append(-along(rate) - 2 * law.get("alpha", 0) * rate - law.get("beta", 0) ** 2 * x)
+        columns.append([parse(str(m), names) for m in p["control"]["moment"]])
+        column_names.append("lambda_" + p["name"])
+    A = sp.Matrix(rows)
+    D = sp.Matrix(columns).T
+    Minv = M.inv()
+    lam = (A * Minv * D).inv() * (sp.Matrix(targets) - A * Minv * f)
+    lam = [sp.simplify(x) for x in lam]
+    Qc = [sp.simplify(x) for x in D * sp.Matrix(lam)]
+    # The torques at two states, at the scene's parameters (tests/mechanics/control quotes them).
+    defaults = {names[k]: sp.nsimplify(v) for k, v in scene.get("parameters", {}).items()}
+    for label, state in (("at rest, e = (cos 0.3, sin 0.3, 0, 0)",
+                          {w[0]: 0, w[1]: 0, w[2]: 0, e[0]: sp.cos(sp.Rational(3, 10)), e[1]: sp.sin(sp.Rational(3, 10)),
+                           e[2]: 0, e[3]: 0}),
+                         ("omega = (0.3, -0.2, 0.7), e = (1, 1, -1, 1)/2",
+                          {w[0]: sp.Rational(3, 10), w[1]: -sp.Rational(1, 5), w[2]: sp.Rational(7, 10),
+                           e[0]: half, e[1]: half, e[2]: -half, e[3]: half})):
+        print(f"  torques {label}: " + ", ".join(f"{sp.N(x.subs(defaults).subs(state), 16)}" for x in lam))
+    return names, list(w) + list(e), dict(zip(column_names, lam)), Qc
+
+
 def main():
     for path in SCENES:
         with open(path, "rb") as fh:
             scene = tomllib.load(fh)
         start = time.perf_counter()
-        names, state, lam, Qc = sympy_control(scene)
+        names, state, lam, Qc = (sympy_rigid_control if "rigid_body" in scene else sympy_control)(scene)
         sympy_s = time.perf_counter() - start
         command = [EOMC, "control", path, "--format", "json"]
         start = time.perf_counter()
