@@ -896,6 +896,49 @@ static void build_programs(const scene::Scene& scene, const SymbolTable& symbols
     }
 }
 
+// [[constraint]] rows beside [[program]] rows (Mei ch. 3 with §6.6's rows): a bilateral row is an
+// ideal program whose law is its stabilisation — Baumgarte's f̈ + 2αḟ + β²f = 0 is Erugin's law with
+// Galiullin's gains, φ̇ + αφ = 0 for a kinematic row, the open loop for "none" — so the reactions μ
+// and the controls λ are solved together from M u̇ = f + Wᵀ μ + D λ, W u̇ = c_W, Ā u̇ = c (the
+// control chapter's kernel; Udwadia & Kalaba, Analytical Dynamics, 1996, ch. 2, treat constraints
+// and programs alike). The rows go first, keeping their names (lambda_<name> is μ). "project" is
+// the constrained kernel's own step after each step, which the controlled kernel has not: refused.
+static void constraints_as_programs(const scene::Scene& scene, Model& model) {
+    std::vector<Program> rows;
+    for (std::size_t a = 0; a < model.constraints.size(); ++a) {
+        const Constraint& c = model.constraints[a];
+        const scene::Constraint& given = scene.constraints[a];
+        if (c.stabilization == ConstraintStabilization::project)
+            throw InputError(given.stabilize_pos,
+                             fmt::format("the constraint '{}' beside [[program]] rows is solved with them as one more "
+                                         "ideal row, whose law is its stabilisation: give stabilize = {{ alpha = ..., "
+                                         "beta = ... }} (Baumgarte's law, realised exactly as Erugin's) or \"none\"; "
+                                         "\"project\" (the default) is the constrained kernel's step, which a "
+                                         "controlled kernel does not take",
+                                         c.name));
+        for (const auto& p : model.programs)
+            if (p.name == c.name)
+                throw InputError(p.pos, fmt::format("the program '{}' has the name of a [[constraint]] row; the two "
+                                                    "are solved together and their outputs (lambda_{}) would clash",
+                                                    p.name, p.name));
+        Program row;
+        row.name = c.name;
+        row.configuration = c.holonomic;
+        row.expression = c.expression;
+        row.closed_loop = c.stabilization == ConstraintStabilization::baumgarte;
+        row.alpha = c.holonomic ? c.alpha : 0.0;
+        row.beta = c.holonomic ? c.beta : 0.0;
+        row.kappa = c.holonomic ? 0.0 : c.alpha;
+        row.control = ProgramControl::ideal;
+        row.pos = row.control_pos = c.pos;
+        row.erugin_pos = given.stabilize_pos;
+        rows.push_back(std::move(row));
+    }
+    rows.insert(rows.end(), model.programs.begin(), model.programs.end());
+    model.programs = std::move(rows);
+    model.constraints.clear();
+}
+
 Model build_model(const scene::Scene& scene) {
     Model model;
     model.name = scene.name;
@@ -1023,6 +1066,7 @@ Model build_model(const scene::Scene& scene) {
     build_constraints(scene, symbols, model);
     build_unilateral(scene, symbols, model);
     build_programs(scene, symbols, model);
+    if (!model.programs.empty()) constraints_as_programs(scene, model);
 
     if (scene.effects.given && !scene.orbit) {  // an orbit scene's names are perturbations (build_orbit)
         model.keep.fill(false);

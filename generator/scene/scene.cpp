@@ -1122,7 +1122,7 @@ private:
     // | ["coordinate", ...], or on a [rigid_body] { moment = [m1, m2, m3] } (a body-axis torque
     // direction, Mei §3.2). Which law fits which kind of relation is the model's to check (it knows
     // which symbols the relation holds). A system given by its energies in coordinates, or a rigid
-    // body, takes programs, without constraint rows (whose reactions would share the accelerations).
+    // body, takes programs, and [[constraint]] rows beside them (the model solves both together).
     void read_programs(Scene& s) const {
         const auto rows = table_array("program", "[[program]]", "program");
         if (rows.empty()) return;
@@ -1131,8 +1131,6 @@ private:
             {"orbit", "an [orbit] scene"},
             {"newtonian", "a [newtonian] scene: its equations are given, so there is no mass matrix for the control "
                           "to act through"},
-            {"constraint", "a scene with [[constraint]] rows: their reactions and the controls would share the "
-                           "accelerations; write the constraint as an ideal program instead"},
             {"unilateral", "a scene with [[unilateral]] rows"}};
         for (const auto& [key, why] : refused)
             if (root_.get(key))
