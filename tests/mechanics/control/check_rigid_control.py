@@ -27,6 +27,6 @@ for p, q, r in point:
     assert eval(d["Qc"]["q"], env) == 0, d["Qc"]
     assert abs(eval(d["Qc"]["p"].replace("^", "**"), env) - lam_p) < 1e-12, d["Qc"]
 text = subprocess.run([eomc, "control", scene], check=True, capture_output=True, text=True).stdout
-for needle in ("hold_p (phase space): phi = p = 0", "phi_dot + 2 phi = 0", "lambda_hold_p (moment): [1, 0, 0]",
+for needle in ("2 program(s), 2 body-axis torque(s) on Euler's equations in p, q, r", "hold_p (phase space): phi = p = 0", "phi_dot + 2 phi = 0", "lambda_hold_p (moment): [1, 0, 0]",
                "Qc_q = 0", "realisable everywhere", "phi(t) = phi0 exp(-2 t)"):
     assert needle in text, (needle, text)
