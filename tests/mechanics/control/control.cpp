@@ -692,3 +692,32 @@ control = { x = "-y", y = "x" }
     BOOST_TEST(refused.rfind("17:13", 0) == 0, refused);
     BOOST_TEST(refused.find("give stabilize = { alpha = ..., beta = ... }") != std::string::npos, refused);
 }
+
+// An attitude program in the Euler–Poisson formulation, on the vertical alone: ω = γ3 − 4/5 (the
+// tilt of body axis 3), torque about body axis 1, α = 1, β = 2. With γ̇ = γ × ω the row's rate is
+// γ̇3 = γ1 q − γ2 p, so Ā = (−γ2, γ1, 0) and Ā I⁻¹ D = −γ2/A: singular where γ2 = 0 (the torque's
+// axis then lies in the vertical plane of axis 3 and cannot tilt it). At rest the bias and Euler's
+// terms vanish and −(γ2/A) λ = −β² (γ3 − 4/5), so λ = A β² (γ3 − 4/5)/γ2: at γ = (2/7, 3/7, 6/7),
+// λ = 2·4·(6/7 − 4/5)/(3/7) = 16/15.
+BOOST_AUTO_TEST_CASE(tilt_program_on_the_vertical) {
+    const Model model = from_string(middle_axis("euler_poisson", R"toml([[program]]
+name = "tilt"
+constraint = "gamma3 - 4/5"
+erugin = { alpha = 1, beta = 2 }
+control = { moment = [1, 0, 0] }
+)toml"));
+    const auto eqs = eomc::mechanics::derive(model);
+    BOOST_TEST_REQUIRE(eqs.programs.size() == 1u);
+    BOOST_TEST(eqs.programs[0].configuration);
+    const auto r = eomc::mechanics::realise(model, eqs);
+    BOOST_TEST_REQUIRE(r.lambda.has_value(), r.why_not);
+    BOOST_TEST_REQUIRE(r.singular.size() == 1u);
+    BOOST_TEST((r.singular[0] - model.rigid->gamma[1]).is_zero(), r.singular[0]);
+    GiNaC::exmap at;
+    for (std::size_t i = 0; i < 3; ++i) at[model.rigid->omega[i]] = 0;
+    at[model.rigid->gamma[0]] = GiNaC::numeric(2, 7);
+    at[model.rigid->gamma[1]] = GiNaC::numeric(3, 7);
+    at[model.rigid->gamma[2]] = GiNaC::numeric(6, 7);
+    const double lambda = GiNaC::ex_to<GiNaC::numeric>(GiNaC::evalf((*r.lambda)[0].subs(at))).to_double();
+    BOOST_TEST(lambda == 16.0 / 15.0, boost::test_tools::tolerance(1e-12));
+}
