@@ -290,6 +290,7 @@ void ensemble_command(const Pipeline& p, const Options& o) {
     cli::check_grid_against_scene(o.scene_path, o.front, o.simulate.overrides, r.spec);
     host::check_separable(r.base.integrator, r.base.integrator_pos, ir.separable, ir.scene_name);
     r.threads = o.ensemble.threads;
+    r.batch = o.ensemble.batch;
     const host::MpiSession mpi;  // rank 0 of 1 unless launched by mpirun
     r.rank = mpi.rank();
     r.ranks = mpi.size();

@@ -191,6 +191,8 @@ void add_ensemble_options(CLI::App* cmd, EnsembleOptions& o, bool sweep) {
     }
     cmd->add_option("--threads", o.threads, "threads running members (default: the hardware's)")
         ->check(CLI::Range(1u, 4096u));
+    cmd->add_flag("--batch", o.batch, "run the members a SIMD batch at a time through the kernel's batched rhs, in "
+                                      "lock step (rk4: the same rows as without; dopri5: one step size per batch)");
     cmd->add_option("-o,--output", o.output, "one CSV row per member (inputs, status, final state, invariant drifts, "
                                              "events, message)");
     cmd->add_option("--format", o.format, "summary statistics as text | json")->check(CLI::IsMember({"text", "json"}));

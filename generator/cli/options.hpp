@@ -53,6 +53,7 @@ struct EnsembleOptions {
     std::vector<std::string> grid, vary;
     std::string samples, seed = "0";
     unsigned threads = 0;  // 0 = the hardware's
+    bool batch = false;    // --batch: SIMD batches of members (host/ensemble_batch.hpp)
     std::string output, format = "text";
     std::string plot, plot_column;  // --plot FILE.png, --plot-column NAME ("" = the first state variable)
 };

@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 
 #include "eomc/runtime/errors.hpp"
+#include "host/ensemble_batch.hpp"
 #include "host/gnuplot.hpp"
 #include "host/kernel_loader.hpp"
 #include "scene/scene.hpp"
@@ -60,6 +61,48 @@ MemberResult run_member(const SimulationRequest& proto, const KernelLibrary& lib
     if (m.state.size() != n_state) m.state.assign(n_state, MemberResult::nan);
     if (m.drifts.size() != n_inv) m.drifts.assign(n_inv, MemberResult::nan);
     return m;
+}
+
+// Members first .. first + count (count ≤ the batch width) as one SIMD batch; a member whose start
+// is refused, or whose lane fails, runs alone through run_member (the same row as without --batch).
+void run_batch(const SimulationRequest& proto, const KernelLibrary& lib, const EnsembleSpec& spec,
+               const std::vector<std::string>& names, const std::vector<std::size_t>& indices, MemberResult* out,
+               std::optional<InputError>* refusals) {
+    std::vector<LaneStart> starts;
+    std::vector<std::size_t> lane_of;  // position in `indices` of each lane
+    std::vector<std::size_t> alone;
+    for (std::size_t j = 0; j < indices.size(); ++j) {
+        SimulationRequest r = proto;
+        const std::vector<double> inputs = spec.inputs(indices[j]);
+        for (std::size_t k = 0; k < names.size(); ++k) r.overrides.emplace_back(names[k], inputs[k]);
+        LaneStart s;
+        try {
+            resolve_start(r, lib, s.parameters, s.x);
+        } catch (const InputError&) {
+            alone.push_back(j);
+            continue;
+        }
+        starts.push_back(std::move(s));
+        lane_of.push_back(j);
+    }
+    if (!starts.empty()) {
+        const std::vector<LaneEnd> ends = run_lanes(proto, lib, starts);
+        for (std::size_t k = 0; k < ends.size(); ++k) {
+            const std::size_t j = lane_of[k];
+            if (!ends[k].ok) {
+                alone.push_back(j);
+                continue;
+            }
+            MemberResult& m = out[j];
+            m.index = indices[j];
+            m.inputs = spec.inputs(indices[j]);
+            m.status = "ok";
+            m.t = ends[k].t;
+            m.state = ends[k].state;
+            m.drifts = ends[k].drifts;
+        }
+    }
+    for (std::size_t j : alone) out[j] = run_member(proto, lib, spec, names, indices[j], refusals[j]);
 }
 
 // Members done out of all, on stderr when it is a terminal; silent under ~1 s; erased at the end.
@@ -119,6 +162,7 @@ EnsembleResult run_ensemble(const EnsembleRequest& request) {
         KernelLibrary::load(request.base.header_text, request.base.struct_name, request.base.cache_dir);
     check_names(request.spec, lib.parameter_names(), lib.state_names(), request.base.overrides);
     check_separable(request.base.integrator, request.base.integrator_pos, lib.separable(), lib.scene_name());
+    if (request.batch) check_batchable(request.base, lib);
 
     EnsembleResult result;
     result.scene_name = lib.scene_name();
@@ -130,6 +174,8 @@ EnsembleResult run_ensemble(const EnsembleRequest& request) {
     const SimulationRequest& b = request.base;
     result.method = scene::is_fixed_step(b.integrator) ? fmt::format("{} (step {})", b.integrator, b.step)
                                                        : fmt::format("{} (rtol {}, atol {})", b.integrator, b.rtol, b.atol);
+    result.lanes = request.batch ? static_cast<std::size_t>(lib.batch_width()) : 1;
+    if (request.batch) result.method += fmt::format(", batches of {} in lock step", result.lanes);
 
     SimulationRequest proto = request.base;
     proto.header_text.clear();  // the members share the loaded kernel: no copy of its text each
@@ -141,19 +187,28 @@ EnsembleResult run_ensemble(const EnsembleRequest& request) {
     result.members.resize(mine);
     const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
     const std::size_t wanted = request.threads ? request.threads : hardware;
-    const unsigned threads = static_cast<unsigned>(std::clamp<std::size_t>(std::min(wanted, mine), 1, wanted));
+    const std::size_t batches = request.batch ? (mine + lib.batch_width() - 1) / lib.batch_width() : mine;
+    const unsigned threads = static_cast<unsigned>(std::clamp<std::size_t>(std::min(wanted, batches), 1, wanted));
     result.threads = threads;
     std::vector<std::optional<InputError>> refusals(mine);
     std::atomic<std::size_t> next{0}, done{0};
     EnsembleProgress progress(request.progress, mine);
     const auto start = Clock::now();
-    // Each thread takes the next index; every member writes its own slot, so the order in which
-    // they finish changes nothing.
+    // Each thread takes the next index (the next batch of `lanes`); every member writes its own
+    // slot, so the order in which they finish changes nothing.
+    const std::size_t lanes = result.lanes, units = (mine + lanes - 1) / lanes;
     const auto work = [&](bool reports) {
-        for (std::size_t k; (k = next.fetch_add(1, std::memory_order_relaxed)) < mine;) {
-            result.members[k] = run_member(proto, lib, request.spec, result.input_names,
-                                           request.rank + k * request.ranks, refusals[k]);
-            const std::size_t d = done.fetch_add(1, std::memory_order_relaxed) + 1;
+        for (std::size_t u; (u = next.fetch_add(1, std::memory_order_relaxed)) < units;) {
+            const std::size_t k = u * lanes, count = std::min(lanes, mine - k);
+            if (request.batch) {
+                std::vector<std::size_t> indices;
+                for (std::size_t j = 0; j < count; ++j) indices.push_back(request.rank + (k + j) * request.ranks);
+                run_batch(proto, lib, request.spec, result.input_names, indices, &result.members[k], &refusals[k]);
+            } else {
+                result.members[k] = run_member(proto, lib, request.spec, result.input_names,
+                                               request.rank + k * request.ranks, refusals[k]);
+            }
+            const std::size_t d = done.fetch_add(count, std::memory_order_relaxed) + count;
             if (reports) progress.update(d);
         }
     };

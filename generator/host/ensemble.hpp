@@ -24,6 +24,9 @@ struct EnsembleRequest {
     // This process runs the members with index % ranks == rank (MPI: one rank of several).
     std::size_t rank = 0, ranks = 1;
     bool progress = true;    // a bar on stderr when it is a terminal and the run lasts > ~1 s
+    // Members a SIMD batch at a time (host/ensemble_batch.hpp; InputError at --batch where the
+    // kernel or the method does not allow it). The CSV is the same as without for rk4, bit for bit.
+    bool batch = false;
 };
 
 struct MemberResult {
@@ -46,6 +49,7 @@ struct EnsembleResult {
     std::vector<std::string> input_names, state_names, invariant_names;
     std::vector<MemberResult> members;  // by index (only this rank's when ranks > 1)
     unsigned threads = 1;        // per rank
+    std::size_t lanes = 1;       // members per kernel call (--batch)
     std::size_t ranks = 1;       // MPI ranks whose members were gathered here
     double wall_s = 0.0, compile_s = 0.0;
     bool cache_hit = false;
