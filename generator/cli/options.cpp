@@ -178,6 +178,9 @@ host::SimulationRequest simulation_request(const host::Pipeline& p, const std::s
 
 void add_ensemble_options(CLI::App* cmd, EnsembleOptions& o, bool sweep) {
     if (sweep) {
+        cmd->add_flag("--equilibria", o.equilibria, "the relative equilibria and their verdicts at every grid point "
+                                                    "(parameters only) instead of runs; --plot draws a bifurcation "
+                                                    "diagram over one axis, a stability map over two");
         cmd->add_option("--grid", o.grid, "NAME=a:b:n (n points from a to b inclusive) or NAME=value: a parameter "
                                           "or an initial value; several make a grid, the last varying fastest")
             ->required();
