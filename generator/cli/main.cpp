@@ -298,7 +298,11 @@ void ensemble_command(const Pipeline& p, const Options& o) {
     if (!o.ensemble.plot.empty()) check_output_target(o.ensemble.plot);
     if (host::has_control_character(o.ensemble.plot))  // the path reaches the plot script
         throw InputError(SourcePos{"--plot"}, "the path contains a control character");
-    if (o.ensemble.equilibria) return equilibria_sweep_command(p, o, r.spec);
+    if (o.ensemble.equilibria) {
+        if (!o.ensemble.observe.empty() || o.ensemble.batch)
+            throw InputError(SourcePos{"--equilibria"}, "an equilibrium sweep runs nothing: --observe and --batch do not apply");
+        return equilibria_sweep_command(p, o, r.spec);
+    }
     codegen::KernelIR ir;
     const std::string header = host::kernel_header(p, nullptr, &ir);
     r.base = cli::simulation_request(p, header, o.simulate);
@@ -311,6 +315,7 @@ void ensemble_command(const Pipeline& p, const Options& o) {
     host::check_separable(r.base.integrator, r.base.integrator_pos, ir.separable, ir.scene_name);
     r.threads = o.ensemble.threads;
     r.batch = o.ensemble.batch;
+    for (const auto& text : o.ensemble.observe) r.observe.push_back(host::parse_observation(text));
     const host::MpiSession mpi;  // rank 0 of 1 unless launched by mpirun
     r.rank = mpi.rank();
     r.ranks = mpi.size();

@@ -194,6 +194,9 @@ void add_ensemble_options(CLI::App* cmd, EnsembleOptions& o, bool sweep) {
     }
     cmd->add_option("--threads", o.threads, "threads running members (default: the hardware's)")
         ->check(CLI::Range(1u, 4096u));
+    cmd->add_option("--observe", o.observe, "NAME=EXPR: a column of EXPR (the scene's syntax, over t, the parameters "
+                                            "and the state) at each member's end; event:NAME: the time of its first "
+                                            "NAME event (column t_NAME)");
     cmd->add_flag("--batch", o.batch, "run the members a SIMD batch at a time through the kernel's batched rhs, in "
                                       "lock step (rk4: the same rows as without; dopri5: one step size per batch)");
     cmd->add_option("-o,--output", o.output, "one CSV row per member (inputs, status, final state, invariant drifts, "
