@@ -274,9 +274,10 @@ void simulate_command(const Pipeline& p, Options& o, bool whole_job) {
 
 // `sweep --equilibria`: the relative equilibria and their verdicts at every grid point, no kernel.
 void equilibria_sweep_command(const Pipeline& p, const Options& o, const host::EnsembleSpec& spec) {
-    if (!p.model.unilateral.empty() || p.model.kind() == model::ModelKind::rigid)
-        throw InputError(SourcePos{"--equilibria"}, "an equilibrium sweep takes the relative equilibria of a scene "
-                                                    "without [[unilateral]] gaps or a [rigid_body]");
+    if (!p.model.unilateral.empty())
+        throw InputError(SourcePos{"--equilibria"}, "an equilibrium sweep takes the relative equilibria (or a rigid "
+                                                    "body's permanent rotations), not the KKT equilibria of "
+                                                    "[[unilateral]] gaps");
     const host::EquilibriumSweep sweep = host::sweep_equilibria(p.model, p.equations, spec);
     const auto script = [&](const std::string& terminal, const fs::path& png) {
         return host::equilibria_plot_script(sweep, spec, terminal, png);

@@ -113,3 +113,45 @@ BOOST_AUTO_TEST_CASE(initial_values_and_random_draws_are_refused) {
     spec.samples = 3;
     BOOST_CHECK_THROW(sweep_equilibria(model, equations, spec), InputError);
 }
+
+// The sleeping Lagrange top (scenes/lagrange_top.toml: A = 1.5, C = 0.6, P = 2) on its axis, γ = e3,
+// ω = (0, 0, r0), is spectrally stable iff C² r0² > 4 A P z0 (Maievskii's criterion; Leimanis 1965,
+// §4): swept over the spin and the centre height, each row of the grid must switch from unstable to
+// stable once, between the two spins that bracket r0 = 2√(A P z0)/C. The hanging top (γ = −e3) is
+// stable at every spin.
+BOOST_AUTO_TEST_CASE(the_sleeping_top_boundary_from_a_sweep) {
+    const model::Model model = test_support::model_of(test_support::bundled_scene("lagrange_top"));
+    EnsembleSpec spec;
+    spec.grid = {parse_grid("z0=0.05:0.5:10"), parse_grid("spin=0:6:61")};
+    const EquilibriumSweep sweep = sweep_equilibria(model, mechanics::derive(model), spec);
+    BOOST_TEST_REQUIRE(sweep.points.size() == 610u);
+    BOOST_TEST(sweep.rigid);
+    const double A = 1.5, C = 0.6, P = 2.0;
+    for (std::size_t row = 0; row < 10; ++row) {
+        const double z0 = sweep.points[row * 61].inputs[0];
+        const double critical = 2 * std::sqrt(A * P * z0) / C;
+        BOOST_TEST_INFO("z0 = " << z0 << ", critical spin " << critical);
+        double last_unstable = -1, first_stable = -1;
+        std::size_t switches = 0;
+        bool previous = false;
+        for (std::size_t j = 0; j < 61; ++j) {
+            const EquilibriumPoint& p = sweep.points[row * 61 + j];
+            BOOST_TEST_REQUIRE(p.error.empty());
+            bool upright = false, hanging = false;
+            for (const auto& r : p.rotations) {
+                if (r.gamma[2] > 0.5) upright = r.verdict != "unstable";
+                if (r.gamma[2] < -0.5) hanging = r.verdict != "unstable";
+            }
+            BOOST_TEST(hanging);
+            if (!upright) last_unstable = p.inputs[1];
+            if (upright && first_stable < 0) first_stable = p.inputs[1];
+            if (j > 0 && upright != previous) ++switches;
+            previous = upright;
+        }
+        BOOST_TEST(switches == 1u);
+        BOOST_TEST(last_unstable < critical);
+        BOOST_TEST(first_stable > critical);
+        BOOST_TEST(first_stable - last_unstable == 0.1, boost::test_tools::tolerance(1e-9));
+    }
+    BOOST_TEST(equilibria_csv(sweep).rfind("point,z0,spin,rotations,rotation,gamma1,gamma2,gamma3,rotation_spin,verdict,growth\n", 0) == 0);
+}
