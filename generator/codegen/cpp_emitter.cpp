@@ -733,7 +733,7 @@ std::string variational_function(const KernelIR& ir) {
         "    static constexpr int n_variational = n_state + n_state * n_state;\n\n"
         "    template <class S>\n"
         "    static void variational_rhs(S t, const S* y, S* dydt, const Parameters& p) {{\n"
-        "        eomc::runtime::variational_rhs<{}>(t, y, dydt, p);\n"
+        "        eomc::runtime::variational_rhs<Basic{}>(t, y, dydt, p);\n"
         "    }}\n",
         checked_identifier(ir.struct_name, "the kernel's name"));
 }
