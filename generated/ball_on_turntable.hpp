@@ -29,7 +29,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct BallOnTurntable {
+// PT is the parameters' scalar: double for the kernel BallOnTurntable below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicBallOnTurntable {
     static constexpr int n_coordinates = 5;
     static constexpr int n_state = 10;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -46,12 +49,15 @@ struct BallOnTurntable {
     static constexpr std::array<const char*, n_invariants> invariant_names{ "energy", "momentum_phi" };
     static constexpr std::array<const char*, n_outputs> output_names{ "holding_force_1", "holding_force_2", "holding_force_3", "holding_moment_1", "holding_moment_2", "holding_moment_3", "lambda_roll_x", "lambda_roll_y", "reaction_x", "reaction_y", "reaction_phi", "reaction_theta", "reaction_psi" };
     static constexpr std::array<double, n_state> initial_state{ 0.3, 0, 0, 1.5707963267948966, 0, 0, 0.2, 0, -2, 0 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = false;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double m = 1;
-        double r = 0.1;
-        double Omega = 2;
+        PT m = 1;
+        PT r = 0.1;
+        PT Omega = 2;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -474,5 +480,7 @@ struct BallOnTurntable {
         out_W[9] = r*w0*w2;
     }
 };
+
+using BallOnTurntable = BasicBallOnTurntable<double>;
 
 }  // namespace eomc::models

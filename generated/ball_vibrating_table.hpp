@@ -25,7 +25,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct BallVibratingTable {
+// PT is the parameters' scalar: double for the kernel BallVibratingTable below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicBallVibratingTable {
     static constexpr int n_coordinates = 1;
     static constexpr int n_state = 2;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -42,14 +45,17 @@ struct BallVibratingTable {
     static constexpr std::array<const char*, n_invariants> invariant_names{  };
     static constexpr std::array<const char*, n_outputs> output_names{  };
     static constexpr std::array<double, n_state> initial_state{ 0.15391061571041653, -1.9733811198931481 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = false;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double m = 1;
-        double g = 9.81;
-        double e = 0.5;
-        double A = 0.07957747154594767;
-        double omega = 12.566370614359172;
+        PT m = 1;
+        PT g = 9.81;
+        PT e = 0.5;
+        PT A = 0.07957747154594767;
+        PT omega = 12.566370614359172;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -175,5 +181,7 @@ struct BallVibratingTable {
     }
 
 };
+
+using BallVibratingTable = BasicBallVibratingTable<double>;
 
 }  // namespace eomc::models

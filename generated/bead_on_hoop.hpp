@@ -22,7 +22,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct BeadOnHoop {
+// PT is the parameters' scalar: double for the kernel BeadOnHoop below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicBeadOnHoop {
     static constexpr int n_coordinates = 1;
     static constexpr int n_state = 2;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -39,13 +42,16 @@ struct BeadOnHoop {
     static constexpr std::array<const char*, n_invariants> invariant_names{ "energy" };
     static constexpr std::array<const char*, n_outputs> output_names{ "holding_force_1", "holding_force_2", "holding_force_3", "holding_moment_1", "holding_moment_2", "holding_moment_3" };
     static constexpr std::array<double, n_state> initial_state{ 0.3, 0 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = true;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double m = 0.1;
-        double R = 0.5;
-        double g = 9.81;
-        double omega = 6;
+        PT m = 0.1;
+        PT R = 0.5;
+        PT g = 9.81;
+        PT omega = 6;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -169,5 +175,7 @@ struct BeadOnHoop {
     }
 
 };
+
+using BeadOnHoop = BasicBeadOnHoop<double>;
 
 }  // namespace eomc::models

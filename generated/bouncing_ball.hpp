@@ -24,7 +24,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct BouncingBall {
+// PT is the parameters' scalar: double for the kernel BouncingBall below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicBouncingBall {
     static constexpr int n_coordinates = 1;
     static constexpr int n_state = 2;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -41,12 +44,15 @@ struct BouncingBall {
     static constexpr std::array<const char*, n_invariants> invariant_names{ "energy" };
     static constexpr std::array<const char*, n_outputs> output_names{  };
     static constexpr std::array<double, n_state> initial_state{ 2, 0 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = false;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double m = 1;
-        double g = 9.81;
-        double e = 0.7;
+        PT m = 1;
+        PT g = 9.81;
+        PT e = 0.7;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -169,5 +175,7 @@ struct BouncingBall {
     }
 
 };
+
+using BouncingBall = BasicBouncingBall<double>;
 
 }  // namespace eomc::models

@@ -28,7 +28,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct ChaplyginSleigh {
+// PT is the parameters' scalar: double for the kernel ChaplyginSleigh below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicChaplyginSleigh {
     static constexpr int n_coordinates = 3;
     static constexpr int n_state = 6;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -45,12 +48,15 @@ struct ChaplyginSleigh {
     static constexpr std::array<const char*, n_invariants> invariant_names{ "energy" };
     static constexpr std::array<const char*, n_outputs> output_names{ "lambda_knife_edge", "reaction_x", "reaction_y", "reaction_phi" };
     static constexpr std::array<double, n_state> initial_state{ 0, 0, 0, 0.3, 0, 2 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = false;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double m = 2;
-        double I = 0.5;
-        double a = 0.4;
+        PT m = 2;
+        PT I = 0.5;
+        PT a = 0.4;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -277,5 +283,7 @@ struct ChaplyginSleigh {
         out_W[2] = S(0);
     }
 };
+
+using ChaplyginSleigh = BasicChaplyginSleigh<double>;
 
 }  // namespace eomc::models

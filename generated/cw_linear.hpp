@@ -25,7 +25,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct CwLinear {
+// PT is the parameters' scalar: double for the kernel CwLinear below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicCwLinear {
     static constexpr int n_coordinates = 3;
     static constexpr int n_state = 6;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -42,10 +45,13 @@ struct CwLinear {
     static constexpr std::array<const char*, n_invariants> invariant_names{  };
     static constexpr std::array<const char*, n_outputs> output_names{  };
     static constexpr std::array<double, n_state> initial_state{ 0.1, 0, 0.05, 0, -0.00022627333, 0 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = false;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double n = 0.0011313666536;
+        PT n = 0.0011313666536;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -267,5 +273,7 @@ struct CwLinear {
         out[17] = S(1);
     }
 };
+
+using CwLinear = BasicCwLinear<double>;
 
 }  // namespace eomc::models

@@ -21,7 +21,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct DampedOscillator {
+// PT is the parameters' scalar: double for the kernel DampedOscillator below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicDampedOscillator {
     static constexpr int n_coordinates = 1;
     static constexpr int n_state = 2;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -38,11 +41,14 @@ struct DampedOscillator {
     static constexpr std::array<const char*, n_invariants> invariant_names{  };
     static constexpr std::array<const char*, n_outputs> output_names{  };
     static constexpr std::array<double, n_state> initial_state{ 1, 0 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = true;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double gamma = 0.1;
-        double w = 1;
+        PT gamma = 0.1;
+        PT w = 1;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -123,5 +129,7 @@ struct DampedOscillator {
     }
 
 };
+
+using DampedOscillator = BasicDampedOscillator<double>;
 
 }  // namespace eomc::models

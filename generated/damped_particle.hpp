@@ -25,7 +25,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct DampedParticle {
+// PT is the parameters' scalar: double for the kernel DampedParticle below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicDampedParticle {
     static constexpr int n_coordinates = 3;
     static constexpr int n_state = 6;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -42,14 +45,17 @@ struct DampedParticle {
     static constexpr std::array<const char*, n_invariants> invariant_names{  };
     static constexpr std::array<const char*, n_outputs> output_names{  };
     static constexpr std::array<double, n_state> initial_state{ 0, 0, 1000, 0, 0, 0 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = false;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double m = 1;
-        double g = 9.81;
-        double k = 0.2;
-        double Omega = 7.292115e-05;
-        double phi = 0.7853981633974483;
+        PT m = 1;
+        PT g = 9.81;
+        PT k = 0.2;
+        PT Omega = 7.292115e-05;
+        PT phi = 0.7853981633974483;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -249,5 +255,7 @@ struct DampedParticle {
         out[17] = S(1);
     }
 };
+
+using DampedParticle = BasicDampedParticle<double>;
 
 }  // namespace eomc::models

@@ -22,7 +22,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct DiskTubeBall {
+// PT is the parameters' scalar: double for the kernel DiskTubeBall below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicDiskTubeBall {
     static constexpr int n_coordinates = 1;
     static constexpr int n_state = 2;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -39,13 +42,16 @@ struct DiskTubeBall {
     static constexpr std::array<const char*, n_invariants> invariant_names{ "energy" };
     static constexpr std::array<const char*, n_outputs> output_names{ "holding_force_1", "holding_force_2", "holding_force_3", "holding_moment_1", "holding_moment_2", "holding_moment_3" };
     static constexpr std::array<double, n_state> initial_state{ 0.1, 0 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = true;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double M = 2;
-        double m = 0.5;
-        double r = 0.3;
-        double Omega = 3;
+        PT M = 2;
+        PT m = 0.5;
+        PT r = 0.3;
+        PT Omega = 3;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -138,5 +144,7 @@ struct DiskTubeBall {
     }
 
 };
+
+using DiskTubeBall = BasicDiskTubeBall<double>;
 
 }  // namespace eomc::models

@@ -21,7 +21,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct DoublePendulum {
+// PT is the parameters' scalar: double for the kernel DoublePendulum below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicDoublePendulum {
     static constexpr int n_coordinates = 2;
     static constexpr int n_state = 4;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -38,14 +41,17 @@ struct DoublePendulum {
     static constexpr std::array<const char*, n_invariants> invariant_names{ "energy" };
     static constexpr std::array<const char*, n_outputs> output_names{  };
     static constexpr std::array<double, n_state> initial_state{ 1.5, 0.5, 0, 0 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = true;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double m1 = 1;
-        double m2 = 1;
-        double l1 = 1;
-        double l2 = 1;
-        double g = 9.81;
+        PT m1 = 1;
+        PT m2 = 1;
+        PT l1 = 1;
+        PT l2 = 1;
+        PT g = 9.81;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -205,5 +211,7 @@ struct DoublePendulum {
     }
 
 };
+
+using DoublePendulum = BasicDoublePendulum<double>;
 
 }  // namespace eomc::models

@@ -22,7 +22,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct Dzhanibekov {
+// PT is the parameters' scalar: double for the kernel Dzhanibekov below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicDzhanibekov {
     static constexpr int n_coordinates = 6;
     static constexpr int n_state = 6;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -39,6 +42,9 @@ struct Dzhanibekov {
     static constexpr std::array<const char*, n_invariants> invariant_names{ "energy", "area", "geometric", "integral_2_1" };
     static constexpr std::array<const char*, n_outputs> output_names{  };
     static constexpr std::array<double, n_state> initial_state{ 0, 1, 0.01, 0.6, 0, 0.8 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = true;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
@@ -202,5 +208,7 @@ struct Dzhanibekov {
     }
 
 };
+
+using Dzhanibekov = BasicDzhanibekov<double>;
 
 }  // namespace eomc::models

@@ -22,7 +22,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct EulerPoinsot {
+// PT is the parameters' scalar: double for the kernel EulerPoinsot below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicEulerPoinsot {
     static constexpr int n_coordinates = 6;
     static constexpr int n_state = 6;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -39,12 +42,15 @@ struct EulerPoinsot {
     static constexpr std::array<const char*, n_invariants> invariant_names{ "energy", "area", "geometric", "integral_2_1" };
     static constexpr std::array<const char*, n_outputs> output_names{  };
     static constexpr std::array<double, n_state> initial_state{ 0.4, 0, 0.8, 0.6, 0, 0.8 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = true;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double I1 = 2;
-        double I2 = 3;
-        double I3 = 5;
+        PT I1 = 2;
+        PT I2 = 3;
+        PT I3 = 5;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -216,5 +222,7 @@ struct EulerPoinsot {
     }
 
 };
+
+using EulerPoinsot = BasicEulerPoinsot<double>;
 
 }  // namespace eomc::models

@@ -28,7 +28,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct FreeDiskTubeBall {
+// PT is the parameters' scalar: double for the kernel FreeDiskTubeBall below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicFreeDiskTubeBall {
     static constexpr int n_coordinates = 1;
     static constexpr int n_state = 11;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -45,12 +48,15 @@ struct FreeDiskTubeBall {
     static constexpr std::array<const char*, n_invariants> invariant_names{ "energy" };
     static constexpr std::array<const char*, n_outputs> output_names{ "reaction_force_1", "reaction_force_3", "reaction_moment_1", "reaction_moment_3" };
     static constexpr std::array<double, n_state> initial_state{ 0.1, 0, 0.2, 1, 1, 0, 0, 0, 0, 0, 0 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = false;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double M = 2;
-        double m = 0.5;
-        double r = 1;
+        PT M = 2;
+        PT m = 0.5;
+        PT r = 1;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -398,5 +404,7 @@ struct FreeDiskTubeBall {
         out[120] = S(0);
     }
 };
+
+using FreeDiskTubeBall = BasicFreeDiskTubeBall<double>;
 
 }  // namespace eomc::models

@@ -24,7 +24,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct GeoEquinoctial {
+// PT is the parameters' scalar: double for the kernel GeoEquinoctial below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicGeoEquinoctial {
     static constexpr int n_coordinates = 6;
     static constexpr int n_state = 6;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -41,15 +44,18 @@ struct GeoEquinoctial {
     static constexpr std::array<const char*, n_invariants> invariant_names{  };
     static constexpr std::array<const char*, n_outputs> output_names{ "x", "y", "z", "x_dot", "y_dot", "z_dot" };
     static constexpr std::array<double, n_state> initial_state{ 42164.16999999999, -1.1102230246251565e-16, 0, 0, 0, 0 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = true;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double mu = 398600.4418;
-        double Re = 6378.137;
-        double J2 = 0.00108262668;
-        double mu3 = 4902.800066;
-        double a3 = 384400;
-        double i3 = 0.0898;
+        PT mu = 398600.4418;
+        PT Re = 6378.137;
+        PT J2 = 0.00108262668;
+        PT mu3 = 4902.800066;
+        PT a3 = 384400;
+        PT i3 = 0.0898;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -423,5 +429,7 @@ struct GeoEquinoctial {
     }
 
 };
+
+using GeoEquinoctial = BasicGeoEquinoctial<double>;
 
 }  // namespace eomc::models

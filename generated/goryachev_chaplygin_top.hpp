@@ -22,7 +22,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct GoryachevChaplyginTop {
+// PT is the parameters' scalar: double for the kernel GoryachevChaplyginTop below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicGoryachevChaplyginTop {
     static constexpr int n_coordinates = 6;
     static constexpr int n_state = 6;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -39,13 +42,16 @@ struct GoryachevChaplyginTop {
     static constexpr std::array<const char*, n_invariants> invariant_names{ "energy", "area", "geometric", "conditional_3_1" };
     static constexpr std::array<const char*, n_outputs> output_names{  };
     static constexpr std::array<double, n_state> initial_state{ 0.4, 0.2, 1, 0.52999894000318, 0, -0.847998304005088 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = true;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double A = 2;
-        double C = 0.5;
-        double P = 1;
-        double x0 = 1;
+        PT A = 2;
+        PT C = 0.5;
+        PT P = 1;
+        PT x0 = 1;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -218,5 +224,7 @@ struct GoryachevChaplyginTop {
     }
 
 };
+
+using GoryachevChaplyginTop = BasicGoryachevChaplyginTop<double>;
 
 }  // namespace eomc::models

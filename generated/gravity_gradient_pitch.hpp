@@ -22,7 +22,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct GravityGradientPitch {
+// PT is the parameters' scalar: double for the kernel GravityGradientPitch below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicGravityGradientPitch {
     static constexpr int n_coordinates = 1;
     static constexpr int n_state = 2;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -39,13 +42,16 @@ struct GravityGradientPitch {
     static constexpr std::array<const char*, n_invariants> invariant_names{ "energy" };
     static constexpr std::array<const char*, n_outputs> output_names{ "holding_force_1", "holding_force_2", "holding_force_3", "holding_moment_1", "holding_moment_2", "holding_moment_3" };
     static constexpr std::array<double, n_state> initial_state{ 0.1, 0 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = true;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double n = 0.001;
-        double Ix = 3;
-        double Iy = 4;
-        double Iz = 2;
+        PT n = 0.001;
+        PT Ix = 3;
+        PT Iy = 4;
+        PT Iz = 2;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -160,5 +166,7 @@ struct GravityGradientPitch {
     }
 
 };
+
+using GravityGradientPitch = BasicGravityGradientPitch<double>;
 
 }  // namespace eomc::models

@@ -22,7 +22,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct Gyrocompass {
+// PT is the parameters' scalar: double for the kernel Gyrocompass below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicGyrocompass {
     static constexpr int n_coordinates = 2;
     static constexpr int n_state = 4;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -39,13 +42,16 @@ struct Gyrocompass {
     static constexpr std::array<const char*, n_invariants> invariant_names{ "energy" };
     static constexpr std::array<const char*, n_outputs> output_names{ "holding_force_1", "holding_force_2", "holding_force_3", "holding_moment_1", "holding_moment_2", "holding_moment_3" };
     static constexpr std::array<double, n_state> initial_state{ 0.05, 0, 0, 20 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = true;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double m = 1;
-        double A = 1;
-        double C = 2;
-        double Omega = 1;
+        PT m = 1;
+        PT A = 1;
+        PT C = 2;
+        PT Omega = 1;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -224,5 +230,7 @@ struct Gyrocompass {
     }
 
 };
+
+using Gyrocompass = BasicGyrocompass<double>;
 
 }  // namespace eomc::models

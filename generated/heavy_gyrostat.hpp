@@ -22,7 +22,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct HeavyGyrostat {
+// PT is the parameters' scalar: double for the kernel HeavyGyrostat below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicHeavyGyrostat {
     static constexpr int n_coordinates = 6;
     static constexpr int n_state = 6;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -39,19 +42,22 @@ struct HeavyGyrostat {
     static constexpr std::array<const char*, n_invariants> invariant_names{ "energy", "area", "geometric" };
     static constexpr std::array<const char*, n_outputs> output_names{  };
     static constexpr std::array<double, n_state> initial_state{ 0.5, -0.3, 1.2, 0, 0.6, 0.8 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = true;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double A = 1.2;
-        double B = 1;
-        double C = 0.8;
-        double P = 1;
-        double x0 = 0.1;
-        double y0 = 0.2;
-        double z0 = 0.3;
-        double k1 = 0.3;
-        double k2 = -0.2;
-        double k3 = 0.5;
+        PT A = 1.2;
+        PT B = 1;
+        PT C = 0.8;
+        PT P = 1;
+        PT x0 = 0.1;
+        PT y0 = 0.2;
+        PT z0 = 0.3;
+        PT k1 = 0.3;
+        PT k2 = -0.2;
+        PT k3 = 0.5;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -237,5 +243,7 @@ struct HeavyGyrostat {
     }
 
 };
+
+using HeavyGyrostat = BasicHeavyGyrostat<double>;
 
 }  // namespace eomc::models

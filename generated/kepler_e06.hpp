@@ -21,7 +21,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct KeplerE06 {
+// PT is the parameters' scalar: double for the kernel KeplerE06 below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicKeplerE06 {
     static constexpr int n_coordinates = 2;
     static constexpr int n_state = 4;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -38,10 +41,13 @@ struct KeplerE06 {
     static constexpr std::array<const char*, n_invariants> invariant_names{ "energy" };
     static constexpr std::array<const char*, n_outputs> output_names{  };
     static constexpr std::array<double, n_state> initial_state{ 0.4, 0, 0, 2 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = true;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double mu = 1;
+        PT mu = 1;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -158,5 +164,7 @@ struct KeplerE06 {
     }
 
 };
+
+using KeplerE06 = BasicKeplerE06<double>;
 
 }  // namespace eomc::models

@@ -22,7 +22,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct KeplerOrbit {
+// PT is the parameters' scalar: double for the kernel KeplerOrbit below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicKeplerOrbit {
     static constexpr int n_coordinates = 2;
     static constexpr int n_state = 4;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -39,10 +42,13 @@ struct KeplerOrbit {
     static constexpr std::array<const char*, n_invariants> invariant_names{ "energy", "momentum_phi" };
     static constexpr std::array<const char*, n_outputs> output_names{  };
     static constexpr std::array<double, n_state> initial_state{ 0.5, 0, 0, 3.4641016151377544 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = true;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double mu = 1;
+        PT mu = 1;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -161,5 +167,7 @@ struct KeplerOrbit {
     }
 
 };
+
+using KeplerOrbit = BasicKeplerOrbit<double>;
 
 }  // namespace eomc::models

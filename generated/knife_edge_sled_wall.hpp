@@ -31,7 +31,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct KnifeEdgeSledWall {
+// PT is the parameters' scalar: double for the kernel KnifeEdgeSledWall below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicKnifeEdgeSledWall {
     static constexpr int n_coordinates = 3;
     static constexpr int n_state = 6;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -48,12 +51,15 @@ struct KnifeEdgeSledWall {
     static constexpr std::array<const char*, n_invariants> invariant_names{ "energy", "momentum_phi" };
     static constexpr std::array<const char*, n_outputs> output_names{ "lambda_blade", "reaction_x", "reaction_y", "reaction_phi" };
     static constexpr std::array<double, n_state> initial_state{ 0.5, 0, 0.5235987755982988, -1.7320508075688772, -1, 0 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = false;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double m = 1;
-        double I = 0.1;
-        double e = 0.5;
+        PT m = 1;
+        PT I = 0.1;
+        PT e = 0.5;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -329,5 +335,7 @@ struct KnifeEdgeSledWall {
         out_W[2] = S(0);
     }
 };
+
+using KnifeEdgeSledWall = BasicKnifeEdgeSledWall<double>;
 
 }  // namespace eomc::models

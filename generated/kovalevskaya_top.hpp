@@ -22,7 +22,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct KovalevskayaTop {
+// PT is the parameters' scalar: double for the kernel KovalevskayaTop below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicKovalevskayaTop {
     static constexpr int n_coordinates = 6;
     static constexpr int n_state = 6;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -39,13 +42,16 @@ struct KovalevskayaTop {
     static constexpr std::array<const char*, n_invariants> invariant_names{ "energy", "area", "geometric", "integral_4_1" };
     static constexpr std::array<const char*, n_outputs> output_names{  };
     static constexpr std::array<double, n_state> initial_state{ 0.8, -0.4, 1.5, 0.6, 0.48, 0.64 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = true;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double A = 1;
-        double C = 0.5;
-        double P = 1;
-        double x0 = 1;
+        PT A = 1;
+        PT C = 0.5;
+        PT P = 1;
+        PT x0 = 1;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -220,5 +226,7 @@ struct KovalevskayaTop {
     }
 
 };
+
+using KovalevskayaTop = BasicKovalevskayaTop<double>;
 
 }  // namespace eomc::models

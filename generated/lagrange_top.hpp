@@ -23,7 +23,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct LagrangeTop {
+// PT is the parameters' scalar: double for the kernel LagrangeTop below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicLagrangeTop {
     static constexpr int n_coordinates = 6;
     static constexpr int n_state = 6;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -40,13 +43,16 @@ struct LagrangeTop {
     static constexpr std::array<const char*, n_invariants> invariant_names{ "energy", "area", "geometric", "integral_1_1" };
     static constexpr std::array<const char*, n_outputs> output_names{  };
     static constexpr std::array<double, n_state> initial_state{ 0.2, 0, 4, 0, 0.5, 0.8660254037844386 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = true;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double A = 1.5;
-        double C = 0.6;
-        double P = 2;
-        double z0 = 0.25;
+        PT A = 1.5;
+        PT C = 0.6;
+        PT P = 2;
+        PT z0 = 0.25;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -237,5 +243,7 @@ struct LagrangeTop {
     }
 
 };
+
+using LagrangeTop = BasicLagrangeTop<double>;
 
 }  // namespace eomc::models

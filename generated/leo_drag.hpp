@@ -26,7 +26,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct LeoDrag {
+// PT is the parameters' scalar: double for the kernel LeoDrag below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicLeoDrag {
     static constexpr int n_coordinates = 3;
     static constexpr int n_state = 6;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -43,17 +46,20 @@ struct LeoDrag {
     static constexpr std::array<const char*, n_invariants> invariant_names{  };
     static constexpr std::array<const char*, n_outputs> output_names{  };
     static constexpr std::array<double, n_state> initial_state{ 6628.137, 0, 0, -0, 4.816905067094298, 6.077421678863729 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = false;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double mu = 398600.4418;
-        double Re = 6378.137;
-        double J2 = 0.00108262668;
-        double rho0 = 5.464e-10;
-        double h0 = 180;
-        double H = 29.74;
-        double CdA_m = 0.022;
-        double omega = 7.292115e-05;
+        PT mu = 398600.4418;
+        PT Re = 6378.137;
+        PT J2 = 0.00108262668;
+        PT rho0 = 5.464e-10;
+        PT h0 = 180;
+        PT H = 29.74;
+        PT CdA_m = 0.022;
+        PT omega = 7.292115e-05;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -352,5 +358,7 @@ struct LeoDrag {
         out[17] = S(1);
     }
 };
+
+using LeoDrag = BasicLeoDrag<double>;
 
 }  // namespace eomc::models

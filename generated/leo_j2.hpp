@@ -26,7 +26,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct LeoJ2 {
+// PT is the parameters' scalar: double for the kernel LeoJ2 below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicLeoJ2 {
     static constexpr int n_coordinates = 3;
     static constexpr int n_state = 6;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -43,12 +46,15 @@ struct LeoJ2 {
     static constexpr std::array<const char*, n_invariants> invariant_names{ "energy", "h_z" };
     static constexpr std::array<const char*, n_outputs> output_names{  };
     static constexpr std::array<double, n_state> initial_state{ 6930, 0, 0, -0, 4.899259621590088, 5.838710255081736 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = false;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double mu = 398600.4418;
-        double Re = 6378.137;
-        double J2 = 0.00108262668;
+        PT mu = 398600.4418;
+        PT Re = 6378.137;
+        PT J2 = 0.00108262668;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -332,5 +338,7 @@ struct LeoJ2 {
         out[17] = S(1);
     }
 };
+
+using LeoJ2 = BasicLeoJ2<double>;
 
 }  // namespace eomc::models

@@ -28,7 +28,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct MeshcherskyCircle {
+// PT is the parameters' scalar: double for the kernel MeshcherskyCircle below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicMeshcherskyCircle {
     static constexpr int n_coordinates = 2;
     static constexpr int n_state = 4;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -45,13 +48,16 @@ struct MeshcherskyCircle {
     static constexpr std::array<const char*, n_invariants> invariant_names{  };
     static constexpr std::array<const char*, n_outputs> output_names{ "program_circle", "program_speed", "lambda_circle", "lambda_speed", "Qc_x", "Qc_y" };
     static constexpr std::array<double, n_state> initial_state{ 0, -1, 3, 0 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = false;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double m = 1;
-        double g = 9.81;
-        double R = 1;
-        double v0 = 3;
+        PT m = 1;
+        PT g = 9.81;
+        PT R = 1;
+        PT v0 = 3;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -242,5 +248,7 @@ struct MeshcherskyCircle {
         out[3] = S(0);
     }
 };
+
+using MeshcherskyCircle = BasicMeshcherskyCircle<double>;
 
 }  // namespace eomc::models

@@ -28,7 +28,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct MiddleAxisHold {
+// PT is the parameters' scalar: double for the kernel MiddleAxisHold below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicMiddleAxisHold {
     static constexpr int n_coordinates = 6;
     static constexpr int n_state = 6;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -45,6 +48,9 @@ struct MiddleAxisHold {
     static constexpr std::array<const char*, n_invariants> invariant_names{  };
     static constexpr std::array<const char*, n_outputs> output_names{ "program_hold_p", "program_hold_r", "lambda_hold_p", "lambda_hold_r", "Qc_p", "Qc_q", "Qc_r" };
     static constexpr std::array<double, n_state> initial_state{ 0.01, 1, 0.01, 0, 0, 1 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = false;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
@@ -264,5 +270,7 @@ struct MiddleAxisHold {
         out[3] = S(0);
     }
 };
+
+using MiddleAxisHold = BasicMiddleAxisHold<double>;
 
 }  // namespace eomc::models

@@ -28,7 +28,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct NewtonsCradle {
+// PT is the parameters' scalar: double for the kernel NewtonsCradle below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicNewtonsCradle {
     static constexpr int n_coordinates = 3;
     static constexpr int n_state = 6;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -45,12 +48,15 @@ struct NewtonsCradle {
     static constexpr std::array<const char*, n_invariants> invariant_names{ "energy" };
     static constexpr std::array<const char*, n_outputs> output_names{  };
     static constexpr std::array<double, n_state> initial_state{ 0, 1, 2, 1, 0, 0 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = false;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double m = 1;
-        double d = 1;
-        double e = 1;
+        PT m = 1;
+        PT d = 1;
+        PT e = 1;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -292,5 +298,7 @@ struct NewtonsCradle {
         out[17] = S(1);
     }
 };
+
+using NewtonsCradle = BasicNewtonsCradle<double>;
 
 }  // namespace eomc::models

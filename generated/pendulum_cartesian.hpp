@@ -28,7 +28,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct PendulumCartesian {
+// PT is the parameters' scalar: double for the kernel PendulumCartesian below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicPendulumCartesian {
     static constexpr int n_coordinates = 2;
     static constexpr int n_state = 4;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -45,12 +48,15 @@ struct PendulumCartesian {
     static constexpr std::array<const char*, n_invariants> invariant_names{ "energy" };
     static constexpr std::array<const char*, n_outputs> output_names{ "lambda_rod", "reaction_x", "reaction_y" };
     static constexpr std::array<double, n_state> initial_state{ 0.5753106463250436, -1.0530990742684472, 0, 0 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = false;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double m = 1;
-        double g = 9.81;
-        double l = 1.2;
+        PT m = 1;
+        PT g = 9.81;
+        PT l = 1.2;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -239,5 +245,7 @@ struct PendulumCartesian {
         out_W[1] = S(2)*y;
     }
 };
+
+using PendulumCartesian = BasicPendulumCartesian<double>;
 
 }  // namespace eomc::models

@@ -28,7 +28,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct PendulumEnergyProgram {
+// PT is the parameters' scalar: double for the kernel PendulumEnergyProgram below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicPendulumEnergyProgram {
     static constexpr int n_coordinates = 1;
     static constexpr int n_state = 2;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -45,11 +48,14 @@ struct PendulumEnergyProgram {
     static constexpr std::array<const char*, n_invariants> invariant_names{  };
     static constexpr std::array<const char*, n_outputs> output_names{ "program_energy", "lambda_energy", "Qc_theta" };
     static constexpr std::array<double, n_state> initial_state{ 0, 8 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = false;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double g = 9.81;
-        double h = 30;
+        PT g = 9.81;
+        PT h = 30;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -215,5 +221,7 @@ struct PendulumEnergyProgram {
         out[1] = S(0);
     }
 };
+
+using PendulumEnergyProgram = BasicPendulumEnergyProgram<double>;
 
 }  // namespace eomc::models

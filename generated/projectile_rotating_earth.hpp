@@ -26,7 +26,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct ProjectileRotatingEarth {
+// PT is the parameters' scalar: double for the kernel ProjectileRotatingEarth below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicProjectileRotatingEarth {
     static constexpr int n_coordinates = 3;
     static constexpr int n_state = 6;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -43,14 +46,17 @@ struct ProjectileRotatingEarth {
     static constexpr std::array<const char*, n_invariants> invariant_names{ "energy" };
     static constexpr std::array<const char*, n_outputs> output_names{ "holding_force_1", "holding_force_2", "holding_force_3", "holding_moment_1", "holding_moment_2", "holding_moment_3" };
     static constexpr std::array<double, n_state> initial_state{ 0, 0, 0, 0, 300, 300 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = false;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double m = 1;
-        double g = 9.81;
-        double Omega = 7.292115e-05;
-        double phi = 0.7853981633974483;
-        double Re = 6378137;
+        PT m = 1;
+        PT g = 9.81;
+        PT Omega = 7.292115e-05;
+        PT phi = 0.7853981633974483;
+        PT Re = 6378137;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -323,5 +329,7 @@ struct ProjectileRotatingEarth {
         out[17] = S(1);
     }
 };
+
+using ProjectileRotatingEarth = BasicProjectileRotatingEarth<double>;
 
 }  // namespace eomc::models

@@ -24,7 +24,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct Ratchet {
+// PT is the parameters' scalar: double for the kernel Ratchet below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicRatchet {
     static constexpr int n_coordinates = 1;
     static constexpr int n_state = 2;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -41,10 +44,13 @@ struct Ratchet {
     static constexpr std::array<const char*, n_invariants> invariant_names{ "energy" };
     static constexpr std::array<const char*, n_outputs> output_names{  };
     static constexpr std::array<double, n_state> initial_state{ -1, 0 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = false;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double m = 1;
+        PT m = 1;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -166,5 +172,7 @@ struct Ratchet {
     }
 
 };
+
+using Ratchet = BasicRatchet<double>;
 
 }  // namespace eomc::models

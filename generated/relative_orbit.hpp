@@ -26,7 +26,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct RelativeOrbit {
+// PT is the parameters' scalar: double for the kernel RelativeOrbit below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicRelativeOrbit {
     static constexpr int n_coordinates = 3;
     static constexpr int n_state = 6;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -43,12 +46,15 @@ struct RelativeOrbit {
     static constexpr std::array<const char*, n_invariants> invariant_names{ "energy" };
     static constexpr std::array<const char*, n_outputs> output_names{ "holding_force_1", "holding_force_2", "holding_force_3", "holding_moment_1", "holding_moment_2", "holding_moment_3" };
     static constexpr std::array<double, n_state> initial_state{ 0.1, 0, 0.05, 0, -0.00022627333, 0 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = false;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double m = 1;
-        double mu = 398600.4418;
-        double a = 6778.137;
+        PT m = 1;
+        PT mu = 398600.4418;
+        PT a = 6778.137;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -307,5 +313,7 @@ struct RelativeOrbit {
         out[17] = S(1);
     }
 };
+
+using RelativeOrbit = BasicRelativeOrbit<double>;
 
 }  // namespace eomc::models

@@ -28,7 +28,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct RodFloorImpact {
+// PT is the parameters' scalar: double for the kernel RodFloorImpact below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicRodFloorImpact {
     static constexpr int n_coordinates = 3;
     static constexpr int n_state = 6;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -45,12 +48,15 @@ struct RodFloorImpact {
     static constexpr std::array<const char*, n_invariants> invariant_names{ "energy", "momentum_x" };
     static constexpr std::array<const char*, n_outputs> output_names{  };
     static constexpr std::array<double, n_state> initial_state{ 0, 0.25, 0.5235987755982988, 0, -2, 0 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = false;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double m = 1;
-        double l = 0.5;
-        double e = 0.5;
+        PT m = 1;
+        PT l = 0.5;
+        PT e = 0.5;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -301,5 +307,7 @@ struct RodFloorImpact {
         out[17] = S(1);
     }
 };
+
+using RodFloorImpact = BasicRodFloorImpact<double>;
 
 }  // namespace eomc::models

@@ -28,7 +28,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct StaticImbalanceGyroscope {
+// PT is the parameters' scalar: double for the kernel StaticImbalanceGyroscope below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicStaticImbalanceGyroscope {
     static constexpr int n_coordinates = 3;
     static constexpr int n_state = 6;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -45,13 +48,16 @@ struct StaticImbalanceGyroscope {
     static constexpr std::array<const char*, n_invariants> invariant_names{ "energy", "momentum_phi", "integral_1_1" };
     static constexpr std::array<const char*, n_outputs> output_names{ "p", "q", "r", "gamma1", "gamma2", "gamma3" };
     static constexpr std::array<double, n_state> initial_state{ 0, 1.0471975511965979, 0, 4.905000036088537e-05, 0, 1999.999975475 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = false;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double A = 0.0006;
-        double C = 0.001;
-        double P = 9.81;
-        double l = 1e-05;
+        PT A = 0.0006;
+        PT C = 0.001;
+        PT P = 9.81;
+        PT l = 1e-05;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -377,5 +383,7 @@ struct StaticImbalanceGyroscope {
         out[17] = S(1);
     }
 };
+
+using StaticImbalanceGyroscope = BasicStaticImbalanceGyroscope<double>;
 
 }  // namespace eomc::models

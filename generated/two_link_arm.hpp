@@ -28,7 +28,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct TwoLinkArm {
+// PT is the parameters' scalar: double for the kernel TwoLinkArm below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicTwoLinkArm {
     static constexpr int n_coordinates = 2;
     static constexpr int n_state = 4;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -45,15 +48,18 @@ struct TwoLinkArm {
     static constexpr std::array<const char*, n_invariants> invariant_names{  };
     static constexpr std::array<const char*, n_outputs> output_names{ "program_shoulder", "program_elbow", "lambda_shoulder", "lambda_elbow", "Qc_theta1", "Qc_theta2" };
     static constexpr std::array<double, n_state> initial_state{ 0, 0.6, 2, 0 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = false;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double m1 = 1;
-        double m2 = 0.7;
-        double l1 = 1;
-        double l2 = 0.8;
-        double Omega = 2;
-        double c2 = 0.6;
+        PT m1 = 1;
+        PT m2 = 0.7;
+        PT l1 = 1;
+        PT l2 = 0.8;
+        PT Omega = 2;
+        PT c2 = 0.6;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -260,5 +266,7 @@ struct TwoLinkArm {
         out[3] = theta2_dot;
     }
 };
+
+using TwoLinkArm = BasicTwoLinkArm<double>;
 
 }  // namespace eomc::models

@@ -18,6 +18,7 @@
 #include "codegen/cpp_text.hpp"
 #include "host/bench.hpp"
 #include "host/ensemble.hpp"
+#include "host/equilibria_sweep.hpp"
 #include "host/ensemble_mpi.hpp"
 #include "host/gnuplot.hpp"
 #include "host/orbit_bench.hpp"
@@ -271,6 +272,25 @@ void simulate_command(const Pipeline& p, Options& o, bool whole_job) {
     if (whole_job) std::cout << "Trajectory: " << o.simulate.output << "\n";
 }
 
+// `sweep --equilibria`: the relative equilibria and their verdicts at every grid point, no kernel.
+void equilibria_sweep_command(const Pipeline& p, const Options& o, const host::EnsembleSpec& spec) {
+    if (!p.model.unilateral.empty())
+        throw InputError(SourcePos{"--equilibria"}, "an equilibrium sweep takes the relative equilibria (or a rigid "
+                                                    "body's permanent rotations), not the KKT equilibria of "
+                                                    "[[unilateral]] gaps");
+    const host::EquilibriumSweep sweep = host::sweep_equilibria(p.model, p.equations, spec);
+    const auto script = [&](const std::string& terminal, const fs::path& png) {
+        return host::equilibria_plot_script(sweep, spec, terminal, png);
+    };
+    if (!o.ensemble.plot.empty()) (void)script("png", o.ensemble.plot);  // a bad picture is refused before any output
+    const std::string summary = host::equilibria_summary(sweep, o.ensemble.format);
+    if (!o.ensemble.output.empty()) write_file_atomically(o.ensemble.output, host::equilibria_csv(sweep));
+    std::cout << summary;
+    if (!o.ensemble.plot.empty())
+        if (const std::string note = host::write_plot(script, o.ensemble.plot); !note.empty())
+            std::cerr << "eomc: warning: " << note << "\n";
+}
+
 // `sweep` and `ensemble`: everything is checked before the first run, and the CSV written whole.
 void ensemble_command(const Pipeline& p, const Options& o) {
     host::EnsembleRequest r;
@@ -279,6 +299,11 @@ void ensemble_command(const Pipeline& p, const Options& o) {
     if (!o.ensemble.plot.empty()) check_output_target(o.ensemble.plot);
     if (host::has_control_character(o.ensemble.plot))  // the path reaches the plot script
         throw InputError(SourcePos{"--plot"}, "the path contains a control character");
+    if (o.ensemble.equilibria) {
+        if (!o.ensemble.observe.empty() || o.ensemble.batch)
+            throw InputError(SourcePos{"--equilibria"}, "an equilibrium sweep runs nothing: --observe and --batch do not apply");
+        return equilibria_sweep_command(p, o, r.spec);
+    }
     codegen::KernelIR ir;
     const std::string header = host::kernel_header(p, nullptr, &ir);
     r.base = cli::simulation_request(p, header, o.simulate);
@@ -290,6 +315,8 @@ void ensemble_command(const Pipeline& p, const Options& o) {
     cli::check_grid_against_scene(o.scene_path, o.front, o.simulate.overrides, r.spec);
     host::check_separable(r.base.integrator, r.base.integrator_pos, ir.separable, ir.scene_name);
     r.threads = o.ensemble.threads;
+    r.batch = o.ensemble.batch;
+    for (const auto& text : o.ensemble.observe) r.observe.push_back(host::parse_observation(text));
     const host::MpiSession mpi;  // rank 0 of 1 unless launched by mpirun
     r.rank = mpi.rank();
     r.ranks = mpi.size();

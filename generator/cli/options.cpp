@@ -178,6 +178,9 @@ host::SimulationRequest simulation_request(const host::Pipeline& p, const std::s
 
 void add_ensemble_options(CLI::App* cmd, EnsembleOptions& o, bool sweep) {
     if (sweep) {
+        cmd->add_flag("--equilibria", o.equilibria, "the relative equilibria and their verdicts at every grid point "
+                                                    "(parameters only) instead of runs; --plot draws a bifurcation "
+                                                    "diagram over one axis, a stability map over two");
         cmd->add_option("--grid", o.grid, "NAME=a:b:n (n points from a to b inclusive) or NAME=value: a parameter "
                                           "or an initial value; several make a grid, the last varying fastest")
             ->required();
@@ -191,6 +194,11 @@ void add_ensemble_options(CLI::App* cmd, EnsembleOptions& o, bool sweep) {
     }
     cmd->add_option("--threads", o.threads, "threads running members (default: the hardware's)")
         ->check(CLI::Range(1u, 4096u));
+    cmd->add_option("--observe", o.observe, "NAME=EXPR: a column of EXPR (the scene's syntax, over t, the parameters "
+                                            "and the state) at each member's end; event:NAME: the time of its first "
+                                            "NAME event (column t_NAME)");
+    cmd->add_flag("--batch", o.batch, "run the members a SIMD batch at a time through the kernel's batched rhs, in "
+                                      "lock step (rk4: the same rows as without; dopri5: one step size per batch)");
     cmd->add_option("-o,--output", o.output, "one CSV row per member (inputs, status, final state, invariant drifts, "
                                              "events, message)");
     cmd->add_option("--format", o.format, "summary statistics as text | json")->check(CLI::IsMember({"text", "json"}));

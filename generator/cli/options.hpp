@@ -50,9 +50,11 @@ host::SimulationRequest simulation_request(const host::Pipeline& p, const std::s
 // `eomc sweep` (--grid) and `eomc ensemble` (--vary, --samples, --seed); counts are taken as text
 // so that a bad one is refused by the specification's own checks, at its flag.
 struct EnsembleOptions {
-    std::vector<std::string> grid, vary;
+    std::vector<std::string> grid, vary, observe;
     std::string samples, seed = "0";
     unsigned threads = 0;  // 0 = the hardware's
+    bool batch = false;    // --batch: SIMD batches of members (host/ensemble_batch.hpp)
+    bool equilibria = false;  // sweep --equilibria: verdicts per grid point (host/equilibria_sweep.hpp)
     std::string output, format = "text";
     std::string plot, plot_column;  // --plot FILE.png, --plot-column NAME ("" = the first state variable)
 };

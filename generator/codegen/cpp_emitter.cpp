@@ -380,11 +380,12 @@ std::string table_row(const char* name, const Block& b) {
     return fmt::format("//   {:<26} {:>8} -> {:>7} ({} temporaries)\n", name, b.ops_before, b.ops_after, b.temporaries.size());
 }
 
-// The members of the Parameters aggregate, with the scene's defaults.
+// The members of the Parameters aggregate, with the scene's defaults; PT is double but for a
+// batched ensemble's (one value per lane).
 std::string parameter_members(const KernelIR& ir, const LocalNames& names) {
     std::string members;
     for (std::size_t i = 0; i < ir.parameters.size(); ++i)
-        members += fmt::format("        double {} = {};\n", names[ir.parameters[i].symbol],
+        members += fmt::format("        PT {} = {};\n", names[ir.parameters[i].symbol],
                                double_literal(ir.parameter_defaults[i], "the default of parameter " + ir.parameters[i].name));
     if (!members.empty()) members.pop_back();
     return members;
@@ -732,7 +733,7 @@ std::string variational_function(const KernelIR& ir) {
         "    static constexpr int n_variational = n_state + n_state * n_state;\n\n"
         "    template <class S>\n"
         "    static void variational_rhs(S t, const S* y, S* dydt, const Parameters& p) {{\n"
-        "        eomc::runtime::variational_rhs<{}>(t, y, dydt, p);\n"
+        "        eomc::runtime::variational_rhs<Basic{}>(t, y, dydt, p);\n"
         "    }}\n",
         checked_identifier(ir.struct_name, "the kernel's name"));
 }
@@ -1017,6 +1018,11 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
         {"n_invariants", std::to_string(ir.invariant_names.size())},
         {"n_outputs", std::to_string(ir.output_names.size())},
         {"separable", ir.separable ? "true" : "false"},
+        // Straight-line rates: nothing solved at run time, no iteration (Kepler's equation), no rows.
+        {"batchable", (nu == 0 || ir.explicit_solution) && ir.constraint_names.empty() && ir.program_names.empty() &&
+                              ir.contact_names.empty() && !ir.rectification && !uses_kepler_solver(ir)
+                          ? "true"
+                          : "false"},
         {"state_names", quoted_list(state_names, "a state name")},
         {"parameter_names", quoted_list(parameter_names, "a parameter name")},
         {"invariant_names", quoted_list(ir.invariant_names, "an invariant name")},

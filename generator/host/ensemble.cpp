@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 
 #include "eomc/runtime/errors.hpp"
+#include "host/ensemble_batch.hpp"
 #include "host/gnuplot.hpp"
 #include "host/kernel_loader.hpp"
 #include "scene/scene.hpp"
@@ -30,15 +31,23 @@ std::string json_number(double v) { return std::isfinite(v) ? number(v) : "null"
 
 // One member: the base run with the member's inputs as --set overrides.
 MemberResult run_member(const SimulationRequest& proto, const KernelLibrary& lib, const EnsembleSpec& spec,
-                        const std::vector<std::string>& names, std::size_t index, std::optional<InputError>& refusal) {
+                        const std::vector<std::string>& names, const BoundObservations& observe, std::size_t index,
+                        std::optional<InputError>& refusal) {
     MemberResult m;
     m.index = index;
     m.inputs = spec.inputs(index);
     SimulationRequest r = proto;
     for (std::size_t k = 0; k < names.size(); ++k) r.overrides.emplace_back(names[k], m.inputs[k]);
     const std::size_t n_state = lib.state_names().size(), n_inv = lib.invariant_names().size();
+    m.observed.assign(observe.size(), MemberResult::nan);
     try {
         const SimulationResult s = simulate_loaded(r, lib);
+        for (std::size_t i = 0; i < observe.size(); ++i) {  // event:NAME, its first time
+            if (observe.event(i) < 0) continue;
+            const std::string& event = lib.event_names()[static_cast<std::size_t>(observe.event(i))];
+            const auto first = std::find_if(s.events.begin(), s.events.end(), [&](const EventReport& e) { return e.name == event; });
+            if (first != s.events.end()) m.observed[i] = first->t;
+        }
         m.t = s.t;
         for (std::size_t i = 0; i < n_state && i < s.state.size(); ++i) m.state.push_back(s.state[i].second);
         for (const auto& inv : s.invariants) m.drifts.push_back(inv.max_abs_drift);
@@ -60,6 +69,49 @@ MemberResult run_member(const SimulationRequest& proto, const KernelLibrary& lib
     if (m.state.size() != n_state) m.state.assign(n_state, MemberResult::nan);
     if (m.drifts.size() != n_inv) m.drifts.assign(n_inv, MemberResult::nan);
     return m;
+}
+
+// Members first .. first + count (count ≤ the batch width) as one SIMD batch; a member whose start
+// is refused, or whose lane fails, runs alone through run_member (the same row as without --batch).
+void run_batch(const SimulationRequest& proto, const KernelLibrary& lib, const EnsembleSpec& spec,
+               const std::vector<std::string>& names, const BoundObservations& observe,
+               const std::vector<std::size_t>& indices, MemberResult* out, std::optional<InputError>* refusals) {
+    std::vector<LaneStart> starts;
+    std::vector<std::size_t> lane_of;  // position in `indices` of each lane
+    std::vector<std::size_t> alone;
+    for (std::size_t j = 0; j < indices.size(); ++j) {
+        SimulationRequest r = proto;
+        const std::vector<double> inputs = spec.inputs(indices[j]);
+        for (std::size_t k = 0; k < names.size(); ++k) r.overrides.emplace_back(names[k], inputs[k]);
+        LaneStart s;
+        try {
+            resolve_start(r, lib, s.parameters, s.x);
+        } catch (const InputError&) {
+            alone.push_back(j);
+            continue;
+        }
+        starts.push_back(std::move(s));
+        lane_of.push_back(j);
+    }
+    if (!starts.empty()) {
+        const std::vector<LaneEnd> ends = run_lanes(proto, lib, starts);
+        for (std::size_t k = 0; k < ends.size(); ++k) {
+            const std::size_t j = lane_of[k];
+            if (!ends[k].ok) {
+                alone.push_back(j);
+                continue;
+            }
+            MemberResult& m = out[j];
+            m.index = indices[j];
+            m.inputs = spec.inputs(indices[j]);
+            m.status = "ok";
+            m.t = ends[k].t;
+            m.state = ends[k].state;
+            m.drifts = ends[k].drifts;
+            m.observed.assign(observe.size(), MemberResult::nan);  // no events in a batch; expressions later
+        }
+    }
+    for (std::size_t j : alone) out[j] = run_member(proto, lib, spec, names, observe, indices[j], refusals[j]);
 }
 
 // Members done out of all, on stderr when it is a terminal; silent under ~1 s; erased at the end.
@@ -101,6 +153,21 @@ std::string quoted(const std::string& text) {
     return out + "\"";
 }
 
+// The numeric columns summarised and drawn: t, the state, the drifts, the --observe columns.
+std::vector<std::string> column_names(const EnsembleResult& r) {
+    std::vector<std::string> names{"t"};
+    names.insert(names.end(), r.state_names.begin(), r.state_names.end());
+    for (const auto& n : r.invariant_names) names.push_back(n + "_max_drift");
+    names.insert(names.end(), r.observed_names.begin(), r.observed_names.end());
+    return names;
+}
+double column_value(const MemberResult& m, std::size_t c) {
+    if (c == 0) return m.t;
+    if (c <= m.state.size()) return m.state[c - 1];
+    c -= 1 + m.state.size();
+    return c < m.drifts.size() ? m.drifts[c] : m.observed[c - m.drifts.size()];
+}
+
 double quantile(const std::vector<double>& sorted, double p) {
     const double at = p * static_cast<double>(sorted.size() - 1);
     const std::size_t lo = static_cast<std::size_t>(std::floor(at));
@@ -119,17 +186,25 @@ EnsembleResult run_ensemble(const EnsembleRequest& request) {
         KernelLibrary::load(request.base.header_text, request.base.struct_name, request.base.cache_dir);
     check_names(request.spec, lib.parameter_names(), lib.state_names(), request.base.overrides);
     check_separable(request.base.integrator, request.base.integrator_pos, lib.separable(), lib.scene_name());
+    if (request.batch) check_batchable(request.base, lib);
+    std::vector<std::string> taken{"member", "status", "t", "events", "message"};
+    for (const auto& names : {request.spec.input_names(), lib.state_names()}) taken.insert(taken.end(), names.begin(), names.end());
+    for (const auto& n : lib.invariant_names()) taken.push_back(n + "_max_drift");
+    const BoundObservations observe(request.observe, lib.parameter_names(), lib.state_names(), lib.event_names(), taken);
 
     EnsembleResult result;
     result.scene_name = lib.scene_name();
     result.input_names = request.spec.input_names();
     result.state_names = lib.state_names();
     result.invariant_names = lib.invariant_names();
+    result.observed_names = observe.columns();
     result.compile_s = lib.seconds();
     result.cache_hit = lib.cache_hit();
     const SimulationRequest& b = request.base;
     result.method = scene::is_fixed_step(b.integrator) ? fmt::format("{} (step {})", b.integrator, b.step)
                                                        : fmt::format("{} (rtol {}, atol {})", b.integrator, b.rtol, b.atol);
+    result.lanes = request.batch ? static_cast<std::size_t>(lib.batch_width()) : 1;
+    if (request.batch) result.method += fmt::format(", batches of {} in lock step", result.lanes);
 
     SimulationRequest proto = request.base;
     proto.header_text.clear();  // the members share the loaded kernel: no copy of its text each
@@ -141,19 +216,29 @@ EnsembleResult run_ensemble(const EnsembleRequest& request) {
     result.members.resize(mine);
     const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
     const std::size_t wanted = request.threads ? request.threads : hardware;
-    const unsigned threads = static_cast<unsigned>(std::clamp<std::size_t>(std::min(wanted, mine), 1, wanted));
+    const std::size_t batches = request.batch ? (mine + lib.batch_width() - 1) / lib.batch_width() : mine;
+    const unsigned threads = static_cast<unsigned>(std::clamp<std::size_t>(std::min(wanted, batches), 1, wanted));
     result.threads = threads;
     std::vector<std::optional<InputError>> refusals(mine);
     std::atomic<std::size_t> next{0}, done{0};
     EnsembleProgress progress(request.progress, mine);
     const auto start = Clock::now();
-    // Each thread takes the next index; every member writes its own slot, so the order in which
-    // they finish changes nothing.
+    // Each thread takes the next index (the next batch of `lanes`); every member writes its own
+    // slot, so the order in which they finish changes nothing.
+    const std::size_t lanes = result.lanes, units = (mine + lanes - 1) / lanes;
     const auto work = [&](bool reports) {
-        for (std::size_t k; (k = next.fetch_add(1, std::memory_order_relaxed)) < mine;) {
-            result.members[k] = run_member(proto, lib, request.spec, result.input_names,
-                                           request.rank + k * request.ranks, refusals[k]);
-            const std::size_t d = done.fetch_add(1, std::memory_order_relaxed) + 1;
+        for (std::size_t u; (u = next.fetch_add(1, std::memory_order_relaxed)) < units;) {
+            const std::size_t k = u * lanes, count = std::min(lanes, mine - k);
+            if (request.batch) {
+                std::vector<std::size_t> indices;
+                for (std::size_t j = 0; j < count; ++j) indices.push_back(request.rank + (k + j) * request.ranks);
+                run_batch(proto, lib, request.spec, result.input_names, observe, indices, &result.members[k],
+                          &refusals[k]);
+            } else {
+                result.members[k] = run_member(proto, lib, request.spec, result.input_names, observe,
+                                               request.rank + k * request.ranks, refusals[k]);
+            }
+            const std::size_t d = done.fetch_add(count, std::memory_order_relaxed) + count;
             if (reports) progress.update(d);
         }
     };
@@ -161,6 +246,16 @@ EnsembleResult run_ensemble(const EnsembleRequest& request) {
         std::vector<std::jthread> pool;
         for (unsigned i = 1; i < threads; ++i) pool.emplace_back(work, false);
         work(true);
+    }
+    // The expressions on the final states, here: GiNaC is not thread-safe.
+    for (auto& m : result.members) {
+        if (m.status == "failed") continue;
+        std::vector<double> parameters, x;
+        SimulationRequest r = proto;
+        for (std::size_t k = 0; k < result.input_names.size(); ++k) r.overrides.emplace_back(result.input_names[k], m.inputs[k]);
+        resolve_start(r, lib, parameters, x);
+        for (std::size_t i = 0; i < observe.size(); ++i)
+            if (observe.event(i) < 0) m.observed[i] = observe.evaluate(i, m.t, parameters, m.state);
     }
     result.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
     // Bad input for every member is bad input for the command, not a table of identical failures
@@ -185,6 +280,7 @@ std::string ensemble_csv(const EnsembleResult& r) {
     out += ",status,t";
     for (const auto& n : r.state_names) out += "," + n;
     for (const auto& n : r.invariant_names) out += "," + n + "_max_drift";
+    for (const auto& n : r.observed_names) out += "," + n;
     out += ",events,message\n";
     const auto cell = [&](double v) {
         out += ',';
@@ -197,21 +293,20 @@ std::string ensemble_csv(const EnsembleResult& r) {
         cell(m.t);
         for (double v : m.state) cell(v);
         for (double v : m.drifts) cell(v);
+        for (double v : m.observed) cell(v);
         out += fmt::format(",{},{}\n", m.events, quoted(m.message));
     }
     return out;
 }
 
 std::vector<ColumnStatistics> ensemble_statistics(const EnsembleResult& r) {
-    std::vector<std::string> names{"t"};
-    names.insert(names.end(), r.state_names.begin(), r.state_names.end());
-    for (const auto& n : r.invariant_names) names.push_back(n + "_max_drift");
+    const std::vector<std::string> names = column_names(r);
     std::vector<ColumnStatistics> out;
     for (std::size_t c = 0; c < names.size(); ++c) {
         std::vector<double> values;
         for (const auto& m : r.members) {
             if (m.status == "failed") continue;
-            const double v = c == 0 ? m.t : c <= m.state.size() ? m.state[c - 1] : m.drifts[c - 1 - m.state.size()];
+            const double v = column_value(m, c);
             if (std::isfinite(v)) values.push_back(v);
         }
         ColumnStatistics s;
@@ -289,9 +384,7 @@ void print_ensemble_summary(const EnsembleResult& r, const std::string& format, 
 }
 
 std::vector<double> ensemble_column(const EnsembleResult& r, const std::string& column) {
-    std::vector<std::string> names{"t"};
-    names.insert(names.end(), r.state_names.begin(), r.state_names.end());
-    for (const auto& n : r.invariant_names) names.push_back(n + "_max_drift");
+    const std::vector<std::string> names = column_names(r);
     const auto at = std::find(names.begin(), names.end(), column);
     if (at == names.end()) {
         const std::string near = nearest_name(column, names);
@@ -302,7 +395,7 @@ std::vector<double> ensemble_column(const EnsembleResult& r, const std::string& 
     const std::size_t c = static_cast<std::size_t>(at - names.begin());
     std::vector<double> out;
     for (const auto& m : r.members) {
-        const double v = c == 0 ? m.t : c <= m.state.size() ? m.state[c - 1] : m.drifts[c - 1 - m.state.size()];
+        const double v = column_value(m, c);
         out.push_back(m.status == "failed" ? MemberResult::nan : v);
     }
     return out;

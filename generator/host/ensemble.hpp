@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "host/ensemble_spec.hpp"
+#include "host/observation.hpp"
 #include "host/simulate.hpp"
 
 namespace eomc::host {
@@ -24,6 +25,10 @@ struct EnsembleRequest {
     // This process runs the members with index % ranks == rank (MPI: one rank of several).
     std::size_t rank = 0, ranks = 1;
     bool progress = true;    // a bar on stderr when it is a terminal and the run lasts > ~1 s
+    // Members a SIMD batch at a time (host/ensemble_batch.hpp; InputError at --batch where the
+    // kernel or the method does not allow it). The CSV is the same as without for rk4, bit for bit.
+    bool batch = false;
+    std::vector<Observation> observe;  // --observe: extra columns (host/observation.hpp)
 };
 
 struct MemberResult {
@@ -38,14 +43,16 @@ struct MemberResult {
     std::vector<double> state;   // the final state, in state_names order
     std::vector<double> drifts;  // each invariant's max |I(t) − I(0)|
     std::size_t events = 0;      // located events (and contact events)
+    std::vector<double> observed;  // the --observe columns (NaN: none, or the member failed)
     bool refused = false;        // failed as bad input (its values refused), not in the integration
 };
 
 struct EnsembleResult {
     std::string scene_name, method;
-    std::vector<std::string> input_names, state_names, invariant_names;
+    std::vector<std::string> input_names, state_names, invariant_names, observed_names;
     std::vector<MemberResult> members;  // by index (only this rank's when ranks > 1)
     unsigned threads = 1;        // per rank
+    std::size_t lanes = 1;       // members per kernel call (--batch)
     std::size_t ranks = 1;       // MPI ranks whose members were gathered here
     double wall_s = 0.0, compile_s = 0.0;
     bool cache_hit = false;
@@ -60,11 +67,12 @@ EnsembleResult run_ensemble(const EnsembleRequest& request);
 // not the members (run_ensemble calls it; after an MPI gather, rank 0 does).
 void refuse_if_all_refused(const EnsembleResult& result);
 
-// One row per member: member, the inputs, status, t, the final state, <invariant>_max_drift,
-// events, message (quoted). Numbers to 17 significant digits; a failed member's empty cells.
+// One row per member: member, the inputs, status, t, the final state, <invariant>_max_drift, the
+// --observe columns, events, message (quoted). Numbers to 17 significant digits; a failed member's empty cells.
 std::string ensemble_csv(const EnsembleResult& result);
 
-// Over the members that did not fail, in index order: t, each state variable, each drift.
+// Over the members that did not fail, in index order: t, each state variable, each drift, each
+// --observe column.
 struct ColumnStatistics {
     std::string name;
     std::size_t count = 0;  // finite values among them
@@ -77,8 +85,8 @@ std::vector<ColumnStatistics> ensemble_statistics(const EnsembleResult& result);
 // format: "text" or "json" (one object; NaN as null).
 void print_ensemble_summary(const EnsembleResult& result, const std::string& format, std::ostream& out);
 
-// A column of the CSV per member (NaN for a failed one): t, a state variable or
-// <invariant>_max_drift. Throws InputError at --plot-column when there is no such column.
+// A column of the CSV per member (NaN for a failed one): t, a state variable,
+// <invariant>_max_drift or an --observe column. Throws InputError at --plot-column when there is no such column.
 std::vector<double> ensemble_column(const EnsembleResult& result, const std::string& column);
 
 // The picture (a gnuplot script for `terminal`, writing `output`): over a grid that varies one

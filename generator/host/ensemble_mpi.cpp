@@ -65,6 +65,7 @@ std::string pack(const std::vector<MemberResult>& members) {
         put_doubles(out, m.inputs);
         put_doubles(out, m.state);
         put_doubles(out, m.drifts);
+        put_doubles(out, m.observed);
         put_u64(out, m.events);
         put_u64(out, m.refused);
     }
@@ -82,6 +83,7 @@ void unpack(const char* p, std::size_t n, std::vector<MemberResult>& to) {
         m.inputs = r.doubles();
         m.state = r.doubles();
         m.drifts = r.doubles();
+        m.observed = r.doubles();
         m.events = r.u64();
         m.refused = r.u64() != 0;
         to.push_back(std::move(m));

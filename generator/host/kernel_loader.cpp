@@ -21,11 +21,12 @@ namespace {
 
 // Bumped whenever the C interface below changes; the loader refuses a library that reports
 // another value (a cache written by an older eomc).
-constexpr int adapter_abi = 13;  // 3: acceleration and events; 4: project; 5: variational_rhs; 6: project(t, x, p);
+constexpr int adapter_abi = 14;  // 3: acceleration and events; 4: project; 5: variational_rhs; 6: project(t, x, p);
                                  // 7: eomc_kernel_identity; 8: constraint rows; 9: singular sets;
                                  // 10: the mechanical form (sizes, M, f) and unilateral rows; 11: programs;
                                  // 12: bilateral rows beside unilateral ones (constraint_rows);
-                                 // 13: contact_time_rates (moving gaps; zeros for a kernel without it)
+                                 // 13: contact_time_rates (moving gaps; zeros for a kernel without it);
+                                 // 14: the batched rhs and invariants (batch_width lanes)
 
 // The adapter: C functions over double, so that the host needs no knowledge of the kernel's
 // C++ types. Parameters travel by position in parameter_names order, never by member name
@@ -39,6 +40,7 @@ constexpr const char* adapter_template = R"(// eomc simulate: C interface over o
 #include <utility>
 
 #include <eomc/runtime/kernel.hpp>
+#include <experimental/simd>
 
 namespace {
 namespace rt = eomc::runtime;
@@ -209,6 +211,51 @@ void contact_time_rates(double t, const double* x, double* out, const void* p) {
         for (int a = 0; a < n_contacts<M>(); ++a) out[a] = 0.0;  // fixed gaps: w = 0
     }
 }
+
+// A batchable kernel's rhs and invariants over batch_width members per call: S and the parameters'
+// scalar a SIMD batch, one member per lane; the arrays lane-minor (a[i * batch_width + lane]).
+// Templates on M = Basic<Name><Lanes>, so that nothing is instantiated for a kernel that is not
+// K::batchable (its code solves or branches).
+constexpr std::size_t batch_width = 4;  // two SSE2 registers of doubles
+using Lanes = std::experimental::fixed_size_simd<double, batch_width>;
+using BatchKernel = eomc::models::Basic@STRUCT@<Lanes>;
+constexpr auto lane_minor = std::experimental::element_aligned;
+
+template <class M, std::size_t... I>
+void* create_batch(const double* v, std::index_sequence<I...>) {
+    (void)v;
+    if constexpr (K::batchable) return new typename M::Parameters{Lanes(v + I * batch_width, lane_minor)...};
+    else return nullptr;
+}
+template <class M>
+void destroy_batch(void* p) {
+    if constexpr (K::batchable) delete static_cast<typename M::Parameters*>(p);
+    else (void)p;
+}
+template <class M>
+void rhs_batch(double t, const double* x, double* dxdt, const void* p) {
+    if constexpr (K::batchable) {
+        std::array<Lanes, K::n_state> xs, rates;
+        for (std::size_t i = 0; i < xs.size(); ++i) xs[i].copy_from(x + i * batch_width, lane_minor);
+        M::rhs(Lanes(t), xs.data(), rates.data(), *static_cast<const typename M::Parameters*>(p));
+        for (std::size_t i = 0; i < xs.size(); ++i) rates[i].copy_to(dxdt + i * batch_width, lane_minor);
+    } else {
+        (void)t, (void)x, (void)dxdt, (void)p;
+    }
+}
+template <class M>
+void invariants_batch(double t, const double* x, double* out, const void* p) {
+    if constexpr (K::batchable) {
+        std::array<Lanes, K::n_state> xs;
+        std::array<Lanes, K::n_invariants> values;
+        for (std::size_t i = 0; i < xs.size(); ++i) xs[i].copy_from(x + i * batch_width, lane_minor);
+        M::invariants(Lanes(t), xs.data(), values.data(), *static_cast<const typename M::Parameters*>(p));
+        for (std::size_t i = 0; i < values.size(); ++i) values[i].copy_to(out + i * batch_width, lane_minor);
+    } else {
+        (void)t, (void)x, (void)out, (void)p;
+    }
+}
+
 template <class M>
 void events(double t, const double* x, double* out, const void* p) {
     if constexpr (rt::EventKernel<M>) M::template events<double>(t, x, out, *static_cast<const typename M::Parameters*>(p));
@@ -310,6 +357,18 @@ EOMC_EXPORT const char* eomc_program_name(int i) { return program_name<K>(i); }
 EOMC_EXPORT double eomc_program_law(int i, int j) { return program_law<K>(i, j); }
 EOMC_EXPORT void eomc_program_residuals(double t, const double* x, double* out, const void* p) {
     program_residuals<K>(t, x, out, p);
+}
+// Batched members (0 lanes: the kernel is not batchable); parameters n_parameters × lanes.
+EOMC_EXPORT int eomc_batch_width() { return K::batchable ? int(batch_width) : 0; }
+EOMC_EXPORT void* eomc_create_batch_parameters(const double* values) {
+    return create_batch<BatchKernel>(values, std::make_index_sequence<n_par>{});
+}
+EOMC_EXPORT void eomc_destroy_batch_parameters(void* p) { destroy_batch<BatchKernel>(p); }
+EOMC_EXPORT void eomc_rhs_batch(double t, const double* x, double* dxdt, const void* p) {
+    rhs_batch<BatchKernel>(t, x, dxdt, p);
+}
+EOMC_EXPORT void eomc_invariants_batch(double t, const double* x, double* out, const void* p) {
+    invariants_batch<BatchKernel>(t, x, out, p);
 }
 EOMC_EXPORT int eomc_n_singular_sets() { return n_singular_sets<K>(); }
 EOMC_EXPORT const char* eomc_singular_set_name(int i) { return singular_set_name<K>(i); }
@@ -472,6 +531,11 @@ KernelLibrary KernelLibrary::load(const std::string& header_text, const std::str
         lib.singular_set_orders_.push_back(singular_set_order(i));
     }
     lib.singular_sets_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_singular_sets", p);
+    lib.batch_width_ = symbol<int (*)()>(h, "eomc_batch_width", p)();
+    lib.create_batch_parameters_ = symbol<void* (*)(const double*)>(h, "eomc_create_batch_parameters", p);
+    lib.destroy_batch_parameters_ = symbol<void (*)(void*)>(h, "eomc_destroy_batch_parameters", p);
+    lib.rhs_batch_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_rhs_batch", p);
+    lib.invariants_batch_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_invariants_batch", p);
     lib.n_coordinates_ = symbol<int (*)()>(h, "eomc_n_coordinates", p)();
     lib.velocity_offset_ = symbol<int (*)()>(h, "eomc_velocity_offset", p)();
     lib.n_velocities_ = symbol<int (*)()>(h, "eomc_n_velocities", p)();
@@ -500,6 +564,15 @@ KernelLibrary::Parameters KernelLibrary::make_parameters(const std::vector<doubl
         throw std::invalid_argument(fmt::format("make_parameters: {} values for {} parameters", values.size(),
                                                 parameter_names_.size()));
     return Parameters(create_parameters_(values.data()), ParameterDeleter{destroy_parameters_});
+}
+
+KernelLibrary::Parameters KernelLibrary::make_batch_parameters(const std::vector<double>& values) const {
+    const std::size_t lanes = static_cast<std::size_t>(batch_width_);
+    if (lanes == 0) throw std::logic_error(fmt::format("make_batch_parameters: the kernel {} is not batchable", scene_name_));
+    if (values.size() != parameter_names_.size() * lanes)
+        throw std::invalid_argument(fmt::format("make_batch_parameters: {} values for {} parameters × {} lanes",
+                                                values.size(), parameter_names_.size(), lanes));
+    return Parameters(create_batch_parameters_(values.data()), ParameterDeleter{destroy_batch_parameters_});
 }
 
 KernelLibrary::KernelLibrary(KernelLibrary&& other) noexcept { *this = std::move(other); }
@@ -557,6 +630,11 @@ KernelLibrary& KernelLibrary::operator=(KernelLibrary&& other) noexcept {
         contact_bias_ = other.contact_bias_;
         moving_contacts_ = other.moving_contacts_;
         contact_time_rates_ = other.contact_time_rates_;
+        batch_width_ = other.batch_width_;
+        create_batch_parameters_ = other.create_batch_parameters_;
+        destroy_batch_parameters_ = other.destroy_batch_parameters_;
+        rhs_batch_ = other.rhs_batch_;
+        invariants_batch_ = other.invariants_batch_;
     }
     return *this;
 }

@@ -141,6 +141,16 @@ public:
         contact_time_rates_(t, x, out, p.get());
     }
 
+    // Batchable kernels (straight-line rates; 0 otherwise): rhs and invariants of batch_width()
+    // members per call, each a lane of a SIMD batch with its own parameters. Arrays are lane-minor,
+    // a[i * batch_width() + lane]; the parameters' values n_parameters × batch_width(), lane-minor.
+    int batch_width() const { return batch_width_; }
+    Parameters make_batch_parameters(const std::vector<double>& values) const;
+    void rhs_batch(double t, const double* x, double* dxdt, const Parameters& p) const { rhs_batch_(t, x, dxdt, p.get()); }
+    void invariants_batch(double t, const double* x, double* out, const Parameters& p) const {
+        invariants_batch_(t, x, out, p.get());
+    }
+
     // How the library was obtained.
     const std::string& library_path() const { return path_; }
     bool cache_hit() const { return cache_hit_; }
@@ -195,6 +205,11 @@ private:
     void (*contact_bias_)(double, const double*, double*, const void*) = nullptr;
     bool moving_contacts_ = false;
     void (*contact_time_rates_)(double, const double*, double*, const void*) = nullptr;
+    int batch_width_ = 0;
+    void* (*create_batch_parameters_)(const double*) = nullptr;
+    void (*destroy_batch_parameters_)(void*) = nullptr;
+    void (*rhs_batch_)(double, const double*, double*, const void*) = nullptr;
+    void (*invariants_batch_)(double, const double*, double*, const void*) = nullptr;
 };
 
 // Exposed for tests: the adapter source for a struct and its header (it exports the kernel's

@@ -1092,6 +1092,13 @@ SimulationResult simulate(const SimulationRequest& request) {
 
 void validate_request(const SimulationRequest& request) { validate(request); }
 
+void resolve_start(const SimulationRequest& request, const KernelLibrary& lib, std::vector<double>& parameters,
+                   std::vector<double>& x) {
+    parameters = lib.parameter_defaults();
+    x.assign(lib.initial_state().begin(), lib.initial_state().end());
+    apply_overrides(request, lib, parameters, x);
+}
+
 SimulationResult simulate_loaded(const SimulationRequest& request, const KernelLibrary& lib) {
     validate(request);
     std::vector<double> parameter_values = lib.parameter_defaults();

@@ -174,6 +174,12 @@ class KernelLibrary;
 // unless request.csv_path is set, and reads no shared state.
 SimulationResult simulate_loaded(const SimulationRequest& request, const KernelLibrary& lib);
 
+// Where simulate_loaded() starts: the kernel's parameter defaults and initial state with the
+// request's overrides applied (throws InputError at --set as it does). The batched ensembles
+// start their lanes from it.
+void resolve_start(const SimulationRequest& request, const KernelLibrary& lib, std::vector<double>& parameters,
+                   std::vector<double>& x);
+
 // The splitting methods (verlet, yoshida6, kahanli8) step q̈ = a(t, q): throws InputError at
 // `where` when `integrator` is one of them and the kernel is not separable. simulate() calls it
 // on the compiled kernel; the command line calls it on the kernel IR before anything is written.

@@ -86,7 +86,12 @@ TrigVariables::TrigVariables(const std::vector<GiNaC::symbol>& unknowns) {
 }
 
 std::optional<double> real_value(const GiNaC::exmap& values, const ex& e) {
-    const ex v = e.subs(values).evalf();
+    ex v;
+    try {
+        v = e.subs(values).evalf();
+    } catch (const GiNaC::pole_error&) {  // a division by zero: g/(R ω²) at ω = 0 has no value
+        return std::nullopt;
+    }
     if (!GiNaC::is_a<GiNaC::numeric>(v)) return std::nullopt;
     const GiNaC::numeric n = GiNaC::ex_to<GiNaC::numeric>(v);
     const double re = GiNaC::real(n).to_double(), im = GiNaC::imag(n).to_double();

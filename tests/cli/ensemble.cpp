@@ -133,3 +133,38 @@ BOOST_AUTO_TEST_CASE(two_mpi_ranks_give_the_bytes_of_one_process) {
     BOOST_TEST(one.out.substr(one.out.find("\"statistics\"")) == two.out.substr(two.out.find("\"statistics\"")));
 }
 #endif
+
+// --batch as a user meets it: the rk4 CSV of the linear oscillator the same bytes as without; a
+// method the batch does not run refused at --batch, exit 2, nothing written.
+BOOST_AUTO_TEST_CASE(a_batched_ensemble_writes_the_same_csv) {
+    const fs::path dir = scratch("cli-ensemble", "batch");
+    const std::string common = "ensemble " + damped + cache + " --vary 'w=normal(1,0.1)' --samples 30 --seed 5 --t-end 5";
+    const std::string rk4 = common + " --integrator rk4 --step 0.01";
+    const auto alone = run_eomc(rk4 + " -o " + (dir / "alone.csv").string(), dir);
+    const auto batched = run_eomc(rk4 + " --batch -o " + (dir / "batched.csv").string(), dir);
+    BOOST_TEST_REQUIRE(alone.status == 0, alone.err);
+    BOOST_TEST_REQUIRE(batched.status == 0, batched.err);
+    BOOST_TEST(slurp(dir / "alone.csv") == slurp(dir / "batched.csv"));
+    BOOST_TEST(batched.out.find("batches of 4 in lock step") != std::string::npos);
+    const auto refused = run_eomc(common + " --integrator dop853 --batch -o " + (dir / "no.csv").string(), dir);
+    BOOST_TEST(refused.status == 2);
+    BOOST_TEST(refused.err.find("--batch") != std::string::npos, refused.err);
+    BOOST_TEST(!fs::exists(dir / "no.csv"));
+}
+
+// sweep --equilibria: the hoop's verdicts per point, one CSV row per equilibrium, no kernel; an
+// initial value on the grid refused at its --grid.
+BOOST_AUTO_TEST_CASE(an_equilibrium_sweep_writes_its_verdicts) {
+    const fs::path dir = scratch("cli-ensemble", "equilibria");
+    const std::string hoop = EOMC_SOURCE_DIR "/scenes/bead_on_hoop_damped.toml";
+    const auto r = run_eomc("sweep " + hoop + " --grid omega=4:5:2 --equilibria -o " + (dir / "eq.csv").string(), dir);
+    BOOST_TEST_REQUIRE(r.status == 0, r.err);
+    BOOST_TEST(r.out.find("omega = 4: 2 equilibria, 1 stable, 1 unstable") != std::string::npos, r.out);
+    BOOST_TEST(r.out.find("omega = 5: 4 equilibria, 2 stable, 2 unstable") != std::string::npos, r.out);
+    const std::string csv = slurp(dir / "eq.csv");
+    BOOST_TEST(csv.rfind("point,omega,equilibria,theta,verdict,growth\n0,4,2,0,stable,", 0) == 0u, csv);
+    const auto bad = run_eomc("sweep " + hoop + " --grid theta=0:1:2 --equilibria -o " + (dir / "no.csv").string(), dir);
+    BOOST_TEST(bad.status == 2);
+    BOOST_TEST(bad.err.find("--grid theta=0:1:2") != std::string::npos, bad.err);
+    BOOST_TEST(!fs::exists(dir / "no.csv"));
+}
