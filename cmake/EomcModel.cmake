@@ -1,4 +1,4 @@
-# eomc_add_model(<target> SCENES <scene.toml>... [EOMC <eomc executable>] [OPTIONS <generate flags>...])
+# eomc_add_model(<target> SCENES <scene.toml>... [JACOBIAN] [EOMC <eomc executable>] [OPTIONS <generate flags>...])
 #
 # Generates one kernel header per scene at build time (never at configure time, so the
 # headers cannot go stale) into <build>/eomc_models/, and makes <target> an INTERFACE
@@ -7,11 +7,16 @@
 #
 # The header is named after the scene's [scene] name, which is read here from the file
 # (with _NAME appended for OPTIONS --orbit-formulation NAME, as eomc names it).
-# OPTIONS go to `eomc generate` as they are (e.g. --hamiltonian, --variational).
+# OPTIONS go to `eomc generate` as they are (e.g. --hamiltonian, --variational). JACOBIAN adds
+# jacobian() (∂ẋ/∂x) to every kernel (`eomc generate --jacobian`), for implicit methods or error
+# propagation; without it a kernel has one only if its scene says [kernel] jacobian = true.
 set(EOMC_CMAKE_DIR "${CMAKE_CURRENT_LIST_DIR}")
 
 function(eomc_add_model target)
-  cmake_parse_arguments(ARG "" "EOMC" "SCENES;OPTIONS" ${ARGN})
+  cmake_parse_arguments(ARG "JACOBIAN" "EOMC" "SCENES;OPTIONS" ${ARGN})
+  if(ARG_JACOBIAN)
+    list(APPEND ARG_OPTIONS --jacobian)
+  endif()
   if(NOT ARG_SCENES)
     message(FATAL_ERROR "eomc_add_model(${target}): no SCENES given")
   endif()

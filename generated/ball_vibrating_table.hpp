@@ -2,12 +2,12 @@
 // A ball bouncing on a table driven as A sin(omega t), e = 0.5, on its stable period-1 orbit (Mei ch. 6 with a moving gap; Holmes 1982): impacts every T = 2 pi/omega at the phase cos(phi*) = g T (1 - e)/(2 (1 + e) A omega)
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 1 coordinate, as the first-order system x =
-// (q, q̇), ẋ = (q̇, M⁻¹f). u̇ is solved in closed form (n_velocities ≤ 2).
+// (q, q̇), ẋ = (q̇, M⁻¹f). u̇ is solved in closed form (n_velocities ≤ 2). No
+// jacobian() (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
 //   forcing                           1 ->       1 (0 temporaries)
 //   rhs (u̇ in closed form)           0 ->       0 (0 temporaries)
-//   jacobian                          0 ->       0 (0 temporaries)
 //   invariants                        0 ->       0 (0 temporaries)
 //   contact gaps                      4 ->       4 (0 temporaries)
 //   contact jacobian                  0 ->       0 (0 temporaries)
@@ -39,6 +39,9 @@ struct BasicBallVibratingTable {
     static constexpr int n_outputs = 0;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = true;
+    // True when jacobian() (∂ẋ/∂x) was generated: `eomc generate --jacobian`, [kernel] jacobian,
+    // --variational, or a method that needs it.
+    static constexpr bool has_jacobian = false;
     static constexpr const char* scene_name = "ball_vibrating_table";
     static constexpr std::array<const char*, n_state> state_names{ "y", "y_dot" };
     static constexpr std::array<const char*, n_parameters> parameter_names{ "m", "g", "e", "A", "omega" };
@@ -85,18 +88,6 @@ struct BasicBallVibratingTable {
         const S g = S(p.g);
         dxdt[0] = y_dot;
         dxdt[1] = -g;
-    }
-
-    // ∂ẋ/∂x, row-major n_state×n_state.
-    template <class S>
-    static void jacobian(S t, const S* x, S* out, const Parameters& p) {
-        (void)t;
-        (void)x;
-        (void)p;
-        out[0] = S(0);
-        out[1] = S(1);
-        out[2] = S(0);
-        out[3] = S(0);
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.

@@ -2,12 +2,12 @@
 // Bead on a spinning hoop with viscous drag: the pitchfork at omega^2 = g/R
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 1 coordinate, as the first-order system x =
-// (q, q̇), ẋ = (q̇, M⁻¹f). u̇ is solved in closed form (n_velocities ≤ 2).
+// (q, q̇), ẋ = (q̇, M⁻¹f). u̇ is solved in closed form (n_velocities ≤ 2). No
+// jacobian() (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       8 ->       8 (2 temporaries)
 //   forcing                          15 ->      14 (1 temporaries)
 //   rhs (u̇ in closed form)          27 ->      24 (2 temporaries)
-//   jacobian                         35 ->      23 (6 temporaries)
 //   invariants                        0 ->       0 (0 temporaries)
 //   outputs                          58 ->      42 (6 temporaries)
 #pragma once
@@ -36,6 +36,9 @@ struct BasicBeadOnHoopDamped {
     static constexpr int n_outputs = 6;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = false;
+    // True when jacobian() (∂ẋ/∂x) was generated: `eomc generate --jacobian`, [kernel] jacobian,
+    // --variational, or a method that needs it.
+    static constexpr bool has_jacobian = false;
     static constexpr const char* scene_name = "bead_on_hoop_damped";
     static constexpr std::array<const char*, n_state> state_names{ "theta", "theta_dot" };
     static constexpr std::array<const char*, n_parameters> parameter_names{ "m", "R", "g", "omega", "c" };
@@ -105,30 +108,6 @@ struct BasicBeadOnHoopDamped {
         dxdt[1] = (m*w0*w1*R*R*omega*omega - c*theta_dot - R*g*m*w0)/((R*R)*m*(w0*w0 + w1*w1));
     }
 
-    // ∂ẋ/∂x, row-major n_state×n_state.
-    template <class S>
-    static void jacobian(S t, const S* x, S* out, const Parameters& p) {
-        (void)t;
-        using std::cos;
-        using std::sin;
-        const S theta = x[0];
-        const S m = S(p.m);
-        const S R = S(p.R);
-        const S g = S(p.g);
-        const S omega = S(p.omega);
-        const S c = S(p.c);
-        const S w0 = cos(theta);
-        const S w1 = omega*omega;
-        const S w2 = sin(theta);
-        const S w3 = w2*w2;
-        const S w4 = w0*w0;
-        const S w5 = S(1)/(w3 + w4);
-        out[0] = S(0);
-        out[1] = S(1);
-        out[2] = -w5*(-R*w1*w4 + g*w0 + R*w1*w3)/R;
-        out[3] = -c*w5/((R*R)*m);
-    }
-
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.
     template <class S>
     static void invariants(S t, const S* x, S* out, const Parameters& p) {
@@ -159,11 +138,11 @@ struct BasicBeadOnHoopDamped {
         const S w3 = theta_dot*theta_dot;
         const S w4 = R*R;
         const S w5 = w2*w2;
-        out[0] = -R*m*(w1*w3 + w0*w1 - theta_ddot*w2);
+        out[0] = R*m*(-w0*w1 + theta_ddot*w2 - w1*w3);
         out[1] = S(2)*R*m*omega*theta_dot*w2;
         out[2] = R*m*(theta_ddot*w1 + w2*w3);
         out[3] = S(2)*m*omega*theta_dot*w4*w5;
-        out[4] = -m*w4*(theta_ddot*(w5 + w1*w1) - w0*w1*w2);
+        out[4] = m*w4*(w0*w1*w2 - theta_ddot*(w5 + w1*w1));
         out[5] = S(2)*m*omega*theta_dot*w1*w2*w4;
     }
 

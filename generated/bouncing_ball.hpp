@@ -2,12 +2,12 @@
 // A ball dropped from h0 = 2 onto a floor y >= 0, Newton's restitution e = 0.7 (Mei, ch. 6): impacts, then Zeno at t1 (1 + e)/(1 - e)
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 1 coordinate, as the first-order system x =
-// (q, q̇), ẋ = (q̇, M⁻¹f). u̇ is solved in closed form (n_velocities ≤ 2).
+// (q, q̇), ẋ = (q̇, M⁻¹f). u̇ is solved in closed form (n_velocities ≤ 2). No
+// jacobian() (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
 //   forcing                           1 ->       1 (0 temporaries)
 //   rhs (u̇ in closed form)           0 ->       0 (0 temporaries)
-//   jacobian                          0 ->       0 (0 temporaries)
 //   invariants                        6 ->       6 (0 temporaries)
 //   contact gaps                      0 ->       0 (0 temporaries)
 //   contact jacobian                  0 ->       0 (0 temporaries)
@@ -38,6 +38,9 @@ struct BasicBouncingBall {
     static constexpr int n_outputs = 0;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = true;
+    // True when jacobian() (∂ẋ/∂x) was generated: `eomc generate --jacobian`, [kernel] jacobian,
+    // --variational, or a method that needs it.
+    static constexpr bool has_jacobian = false;
     static constexpr const char* scene_name = "bouncing_ball";
     static constexpr std::array<const char*, n_state> state_names{ "y", "y_dot" };
     static constexpr std::array<const char*, n_parameters> parameter_names{ "m", "g", "e" };
@@ -82,18 +85,6 @@ struct BasicBouncingBall {
         const S g = S(p.g);
         dxdt[0] = y_dot;
         dxdt[1] = -g;
-    }
-
-    // ∂ẋ/∂x, row-major n_state×n_state.
-    template <class S>
-    static void jacobian(S t, const S* x, S* out, const Parameters& p) {
-        (void)t;
-        (void)x;
-        (void)p;
-        out[0] = S(0);
-        out[1] = S(1);
-        out[2] = S(0);
-        out[3] = S(0);
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.

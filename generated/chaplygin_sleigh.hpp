@@ -3,7 +3,7 @@
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 3 coordinates, as the first-order system x =
 // (q, q̇), ẋ = (q̇, M⁻¹f). M u̇ − Wᵀλ = f, W u̇ = r is solved at run time (the
-// Schur complement on Eigen's LDLT).
+// Schur complement on Eigen's LDLT). No jacobian() (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                      21 ->      13 (4 temporaries)
 //   forcing                          10 ->       9 (1 temporaries)
@@ -42,6 +42,9 @@ struct BasicChaplyginSleigh {
     static constexpr int n_outputs = 4;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = false;
+    // True when jacobian() (∂ẋ/∂x) was generated: `eomc generate --jacobian`, [kernel] jacobian,
+    // --variational, or a method that needs it.
+    static constexpr bool has_jacobian = false;
     static constexpr const char* scene_name = "chaplygin_sleigh";
     static constexpr std::array<const char*, n_state> state_names{ "x", "y", "phi", "x_dot", "y_dot", "phi_dot" };
     static constexpr std::array<const char*, n_parameters> parameter_names{ "m", "I", "a" };
@@ -104,14 +107,6 @@ struct BasicChaplyginSleigh {
     template <class S>
     static void rhs(S t, const S* x, S* dxdt, const Parameters& p) {
         constrained_rates_(t, x, dxdt, static_cast<S*>(nullptr), static_cast<S*>(nullptr), p);
-    }
-
-    // ∂ẋ/∂x, row-major n_state×n_state.
-    template <class S>
-    static void jacobian(S t, const S* x, S* out, const Parameters& p) {
-        // The rates go through the Schur complement: differenced, not derived.
-        eomc::runtime::central_difference_jacobian(t, x, out, n_state,
-                                                   [&p](S tau, const S* y, S* dydt) { rhs(tau, y, dydt, p); });
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.

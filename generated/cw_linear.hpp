@@ -2,7 +2,8 @@
 // Clohessy–Wiltshire relative motion on a circular orbit (linearised)
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 3 coordinates, as the first-order system x =
-// (q, q̇), ẋ = (q̇, M⁻¹f). M u̇ = f is solved at run time (Eigen LDLT).
+// (q, q̇), ẋ = (q̇, M⁻¹f). M u̇ = f is solved at run time (Eigen LDLT). jacobian()
+// gives ∂ẋ/∂x.
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
 //   forcing                           9 ->       9 (0 temporaries)
@@ -39,6 +40,9 @@ struct BasicCwLinear {
     static constexpr int n_outputs = 0;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = false;
+    // True when jacobian() (∂ẋ/∂x) was generated: `eomc generate --jacobian`, [kernel] jacobian,
+    // --variational, or a method that needs it.
+    static constexpr bool has_jacobian = true;
     static constexpr const char* scene_name = "cw_linear";
     static constexpr std::array<const char*, n_state> state_names{ "x", "y", "z", "x_dot", "y_dot", "z_dot" };
     static constexpr std::array<const char*, n_parameters> parameter_names{ "n" };

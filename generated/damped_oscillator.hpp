@@ -2,12 +2,12 @@
 // Damped harmonic oscillator given by its equation of motion (gamma = 0.1, w = 1)
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 1 coordinate, as the first-order system x =
-// (q, q̇), ẋ = (q̇, M⁻¹f). u̇ is solved in closed form (n_velocities ≤ 2).
+// (q, q̇), ẋ = (q̇, M⁻¹f). u̇ is solved in closed form (n_velocities ≤ 2). No
+// jacobian() (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
 //   forcing                           4 ->       4 (0 temporaries)
 //   rhs (u̇ in closed form)           4 ->       4 (0 temporaries)
-//   jacobian                          1 ->       1 (0 temporaries)
 //   invariants                        0 ->       0 (0 temporaries)
 #pragma once
 
@@ -35,6 +35,9 @@ struct BasicDampedOscillator {
     static constexpr int n_outputs = 0;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = false;
+    // True when jacobian() (∂ẋ/∂x) was generated: `eomc generate --jacobian`, [kernel] jacobian,
+    // --variational, or a method that needs it.
+    static constexpr bool has_jacobian = false;
     static constexpr const char* scene_name = "damped_oscillator";
     static constexpr std::array<const char*, n_state> state_names{ "x", "x_dot" };
     static constexpr std::array<const char*, n_parameters> parameter_names{ "gamma", "w" };
@@ -81,19 +84,6 @@ struct BasicDampedOscillator {
         const S w = S(p.w);
         dxdt[0] = x_dot;
         dxdt[1] = -gamma*x_dot - x_*w*w;
-    }
-
-    // ∂ẋ/∂x, row-major n_state×n_state.
-    template <class S>
-    static void jacobian(S t, const S* x, S* out, const Parameters& p) {
-        (void)t;
-        (void)x;
-        const S gamma = S(p.gamma);
-        const S w = S(p.w);
-        out[0] = S(0);
-        out[1] = S(1);
-        out[2] = -w*w;
-        out[3] = -gamma;
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.

@@ -3,12 +3,11 @@
 //
 // The Euler-Poisson equations of a heavy rigid body about a fixed point: x = (ω, γ) in body
 // axes, I ω̇ = (Iω + k) × ω + P γ × r_c, γ̇ = γ × ω; project() keeps |γ| = 1.
-// Every rate is explicit.
+// Every rate is explicit. No jacobian() (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
 //   forcing                           0 ->       0 (0 temporaries)
 //   rhs (u̇ in closed form)          13 ->      13 (0 temporaries)
-//   jacobian                          2 ->       2 (0 temporaries)
 //   invariants                       24 ->      22 (2 temporaries)
 #pragma once
 
@@ -36,6 +35,9 @@ struct BasicDzhanibekov {
     static constexpr int n_outputs = 0;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = false;
+    // True when jacobian() (∂ẋ/∂x) was generated: `eomc generate --jacobian`, [kernel] jacobian,
+    // --variational, or a method that needs it.
+    static constexpr bool has_jacobian = false;
     static constexpr const char* scene_name = "dzhanibekov";
     static constexpr std::array<const char*, n_state> state_names{ "p", "q", "r", "gamma1", "gamma2", "gamma3" };
     static constexpr std::array<const char*, n_parameters> parameter_names{  };
@@ -86,55 +88,6 @@ struct BasicDzhanibekov {
         dxdt[3] = gamma2*r - gamma3*q;
         dxdt[4] = -gamma1*r + gamma3*p_;
         dxdt[5] = gamma1*q - gamma2*p_;
-    }
-
-    // ∂ẋ/∂x, row-major n_state×n_state.
-    template <class S>
-    static void jacobian(S t, const S* x, S* out, const Parameters& p) {
-        (void)t;
-        (void)p;
-        const S p_ = x[0];
-        const S q = x[1];
-        const S r = x[2];
-        const S gamma1 = x[3];
-        const S gamma2 = x[4];
-        const S gamma3 = x[5];
-        out[0] = S(0);
-        out[1] = -r;
-        out[2] = -q;
-        out[3] = S(0);
-        out[4] = S(0);
-        out[5] = S(0);
-        out[6] = r;
-        out[7] = S(0);
-        out[8] = p_;
-        out[9] = S(0);
-        out[10] = S(0);
-        out[11] = S(0);
-        out[12] = -S(1)/S(5)*q;
-        out[13] = -S(1)/S(5)*p_;
-        out[14] = S(0);
-        out[15] = S(0);
-        out[16] = S(0);
-        out[17] = S(0);
-        out[18] = S(0);
-        out[19] = -gamma3;
-        out[20] = gamma2;
-        out[21] = S(0);
-        out[22] = r;
-        out[23] = -q;
-        out[24] = gamma3;
-        out[25] = S(0);
-        out[26] = -gamma1;
-        out[27] = -r;
-        out[28] = S(0);
-        out[29] = p_;
-        out[30] = -gamma2;
-        out[31] = gamma1;
-        out[32] = S(0);
-        out[33] = q;
-        out[34] = -p_;
-        out[35] = S(0);
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.

@@ -4,14 +4,12 @@
 // Lagrange's equations in the 1 coordinate and the free carrier's balance equations
 // (1.1.14)-(1.1.15) for its 2 quasi-velocities, M u̇ = f with u = (q̇, quasi-velocities);
 // the state adds the carrier's attitude quaternion e and the pole's inertial position. M u̇ =
-// f is solved at run time (Eigen LDLT).
+// f is solved at run time (Eigen LDLT). No jacobian() (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       7 ->       7 (0 temporaries)
 //   forcing                           7 ->       7 (0 temporaries)
 //   mass_matrix + forcing            14 ->      14 (0 temporaries)
 //   explicit rates                   53 ->      33 (5 temporaries)
-//   mass_matrix + jacobian terms       23 ->      21 (1 temporaries)
-//   explicit rates jacobian         382 ->      97 (19 temporaries)
 //   invariants                       35 ->      29 (4 temporaries)
 //   outputs                          11 ->      11 (0 temporaries)
 #pragma once
@@ -42,6 +40,9 @@ struct BasicFreeDiskTubeBall {
     static constexpr int n_outputs = 4;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = false;
+    // True when jacobian() (∂ẋ/∂x) was generated: `eomc generate --jacobian`, [kernel] jacobian,
+    // --variational, or a method that needs it.
+    static constexpr bool has_jacobian = false;
     static constexpr const char* scene_name = "free_disk_tube_ball";
     static constexpr std::array<const char*, n_state> state_names{ "q", "q_dot", "v0", "w", "carrier_e0", "carrier_e1", "carrier_e2", "carrier_e3", "carrier_x", "carrier_y", "carrier_z" };
     static constexpr std::array<const char*, n_parameters> parameter_names{ "M", "m", "r" };
@@ -99,22 +100,6 @@ struct BasicFreeDiskTubeBall {
         mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);
         explicit_rates_(t, x, dxdt, p);
         Eigen::Map<Eigen::Matrix<S, n_velocities, 1>>(dxdt + velocity_offset) = M.ldlt().solve(f);
-    }
-
-    // ∂ẋ/∂x, row-major n_state×n_state.
-    template <class S>
-    static void jacobian(S t, const S* x, S* out, const Parameters& p) {
-        Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;
-        Eigen::Matrix<S, n_velocities, 1> f;
-        mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);
-        const Eigen::Matrix<S, n_velocities, 1> acc = M.ldlt().solve(f);
-        Eigen::Matrix<S, n_velocities, n_state, Eigen::RowMajor> G;
-        mass_matrix_and_jacobian_terms_(t, x, acc.data(), M.data(), G.data(), p);
-        explicit_rates_jacobian_(t, x, out, p);
-        // d(M⁻¹f)/dx = M⁻¹ (∂f/∂x − (∂M/∂x) u̇)
-        const Eigen::Matrix<S, n_velocities, n_state, Eigen::RowMajor> lower = M.ldlt().solve(G);
-        for (int i = 0; i < n_velocities; ++i)
-            for (int j = 0; j < n_state; ++j) out[(velocity_offset + i) * n_state + j] = lower(i, j);
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.
@@ -226,182 +211,6 @@ struct BasicFreeDiskTubeBall {
         dxdt[8] = S(2)*v0*w4*(carrier_e1*carrier_e2 - carrier_e0*carrier_e3);
         dxdt[9] = v0*w4*(w0 + w2 - w1 - w3);
         dxdt[10] = S(2)*v0*w4*(carrier_e0*carrier_e1 + carrier_e2*carrier_e3);
-    }
-
-    // M and G = ∂f/∂x − (∂M/∂x) u̇, with u̇ = acc, both row-major.
-    template <class S>
-    static void mass_matrix_and_jacobian_terms_(S t, const S* x, const S* acc, S* out_M, S* out_G, const Parameters& p) {
-        (void)t;
-        const S q = x[0];
-        const S q_dot = x[1];
-        const S w = x[3];
-        const S w_dot = acc[2];
-        const S M = S(p.M);
-        const S m = S(p.m);
-        const S r = S(p.r);
-        const S w0 = m*q*w;
-        out_M[0] = m;
-        out_M[1] = S(0);
-        out_M[2] = S(0);
-        out_M[3] = S(0);
-        out_M[4] = M + m;
-        out_M[5] = S(0);
-        out_M[6] = S(0);
-        out_M[7] = S(0);
-        out_M[8] = S(1)/S(2)*M*r*r + m*q*q;
-        out_G[0] = m*w*w;
-        out_G[1] = S(0);
-        out_G[2] = S(0);
-        out_G[3] = S(2)*w0;
-        out_G[4] = S(0);
-        out_G[5] = S(0);
-        out_G[6] = S(0);
-        out_G[7] = S(0);
-        out_G[8] = S(0);
-        out_G[9] = S(0);
-        out_G[10] = S(0);
-        out_G[11] = S(0);
-        out_G[12] = S(0);
-        out_G[13] = S(0);
-        out_G[14] = S(0);
-        out_G[15] = S(0);
-        out_G[16] = S(0);
-        out_G[17] = S(0);
-        out_G[18] = S(0);
-        out_G[19] = S(0);
-        out_G[20] = S(0);
-        out_G[21] = S(0);
-        out_G[22] = -S(2)*m*(q*w_dot + q_dot*w);
-        out_G[23] = -S(2)*w0;
-        out_G[24] = S(0);
-        out_G[25] = -S(2)*m*q*q_dot;
-        out_G[26] = S(0);
-        out_G[27] = S(0);
-        out_G[28] = S(0);
-        out_G[29] = S(0);
-        out_G[30] = S(0);
-        out_G[31] = S(0);
-        out_G[32] = S(0);
-    }
-
-    // The rows of ∂ẋ/∂x of the closed-form rates.
-    template <class S>
-    static void explicit_rates_jacobian_(S t, const S* x, S* out, const Parameters& p) {
-        (void)t;
-        (void)p;
-        const S v0 = x[2];
-        const S w = x[3];
-        const S carrier_e0 = x[4];
-        const S carrier_e1 = x[5];
-        const S carrier_e2 = x[6];
-        const S carrier_e3 = x[7];
-        const S w0 = -S(1)/S(2)*w;
-        const S w1 = S(1)/S(2)*w;
-        const S w2 = carrier_e0*carrier_e0;
-        const S w3 = carrier_e1*carrier_e1;
-        const S w4 = carrier_e2*carrier_e2;
-        const S w5 = carrier_e3*carrier_e3;
-        const S w6 = w2 + w3 + w4 + w5;
-        const S w7 = S(1)/w6;
-        const S w8 = carrier_e1*carrier_e2 - carrier_e0*carrier_e3;
-        const S w9 = carrier_e3*w7;
-        const S w10 = S(1)/(w6*w6);
-        const S w11 = carrier_e2*w7;
-        const S w12 = carrier_e1*w7;
-        const S w13 = carrier_e0*w7;
-        const S w14 = w3 + w5 - w4 - w2;
-        const S w15 = w10*w14;
-        const S w16 = w15 + w7;
-        const S w17 = w15 - w7;
-        const S w18 = carrier_e0*carrier_e1 + carrier_e2*carrier_e3;
-        out[0] = S(0);
-        out[1] = S(1);
-        out[2] = S(0);
-        out[3] = S(0);
-        out[4] = S(0);
-        out[5] = S(0);
-        out[6] = S(0);
-        out[7] = S(0);
-        out[8] = S(0);
-        out[9] = S(0);
-        out[10] = S(0);
-        out[44] = S(0);
-        out[45] = S(0);
-        out[46] = S(0);
-        out[47] = -S(1)/S(2)*carrier_e2;
-        out[48] = S(0);
-        out[49] = S(0);
-        out[50] = w0;
-        out[51] = S(0);
-        out[52] = S(0);
-        out[53] = S(0);
-        out[54] = S(0);
-        out[55] = S(0);
-        out[56] = S(0);
-        out[57] = S(0);
-        out[58] = -S(1)/S(2)*carrier_e3;
-        out[59] = S(0);
-        out[60] = S(0);
-        out[61] = S(0);
-        out[62] = w0;
-        out[63] = S(0);
-        out[64] = S(0);
-        out[65] = S(0);
-        out[66] = S(0);
-        out[67] = S(0);
-        out[68] = S(0);
-        out[69] = S(1)/S(2)*carrier_e0;
-        out[70] = w1;
-        out[71] = S(0);
-        out[72] = S(0);
-        out[73] = S(0);
-        out[74] = S(0);
-        out[75] = S(0);
-        out[76] = S(0);
-        out[77] = S(0);
-        out[78] = S(0);
-        out[79] = S(0);
-        out[80] = S(1)/S(2)*carrier_e1;
-        out[81] = S(0);
-        out[82] = w1;
-        out[83] = S(0);
-        out[84] = S(0);
-        out[85] = S(0);
-        out[86] = S(0);
-        out[87] = S(0);
-        out[88] = S(0);
-        out[89] = S(0);
-        out[90] = S(2)*w7*w8;
-        out[91] = S(0);
-        out[92] = -S(2)*v0*(w9 + S(2)*carrier_e0*w10*w8);
-        out[93] = S(2)*v0*(w11 - S(2)*carrier_e1*w10*w8);
-        out[94] = -S(2)*v0*(S(2)*carrier_e2*w10*w8 - w12);
-        out[95] = -S(2)*v0*(w13 + S(2)*carrier_e3*w10*w8);
-        out[96] = S(0);
-        out[97] = S(0);
-        out[98] = S(0);
-        out[99] = S(0);
-        out[100] = S(0);
-        out[101] = -w14*w7;
-        out[102] = S(0);
-        out[103] = S(2)*carrier_e0*v0*w16;
-        out[104] = S(2)*carrier_e1*v0*w17;
-        out[105] = S(2)*carrier_e2*v0*w16;
-        out[106] = S(2)*carrier_e3*v0*w17;
-        out[107] = S(0);
-        out[108] = S(0);
-        out[109] = S(0);
-        out[110] = S(0);
-        out[111] = S(0);
-        out[112] = S(2)*w18*w7;
-        out[113] = S(0);
-        out[114] = S(2)*v0*(w12 - S(2)*carrier_e0*w10*w18);
-        out[115] = -S(2)*v0*(-w13 + S(2)*carrier_e1*w10*w18);
-        out[116] = -S(2)*v0*(-w9 + S(2)*carrier_e2*w10*w18);
-        out[117] = S(2)*v0*(w11 - S(2)*carrier_e3*w10*w18);
-        out[118] = S(0);
-        out[119] = S(0);
-        out[120] = S(0);
     }
 };
 

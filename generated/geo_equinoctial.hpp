@@ -3,12 +3,12 @@
 //
 // The modified equinoctial elements (p, f, g, h, k, L) of an orbit, integrated by Gauss's
 // equations with the perturbing acceleration ∇R + a in radial, transverse and normal axes;
-// the outputs are the Cartesian state. Every rate is explicit.
+// the outputs are the Cartesian state. Every rate is explicit. No jacobian() (eomc generate
+// --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
 //   forcing                           0 ->       0 (0 temporaries)
 //   rhs (u̇ in closed form)       10501 ->     251 (45 temporaries)
-//   jacobian                     273276 ->    1795 (154 temporaries)
 //   invariants                        0 ->       0 (0 temporaries)
 //   outputs                         173 ->      70 (11 temporaries)
 //   events                           12 ->      12 (1 temporaries)
@@ -38,6 +38,9 @@ struct BasicGeoEquinoctial {
     static constexpr int n_outputs = 6;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = false;
+    // True when jacobian() (∂ẋ/∂x) was generated: `eomc generate --jacobian`, [kernel] jacobian,
+    // --variational, or a method that needs it.
+    static constexpr bool has_jacobian = false;
     static constexpr const char* scene_name = "geo_equinoctial";
     static constexpr std::array<const char*, n_state> state_names{ "p", "f", "g", "h", "k", "L" };
     static constexpr std::array<const char*, n_parameters> parameter_names{ "mu", "Re", "J2", "mu3", "a3", "i3" };
@@ -148,217 +151,6 @@ struct BasicGeoEquinoctial {
         dxdt[5] = w0*w23*w43*w44 + w15*w15*sqrt(mu*p_)/(p_*p_);
     }
 
-    // ∂ẋ/∂x, row-major n_state×n_state.
-    template <class S>
-    static void jacobian(S t, const S* x, S* out, const Parameters& p) {
-        using std::cos;
-        using std::pow;
-        using std::sin;
-        using std::sqrt;
-        const S p_ = x[0];
-        const S f = x[1];
-        const S g = x[2];
-        const S h = x[3];
-        const S k = x[4];
-        const S L = x[5];
-        const S mu = S(p.mu);
-        const S Re = S(p.Re);
-        const S J2 = S(p.J2);
-        const S mu3 = S(p.mu3);
-        const S a3 = S(p.a3);
-        const S i3 = S(p.i3);
-        const S w0 = k*k;
-        const S w1 = h*h;
-        const S w2 = S(-1) + w0 - w1;
-        const S w3 = S(1) + w0 + w1;
-        const S w4 = S(1)/w3;
-        const S w5 = sin(L);
-        const S w6 = cos(L);
-        const S w7 = h*k*w4*w6;
-        const S w8 = w2*w4*w5 + S(2)*w7;
-        const S w9 = Re*Re;
-        const S w10 = k*w4*w6;
-        const S w11 = h*w4*w5;
-        const S w12 = w11 - w10;
-        const S w13 = w12*w12;
-        const S w14 = S(-1) + S(12)*w13;
-        const S w15 = p_*p_;
-        const S w16 = g*w5;
-        const S w17 = f*w6;
-        const S w18 = S(1) + w16 + w17;
-        const S w19 = S(1)/(w18*w18);
-        const S w20 = w15*w19;
-        const S w21 = pow(w20, S(-5)/S(2));
-        const S w22 = h*k*w4*w5;
-        const S w23 = -S(2)*w22 + w2*w4*w6;
-        const S w24 = S(1)/w18;
-        const S w25 = pow(w20, S(-7)/S(2));
-        const S w26 = S(1)/(w18*w18*w18);
-        const S w27 = p_*p_*p_*p_;
-        const S w28 = S(1)/(w18*w18*w18*w18*w18);
-        const S w29 = pow(w20, S(-9)/S(2));
-        const S w30 = t*sqrt((mu + mu3)/(a3*a3*a3));
-        const S w31 = cos(w30);
-        const S w32 = p_*w23*w24 + a3*w31;
-        const S w33 = sin(i3);
-        const S w34 = sin(w30);
-        const S w35 = -S(2)*p_*w12*w24 + a3*w33*w34;
-        const S w36 = S(1) + w0 - w1;
-        const S w37 = S(2)*w7 + w36*w4*w5;
-        const S w38 = cos(i3);
-        const S w39 = p_*w24*w37 - a3*w34*w38;
-        const S w40 = w32*w32 + w35*w35 + w39*w39;
-        const S w41 = pow(w40, S(-5)/S(2));
-        const S w42 = -S(2)*w12*w24*w35 + w24*w37*w39 + w23*w24*w32;
-        const S w43 = S(1)/(w40*sqrt(w40));
-        const S w44 = S(72)*J2*mu*w13*w15*w23*w25*w26*w9 - S(15)*J2*mu*w14*w15*w23*w25*w26*w9 - S(168)*J2*mu*w13*w23*w27*w28*w29*w9 + S(3)*J2*mu*w14*w21*w23*w24*w9 + S(2)*mu3*(S(3)*w32*w41*w42 - w23*w24*w43);
-        const S w45 = S(1)/p_;
-        const S w46 = w13*w45;
-        const S w47 = w45 - S(4)*w46;
-        const S w48 = S(1)/(p_*p_);
-        const S w49 = S(1)/(w20*sqrt(w20));
-        const S w50 = S(18)*J2*mu*p_*w12*w21*w24*w47*w9 - mu3*(S(3)*w35*w41*w42 + S(2)*w12*w24*w43) - S(15)*J2*mu*w12*w14*w15*w25*w26*w9 + S(3)*J2*mu*w12*w14*w21*w24*w9 - S(6)*J2*mu*w12*w18*w49*w9*(S(4)*w13*w48 - w48);
-        const S w51 = h*w4*w6;
-        const S w52 = k*w4*w5;
-        const S w53 = w51 + w52;
-        const S w54 = -S(3)*J2*mu*w14*w21*w24*w37*w9 + S(15)*J2*mu*w14*w15*w25*w26*w37*w9 + S(2)*mu3*(w24*w37*w43 - S(3)*w39*w41*w42) - S(72)*J2*mu*w13*w15*w25*w26*w37*w9 + S(168)*J2*mu*w13*w27*w28*w29*w37*w9;
-        const S w55 = S(2)*w22 - w36*w4*w6;
-        const S w56 = -w44*w8 + S(4)*w50*w53 + w54*w55;
-        const S w57 = S(1)/mu;
-        const S w58 = p_*w57;
-        const S w59 = sqrt(w58);
-        const S w60 = S(1)/sqrt(w58);
-        const S w61 = p_*p_*p_;
-        const S w62 = S(1)/(a3*a3);
-        const S w63 = S(24)*J2*mu*w13*w23*w25*w26*w61*w9 + S(3)*J2*mu*p_*w14*w21*w23*w24*w9 + S(2)*mu3*(w31*w62 - w32*w43);
-        const S w64 = w63*w8;
-        const S w65 = -S(3)*J2*mu*p_*w14*w21*w24*w37*w9 - S(24)*J2*mu*w13*w25*w26*w37*w61*w9 + S(2)*mu3*(w34*w38*w62 + w39*w43);
-        const S w66 = w55*w65;
-        const S w67 = -S(6)*J2*mu*w12*w18*w47*w49*w9 - mu3*(-w35*w43 + w33*w34*w62) + S(3)*J2*mu*p_*w12*w14*w21*w24*w9;
-        const S w68 = w53*w67;
-        const S w69 = w66 - w64 + S(4)*w68;
-        const S w70 = S(1)/(w18*w18*w18*w18*w18*w18);
-        const S w71 = -w19*w23*w32 + S(2)*w12*w19*w35 - w19*w37*w39;
-        const S w72 = S(1)/(w18*w18*w18*w18);
-        const S w73 = S(3)*J2*mu*w14*w19*w21*w37*w9 - S(168)*J2*mu*w13*w27*w29*w37*w70*w9 - S(15)*J2*mu*w14*w15*w25*w37*w72*w9 - S(2)*mu3*(S(3)*w39*w41*w71 + w19*w37*w43) + S(72)*J2*mu*w13*w15*w25*w37*w72*w9;
-        const S w74 = -S(168)*J2*mu*w13*w23*w27*w29*w70*w9 - S(15)*J2*mu*w14*w15*w23*w25*w72*w9 + S(3)*J2*mu*w14*w19*w21*w23*w9 + S(72)*J2*mu*w13*w15*w23*w25*w72*w9 - S(2)*mu3*(w19*w23*w43 + S(3)*w32*w41*w71);
-        const S w75 = -S(18)*J2*mu*w12*w15*w19*w21*w47*w9 - S(6)*J2*mu*w12*w47*w49*w9 - S(3)*J2*mu*p_*w12*w14*w19*w21*w9 + mu3*p_*(-S(3)*w35*w41*w71 + S(2)*w12*w19*w43) + S(15)*J2*mu*w12*w14*w25*w61*w72*w9;
-        const S w76 = p_*w55*w73 + p_*w74*w8 + S(4)*w53*w75;
-        const S w77 = w24*w76 - w19*w69;
-        const S w78 = S(1)/(w3*w3);
-        const S w79 = k*w1*w6*w78;
-        const S w80 = w4*w6;
-        const S w81 = h*k*w5*w78;
-        const S w82 = k*w1*w5*w78;
-        const S w83 = h*k*w6*w78;
-        const S w84 = w4*w5;
-        const S w85 = w84 + S(2)*w83 - S(2)*w1*w5*w78;
-        const S w86 = w11 + h*w36*w5*w78 + S(2)*w79 - w10;
-        const S w87 = w51 + w52 + h*w2*w6*w78 - S(2)*w82;
-        const S w88 = w24*w32*w87 + w24*w35*w85 + w24*w39*w86;
-        const S w89 = -S(3)*J2*mu*w14*w21*w24*w86*w9 + S(36)*J2*mu*w12*w21*w24*w37*w85*w9 + S(24)*J2*mu*w12*w15*w25*w26*w37*w85*w9 - S(24)*J2*mu*w13*w15*w25*w26*w86*w9 + S(2)*mu3*(w24*w43*w86 - S(3)*w39*w41*w88);
-        const S w90 = S(2)*mu3*(-w24*w43*w87 + S(3)*w32*w41*w88) + S(24)*J2*mu*w13*w15*w25*w26*w87*w9 - S(24)*J2*mu*w12*w15*w23*w25*w26*w85*w9 + S(3)*J2*mu*w14*w21*w24*w87*w9 - S(36)*J2*mu*w12*w21*w23*w24*w85*w9;
-        const S w91 = w45 - S(12)*w46;
-        const S w92 = S(3)*J2*mu*p_*w14*w21*w24*w85*w9 + S(72)*J2*mu*p_*w13*w21*w24*w85*w9 - S(2)*mu3*p_*(-S(3)*w35*w41*w88 + w24*w43*w85) - S(6)*J2*mu*w18*w49*w85*w9*w91;
-        const S w93 = p_*w8*w90 - p_*w55*w89 + S(2)*w53*w92 - w65*(-h*w36*w6*w78 - w51 + S(2)*w82 - w52) - S(2)*w67*(-w80 + S(2)*w1*w6*w78 + S(2)*w81) + w63*(w11 + S(2)*w79 - w10 + h*w2*w5*w78);
-        const S w94 = w80 - S(2)*w0*w6*w78 + S(2)*w81;
-        const S w95 = h*w0*w5*w78;
-        const S w96 = w10 + S(2)*w95 - w11 - k*w2*w6*w78;
-        const S w97 = h*w0*w6*w78;
-        const S w98 = -w51 - w52 + k*w36*w5*w78 + S(2)*w97;
-        const S w99 = -w24*w39*w98 + w24*w35*w94 + w24*w32*w96;
-        const S w100 = S(3)*J2*mu*p_*w14*w21*w24*w9*w94 + S(2)*mu3*p_*(S(3)*w35*w41*w99 - w24*w43*w94) - S(6)*J2*mu*w18*w49*w9*w91*w94 + S(72)*J2*mu*p_*w13*w21*w24*w9*w94;
-        const S w101 = S(36)*J2*mu*w12*w21*w24*w37*w9*w94 + S(24)*J2*mu*w13*w15*w25*w26*w9*w98 + S(3)*J2*mu*w14*w21*w24*w9*w98 + S(24)*J2*mu*w12*w15*w25*w26*w37*w9*w94 - S(2)*mu3*(S(3)*w39*w41*w99 + w24*w43*w98);
-        const S w102 = -S(24)*J2*mu*w13*w15*w25*w26*w9*w96 - S(2)*mu3*(-w24*w43*w96 + S(3)*w32*w41*w99) + S(24)*J2*mu*w12*w15*w23*w25*w26*w9*w94 + S(36)*J2*mu*w12*w21*w23*w24*w9*w94 - S(3)*J2*mu*w14*w21*w24*w9*w96;
-        const S w103 = w63*(-w51 + k*w2*w5*w78 - w52 + S(2)*w97) - S(2)*w100*w53 + p_*w102*w8 + S(2)*w67*(w84 - S(2)*w0*w5*w78 - S(2)*w83) + w65*(w11 + k*w36*w6*w78 - S(2)*w95 - w10) + p_*w101*w55;
-        const S w104 = w37*w65;
-        const S w105 = -g*w6 + f*w5;
-        const S w106 = w24*w8 - w105*w19*w23;
-        const S w107 = w105*w12*w19 + w24*w53;
-        const S w108 = -w24*w55 + w105*w19*w37;
-        const S w109 = -S(2)*w107*w35 - w106*w32 + w108*w39;
-        const S w110 = S(3)*J2*mu*w14*w21*w24*w8*w9 + S(168)*J2*mu*w105*w13*w23*w27*w29*w70*w9 - S(3)*J2*mu*w105*w14*w19*w21*w23*w9 + S(24)*J2*mu*w13*w15*w25*w26*w8*w9 - S(72)*J2*mu*w105*w13*w15*w23*w25*w72*w9 - S(48)*J2*mu*w12*w15*w23*w25*w26*w53*w9 - S(2)*mu3*(S(3)*w109*w32*w41 + w106*w43) - S(72)*J2*mu*w12*w21*w23*w24*w53*w9 + S(15)*J2*mu*w105*w14*w15*w23*w25*w72*w9;
-        const S w111 = -S(6)*J2*mu*w49*w9*(-w105*w12*w45 - S(12)*w13*w18*w45*w53 + S(4)*w105*w45*w12*w12*w12 + w18*w45*w53) + S(18)*J2*mu*w105*w12*w15*w19*w21*w47*w9 - mu3*p_*(S(2)*w107*w43 + S(3)*w109*w35*w41) + S(3)*J2*mu*p_*w14*w21*w24*w53*w9 - S(15)*J2*mu*w105*w12*w14*w25*w61*w72*w9 + S(3)*J2*mu*p_*w105*w12*w14*w19*w21*w9 + S(72)*J2*mu*p_*w13*w21*w24*w53*w9;
-        const S w112 = w12*w67;
-        const S w113 = w23*w63;
-        const S w114 = -S(24)*J2*mu*w13*w15*w25*w26*w55*w9 + S(72)*J2*mu*w12*w21*w24*w37*w53*w9 + S(48)*J2*mu*w12*w15*w25*w26*w37*w53*w9 + S(3)*J2*mu*w105*w14*w19*w21*w37*w9 - S(168)*J2*mu*w105*w13*w27*w29*w37*w70*w9 - S(15)*J2*mu*w105*w14*w15*w25*w37*w72*w9 + S(2)*mu3*(-w108*w43 + S(3)*w109*w39*w41) - S(3)*J2*mu*w14*w21*w24*w55*w9 + S(72)*J2*mu*w105*w13*w15*w25*w37*w72*w9;
-        const S w115 = w104 + p_*w110*w8 - S(4)*w112 + S(4)*w111*w53 - w113 - p_*w114*w55;
-        const S w116 = -k*w6 + h*w5;
-        const S w117 = S(-1) + w0 + w1;
-        const S w118 = k*w4*w44 - h*w4*w54 + w117*w4*w50;
-        const S w119 = S(4)*w12*w50 - w37*w54 + w23*w44;
-        const S w120 = S(2) + w16 + w17;
-        const S w121 = w120*w6;
-        const S w122 = f + w121;
-        const S w123 = w104 - S(4)*w112 - w113;
-        const S w124 = w123*w5;
-        const S w125 = -w117*w4*w67 + h*w4*w65 - k*w4*w63;
-        const S w126 = w6*w6;
-        const S w127 = p_*w37*w73 + p_*w23*w74 - S(4)*w12*w75;
-        const S w128 = w127*w5*w6;
-        const S w129 = -w117*w4*w75 + k*p_*w4*w74 + h*p_*w4*w73;
-        const S w130 = w5*w5;
-        const S w131 = w24*w5*w6*w69;
-        const S w132 = w116*w125*w24;
-        const S w133 = S(2)*w67*w85 - w63*w87 + S(2)*w12*w92 + w65*w86 + p_*w37*w89 - p_*w23*w90;
-        const S w134 = -S(2)*h*w117*w67*w78 + w117*w4*w92 - S(2)*k*p_*w4*w90 - S(2)*h*k*w63*w78 + S(2)*h*w4*w67 - w4*w65 + S(2)*h*p_*w4*w89 + S(2)*w1*w65*w78;
-        const S w135 = -S(2)*h*k*w65*w78 + w100*w117*w4 - S(2)*k*w4*w67 + S(2)*w0*w63*w78 + S(2)*h*p_*w101*w4 - w4*w63 + S(2)*k*p_*w102*w4 + S(2)*k*w117*w67*w78;
-        const S w136 = p_*w102*w23 - w65*w98 + S(2)*w100*w12 + p_*w101*w37 + S(2)*w67*w94 - w63*w96;
-        const S w137 = h*w6 + k*w5;
-        const S w138 = w123*w6;
-        const S w139 = w120*w5;
-        const S w140 = -w111*w117*w4 - h*p_*w114*w4 + k*p_*w110*w4;
-        const S w141 = w66 - p_*w110*w23 + S(4)*w111*w12 - w64 + S(4)*w68 + p_*w114*w37;
-        const S w142 = g + w139;
-        const S w143 = w125*w24*w57*w60 - S(2)*w118*w24*w59;
-        const S w144 = w129*w24 - w125*w19;
-        const S w145 = w144*w3*w5*w59*w6;
-        const S w146 = S(2)*h*w125*w24 - w134*w24*w3;
-        const S w147 = w135*w24*w3 + S(2)*k*w125*w24;
-        const S w148 = w125*w24*w5;
-        const S w149 = w125*w24*w6;
-        const S w150 = w18*w18;
-        const S w151 = mu*p_;
-        const S w152 = sqrt(w151);
-        const S w153 = w116*w129*w24*w59 - w116*w125*w19*w59 + S(2)*w152*w18*w48;
-        out[0] = S(1)/S(2)*p_*w24*w57*w60*w69 + p_*w24*w56*w59 + w24*w59*w69;
-        out[1] = p_*w59*w6*w77;
-        out[2] = p_*w5*w59*w77;
-        out[3] = S(2)*p_*w24*w59*w93;
-        out[4] = S(2)*p_*w103*w24*w59;
-        out[5] = p_*w59*(w115*w24 + w105*w19*w69);
-        out[6] = -S(1)/S(4)*w57*w60*(w124 - w122*w24*w69 + S(2)*g*w116*w125*w24) + S(1)/S(2)*w59*(w119*w5 + S(2)*g*w116*w118*w24 + w122*w24*w56);
-        out[7] = -S(1)/S(2)*w59*(w128 + S(2)*g*w116*w129*w24*w6 + w122*w19*w6*w69 - w122*w24*w6*w76 - S(2)*g*w116*w125*w19*w6 - w24*w69*(S(1) + w126));
-        out[8] = -S(1)/S(2)*w59*(S(2)*w132 + w122*w19*w5*w69 - w122*w24*w5*w76 - w131 + S(2)*g*w116*w129*w24*w5 - S(2)*g*w116*w125*w19*w5 + w127*w130);
-        out[9] = w59*(g*w116*w134*w24 + w122*w24*w93 + w133*w5 - g*w125*w24*w5);
-        out[10] = w59*(g*w125*w24*w6 + w103*w122*w24 - w136*w5 - g*w116*w135*w24);
-        out[11] = -S(1)/S(2)*w59*(w138 + w24*w69*(w139 + w105*w6) - w115*w122*w24 + S(2)*g*w125*w137*w24 - w141*w5 + S(2)*g*w105*w116*w125*w19 - w105*w122*w19*w69 + S(2)*g*w116*w140*w24);
-        out[12] = S(1)/S(4)*w57*w60*(w138 + S(2)*f*w116*w125*w24 + w142*w24*w69) - S(1)/S(2)*w59*(S(2)*f*w116*w118*w24 + w119*w6 - w142*w24*w56);
-        out[13] = -S(1)/S(2)*w59*(S(2)*f*w116*w125*w19*w6 + w142*w19*w6*w69 - S(2)*f*w116*w129*w24*w6 - w126*w127 - w131 - w142*w24*w6*w76 - S(2)*w132);
-        out[14] = S(1)/S(2)*w59*(w128 + w142*w24*w5*w76 + w24*w69*(S(1) + w130) + S(2)*f*w116*w129*w24*w5 - S(2)*f*w116*w125*w19*w5 - w142*w19*w5*w69);
-        out[15] = -w59*(-w142*w24*w93 + w133*w6 + f*w116*w134*w24 - f*w125*w24*w5);
-        out[16] = -w59*(-w136*w6 - w103*w142*w24 - f*w116*w135*w24 + f*w125*w24*w6);
-        out[17] = -S(1)/S(2)*w59*(w124 - S(2)*f*w116*w140*w24 + w141*w6 - S(2)*f*w105*w116*w125*w19 - S(2)*f*w125*w137*w24 - w105*w142*w19*w69 + w24*w69*(-w121 + w105*w5) - w115*w142*w24);
-        out[18] = S(1)/S(4)*w143*w3*w6;
-        out[19] = S(1)/S(2)*w126*w144*w3*w59;
-        out[20] = S(1)/S(2)*w145;
-        out[21] = S(1)/S(2)*w146*w59*w6;
-        out[22] = S(1)/S(2)*w147*w59*w6;
-        out[23] = -S(1)/S(2)*w3*w59*(w148 - w105*w125*w19*w6 - w140*w24*w6);
-        out[24] = S(1)/S(4)*w143*w3*w5;
-        out[25] = S(1)/S(2)*w145;
-        out[26] = S(1)/S(2)*w130*w144*w3*w59;
-        out[27] = S(1)/S(2)*w146*w5*w59;
-        out[28] = S(1)/S(2)*w147*w5*w59;
-        out[29] = S(1)/S(2)*w3*w59*(w149 + w140*w24*w5 + w105*w125*w19*w5);
-        out[30] = S(1)/S(2)*w116*w125*w24*w57*w60 + S(1)/S(2)*mu*w150*w48/sqrt(w151) - w116*w118*w24*w59 - S(2)*w150*w152/(p_*p_*p_);
-        out[31] = w153*w6;
-        out[32] = w153*w5;
-        out[33] = -w59*(w116*w134*w24 - w148);
-        out[34] = w59*(w116*w135*w24 - w149);
-        out[35] = w105*w116*w125*w19*w59 + w125*w137*w24*w59 + w116*w140*w24*w59 - S(2)*w105*w152*w18*w48;
-    }
-
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.
     template <class S>
     static void invariants(S t, const S* x, S* out, const Parameters& p) {
@@ -399,7 +191,7 @@ struct BasicGeoEquinoctial {
         const S w10 = sqrt(mu/p_);
         out[0] = -p_*w6*(-S(2)*h*k*w3*w5 + w2*w3*w4);
         out[1] = p_*w6*(w3*w5*w7 + S(2)*h*k*w3*w4);
-        out[2] = S(2)*p_*w6*(-k*w3*w4 + h*w3*w5);
+        out[2] = -S(2)*p_*w6*(-h*w3*w5 + k*w3*w4);
         out[3] = w10*(S(2)*h*k*w3*w9 + w2*w3*w8);
         out[4] = w10*(w3*w7*w9 - S(2)*h*k*w3*w8);
         out[5] = S(2)*w10*(k*w3*w8 + h*w3*w9);

@@ -3,7 +3,7 @@
 //
 // The Euler-Poisson equations of a heavy rigid body about a fixed point: x = (ω, γ) in body
 // axes, I ω̇ = (Iω + k) × ω + P γ × r_c, γ̇ = γ × ω; project() keeps |γ| = 1.
-// Every rate is explicit.
+// Every rate is explicit. jacobian() gives ∂ẋ/∂x.
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
 //   forcing                           0 ->       0 (0 temporaries)
@@ -36,6 +36,9 @@ struct BasicGoryachevChaplyginTop {
     static constexpr int n_outputs = 0;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = false;
+    // True when jacobian() (∂ẋ/∂x) was generated: `eomc generate --jacobian`, [kernel] jacobian,
+    // --variational, or a method that needs it.
+    static constexpr bool has_jacobian = true;
     static constexpr const char* scene_name = "goryachev_chaplygin_top";
     static constexpr std::array<const char*, n_state> state_names{ "p", "q", "r", "gamma1", "gamma2", "gamma3" };
     static constexpr std::array<const char*, n_parameters> parameter_names{ "A", "C", "P", "x0" };

@@ -3,6 +3,7 @@
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 1 coordinate, as the first-order system x =
 // (q, q̇), ẋ = (q̇, M⁻¹f). u̇ is solved in closed form (n_velocities ≤ 2).
+// jacobian() gives ∂ẋ/∂x.
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
 //   forcing                           8 ->       8 (0 temporaries)
@@ -36,6 +37,9 @@ struct BasicGravityGradientPitch {
     static constexpr int n_outputs = 6;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = true;
+    // True when jacobian() (∂ẋ/∂x) was generated: `eomc generate --jacobian`, [kernel] jacobian,
+    // --variational, or a method that needs it.
+    static constexpr bool has_jacobian = true;
     static constexpr const char* scene_name = "gravity_gradient_pitch";
     static constexpr std::array<const char*, n_state> state_names{ "theta", "theta_dot" };
     static constexpr std::array<const char*, n_parameters> parameter_names{ "n", "Ix", "Iy", "Iz" };

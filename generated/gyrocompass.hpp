@@ -2,12 +2,12 @@
 // Gyroscope in a gimbal on a platform turning about x' (gyrocompass effect)
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 2 coordinates, as the first-order system x =
-// (q, q̇), ẋ = (q̇, M⁻¹f). u̇ is solved in closed form (n_velocities ≤ 2).
+// (q, q̇), ẋ = (q̇, M⁻¹f). u̇ is solved in closed form (n_velocities ≤ 2). No
+// jacobian() (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       6 ->       6 (2 temporaries)
 //   forcing                          26 ->      23 (4 temporaries)
 //   rhs (u̇ in closed form)          34 ->      27 (6 temporaries)
-//   jacobian                         72 ->      45 (10 temporaries)
 //   invariants                       64 ->      48 (9 temporaries)
 //   outputs                         118 ->      69 (13 temporaries)
 #pragma once
@@ -36,6 +36,9 @@ struct BasicGyrocompass {
     static constexpr int n_outputs = 6;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = false;
+    // True when jacobian() (∂ẋ/∂x) was generated: `eomc generate --jacobian`, [kernel] jacobian,
+    // --variational, or a method that needs it.
+    static constexpr bool has_jacobian = false;
     static constexpr const char* scene_name = "gyrocompass";
     static constexpr std::array<const char*, n_state> state_names{ "phi", "psi", "phi_dot", "psi_dot" };
     static constexpr std::array<const char*, n_parameters> parameter_names{ "m", "A", "C", "Omega" };
@@ -115,47 +118,6 @@ struct BasicGyrocompass {
         dxdt[1] = psi_dot;
         dxdt[2] = -Omega*w5*(C*psi_dot - A*Omega*w0*w2 - A*Omega*w0*w4 + C*Omega*w0)/(A*(w2 + w4));
         dxdt[3] = Omega*phi_dot*w5;
-    }
-
-    // ∂ẋ/∂x, row-major n_state×n_state.
-    template <class S>
-    static void jacobian(S t, const S* x, S* out, const Parameters& p) {
-        (void)t;
-        using std::cos;
-        using std::sin;
-        const S phi = x[0];
-        const S psi = x[1];
-        const S phi_dot = x[2];
-        const S psi_dot = x[3];
-        const S A = S(p.A);
-        const S C = S(p.C);
-        const S Omega = S(p.Omega);
-        const S w0 = S(1)/A;
-        const S w1 = cos(phi);
-        const S w2 = w1*w1;
-        const S w3 = cos(psi);
-        const S w4 = w3*w3;
-        const S w5 = sin(phi);
-        const S w6 = w5*w5;
-        const S w7 = sin(psi);
-        const S w8 = w7*w7;
-        const S w9 = S(1)/(w4 + w8);
-        out[0] = S(0);
-        out[1] = S(0);
-        out[2] = S(1);
-        out[3] = S(0);
-        out[4] = S(0);
-        out[5] = S(0);
-        out[6] = S(0);
-        out[7] = S(1);
-        out[8] = Omega*w0*w9*(A*Omega*w2*w4 + C*Omega*w6 - C*Omega*w2 - A*Omega*w4*w6 + A*Omega*w2*w8 - C*psi_dot*w1 - A*Omega*w6*w8);
-        out[9] = S(0);
-        out[10] = S(0);
-        out[11] = -C*Omega*w0*w5*w9;
-        out[12] = Omega*phi_dot*w1;
-        out[13] = S(0);
-        out[14] = Omega*w5;
-        out[15] = S(0);
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.

@@ -2,12 +2,12 @@
 // Kepler orbit in Cartesian coordinates (mu = 1, a = 1, e = 0.6), 10 periods
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 2 coordinates, as the first-order system x =
-// (q, q̇), ẋ = (q̇, M⁻¹f). u̇ is solved in closed form (n_velocities ≤ 2).
+// (q, q̇), ẋ = (q̇, M⁻¹f). u̇ is solved in closed form (n_velocities ≤ 2). No
+// jacobian() (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
 //   forcing                          12 ->       8 (1 temporaries)
 //   rhs (u̇ in closed form)          12 ->       8 (1 temporaries)
-//   jacobian                         42 ->      18 (6 temporaries)
 //   invariants                       11 ->      11 (0 temporaries)
 #pragma once
 
@@ -35,6 +35,9 @@ struct BasicKeplerE06 {
     static constexpr int n_outputs = 0;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = true;
+    // True when jacobian() (∂ẋ/∂x) was generated: `eomc generate --jacobian`, [kernel] jacobian,
+    // --variational, or a method that needs it.
+    static constexpr bool has_jacobian = false;
     static constexpr const char* scene_name = "kepler_e06";
     static constexpr std::array<const char*, n_state> state_names{ "x", "y", "x_dot", "y_dot" };
     static constexpr std::array<const char*, n_parameters> parameter_names{ "mu" };
@@ -90,39 +93,6 @@ struct BasicKeplerE06 {
         dxdt[1] = y_dot;
         dxdt[2] = -mu*w0*x_;
         dxdt[3] = -mu*w0*y;
-    }
-
-    // ∂ẋ/∂x, row-major n_state×n_state.
-    template <class S>
-    static void jacobian(S t, const S* x, S* out, const Parameters& p) {
-        (void)t;
-        using std::pow;
-        using std::sqrt;
-        const S x_ = x[0];
-        const S y = x[1];
-        const S mu = S(p.mu);
-        const S w0 = x_*x_;
-        const S w1 = y*y;
-        const S w2 = w0 + w1;
-        const S w3 = -S(1)/(w2*sqrt(w2));
-        const S w4 = pow(w2, S(-5)/S(2));
-        const S w5 = mu*w4*x_*y;
-        out[0] = S(0);
-        out[1] = S(0);
-        out[2] = S(1);
-        out[3] = S(0);
-        out[4] = S(0);
-        out[5] = S(0);
-        out[6] = S(0);
-        out[7] = S(1);
-        out[8] = mu*(w3 + S(3)*w0*w4);
-        out[9] = S(3)*w5;
-        out[10] = S(0);
-        out[11] = S(0);
-        out[12] = S(3)*w5;
-        out[13] = mu*(w3 + S(3)*w1*w4);
-        out[14] = S(0);
-        out[15] = S(0);
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.

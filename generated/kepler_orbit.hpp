@@ -3,6 +3,7 @@
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 2 coordinates, as the first-order system x =
 // (q, q̇), ẋ = (q̇, M⁻¹f). u̇ is solved in closed form (n_velocities ≤ 2).
+// jacobian() gives ∂ẋ/∂x.
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       1 ->       1 (0 temporaries)
 //   forcing                           9 ->       9 (0 temporaries)
@@ -36,6 +37,9 @@ struct BasicKeplerOrbit {
     static constexpr int n_outputs = 0;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = false;
+    // True when jacobian() (∂ẋ/∂x) was generated: `eomc generate --jacobian`, [kernel] jacobian,
+    // --variational, or a method that needs it.
+    static constexpr bool has_jacobian = true;
     static constexpr const char* scene_name = "kepler_orbit";
     static constexpr std::array<const char*, n_state> state_names{ "r", "phi", "r_dot", "phi_dot" };
     static constexpr std::array<const char*, n_parameters> parameter_names{ "mu" };

@@ -2,14 +2,13 @@
 // A low Earth orbit decaying under drag in an exponential, co-rotating atmosphere, with J2
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 3 coordinates, as the first-order system x =
-// (q, q̇), ẋ = (q̇, M⁻¹f). M u̇ = f is solved at run time (Eigen LDLT).
+// (q, q̇), ẋ = (q̇, M⁻¹f). M u̇ = f is solved at run time (Eigen LDLT). No jacobian()
+// (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
 //   forcing                         241 ->      99 (12 temporaries)
 //   mass_matrix + forcing           241 ->      99 (12 temporaries)
 //   explicit rates                    0 ->       0 (0 temporaries)
-//   mass_matrix + jacobian terms     1736 ->     456 (39 temporaries)
-//   explicit rates jacobian           0 ->       0 (0 temporaries)
 //   invariants                        0 ->       0 (0 temporaries)
 //   events                            7 ->       7 (0 temporaries)
 #pragma once
@@ -40,6 +39,9 @@ struct BasicLeoDrag {
     static constexpr int n_outputs = 0;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = false;
+    // True when jacobian() (∂ẋ/∂x) was generated: `eomc generate --jacobian`, [kernel] jacobian,
+    // --variational, or a method that needs it.
+    static constexpr bool has_jacobian = false;
     static constexpr const char* scene_name = "leo_drag";
     static constexpr std::array<const char*, n_state> state_names{ "x", "y", "z", "x_dot", "y_dot", "z_dot" };
     static constexpr std::array<const char*, n_parameters> parameter_names{ "mu", "Re", "J2", "rho0", "h0", "H", "CdA_m", "omega" };
@@ -125,22 +127,6 @@ struct BasicLeoDrag {
         mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);
         explicit_rates_(t, x, dxdt, p);
         Eigen::Map<Eigen::Matrix<S, n_velocities, 1>>(dxdt + velocity_offset) = M.ldlt().solve(f);
-    }
-
-    // ∂ẋ/∂x, row-major n_state×n_state.
-    template <class S>
-    static void jacobian(S t, const S* x, S* out, const Parameters& p) {
-        Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;
-        Eigen::Matrix<S, n_velocities, 1> f;
-        mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);
-        const Eigen::Matrix<S, n_velocities, 1> acc = M.ldlt().solve(f);
-        Eigen::Matrix<S, n_velocities, n_state, Eigen::RowMajor> G;
-        mass_matrix_and_jacobian_terms_(t, x, acc.data(), M.data(), G.data(), p);
-        explicit_rates_jacobian_(t, x, out, p);
-        // d(M⁻¹f)/dx = M⁻¹ (∂f/∂x − (∂M/∂x) u̇)
-        const Eigen::Matrix<S, n_velocities, n_state, Eigen::RowMajor> lower = M.ldlt().solve(G);
-        for (int i = 0; i < n_velocities; ++i)
-            for (int j = 0; j < n_state; ++j) out[(velocity_offset + i) * n_state + j] = lower(i, j);
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.
@@ -240,122 +226,6 @@ struct BasicLeoDrag {
         dxdt[0] = x_dot;
         dxdt[1] = y_dot;
         dxdt[2] = z_dot;
-    }
-
-    // M and G = ∂f/∂x − (∂M/∂x) u̇, with u̇ = acc, both row-major.
-    template <class S>
-    static void mass_matrix_and_jacobian_terms_(S t, const S* x, const S* acc, S* out_M, S* out_G, const Parameters& p) {
-        (void)t;
-        (void)acc;
-        using std::exp;
-        using std::pow;
-        using std::sqrt;
-        const S x_ = x[0];
-        const S y = x[1];
-        const S z = x[2];
-        const S x_dot = x[3];
-        const S y_dot = x[4];
-        const S z_dot = x[5];
-        const S mu = S(p.mu);
-        const S Re = S(p.Re);
-        const S J2 = S(p.J2);
-        const S rho0 = S(p.rho0);
-        const S h0 = S(p.h0);
-        const S H = S(p.H);
-        const S CdA_m = S(p.CdA_m);
-        const S omega = S(p.omega);
-        const S w0 = Re*Re;
-        const S w1 = x_*x_;
-        const S w2 = y*y;
-        const S w3 = z*z;
-        const S w4 = w1 + w2 + w3;
-        const S w5 = pow(w4, S(-5)/S(2));
-        const S w6 = S(1)/w4;
-        const S w7 = S(-1) + S(3)*w3*w6;
-        const S w8 = J2*mu*w0*w5*w7;
-        const S w9 = S(1)/(w4*sqrt(w4));
-        const S w10 = mu*w9;
-        const S w11 = pow(w4, S(-7)/S(2));
-        const S w12 = J2*mu*w0*w11*w3;
-        const S w13 = pow(w4, S(-9)/S(2));
-        const S w14 = S(1)/H;
-        const S w15 = x_dot + omega*y;
-        const S w16 = S(1)/sqrt(w4);
-        const S w17 = exp(-w14*(sqrt(w4) - Re - h0));
-        const S w18 = z_dot*z_dot;
-        const S w19 = w15*w15;
-        const S w20 = y_dot - omega*x_;
-        const S w21 = w20*w20;
-        const S w22 = w18 + w19 + w21;
-        const S w23 = sqrt(w22);
-        const S w24 = S(1)/sqrt(w22);
-        const S w25 = CdA_m*omega*rho0*w15*w17*w20*w24;
-        const S w26 = CdA_m*omega*rho0*w17*w23;
-        const S w27 = mu*w5*x_*y;
-        const S w28 = J2*mu*w0*w13*w3*x_*y;
-        const S w29 = J2*mu*w0*w11*w7*x_*y;
-        const S w30 = S(1)/(w4*w4);
-        const S w31 = w3*w30;
-        const S w32 = w6 - w31;
-        const S w33 = CdA_m*rho0*w15*w17*w20*w24;
-        const S w34 = CdA_m*rho0*w15*w17*w24*z_dot;
-        const S w35 = CdA_m*rho0*w17*w20*w24*z_dot;
-        const S w36 = S(1)/(w4*w4*w4);
-        const S w37 = S(2)*w3*w36 - w30;
-        const S w38 = z*z*z;
-        out_M[0] = S(1);
-        out_M[1] = S(0);
-        out_M[2] = S(0);
-        out_M[3] = S(0);
-        out_M[4] = S(1);
-        out_M[5] = S(0);
-        out_M[6] = S(0);
-        out_M[7] = S(0);
-        out_M[8] = S(1);
-        out_G[0] = S(3)*mu*w1*w5 + S(500)*w25 - S(30)*J2*mu*w0*w1*w13*w3 + S(500)*CdA_m*rho0*w14*w15*w16*w17*w23*x_ + S(3)/S(2)*w8 + S(3)*w12 - w10 - S(15)/S(2)*J2*mu*w0*w1*w11*w7;
-        out_G[1] = -S(30)*w28 + S(3)*w27 + S(500)*CdA_m*rho0*w14*w15*w16*w17*w23*y - S(500)*CdA_m*omega*rho0*w17*w19*w24 - S(15)/S(2)*w29 - S(500)*w26;
-        out_G[2] = S(1)/S(2)*z*(-S(42)*J2*mu*w0*w13*w3*x_ + S(12)*J2*mu*w0*w11*x_ + S(6)*mu*w5*x_ - S(15)*J2*mu*w0*w11*w7*x_ + S(1000)*CdA_m*rho0*w14*w15*w16*w17*w23 + S(18)*J2*mu*w0*w32*w5*x_);
-        out_G[3] = -S(500)*CdA_m*rho0*w17*(w23 + w19*w24);
-        out_G[4] = -S(500)*w33;
-        out_G[5] = -S(500)*w34;
-        out_G[6] = -S(30)*w28 + S(3)*w27 + S(500)*CdA_m*omega*rho0*w17*w21*w24 + S(500)*CdA_m*rho0*w14*w16*w17*w20*w23*x_ - S(15)/S(2)*w29 + S(500)*w26;
-        out_G[7] = -S(30)*J2*mu*w0*w13*w2*w3 + S(500)*CdA_m*rho0*w14*w16*w17*w20*w23*y - S(15)/S(2)*J2*mu*w0*w11*w2*w7 + S(3)*mu*w2*w5 + S(3)/S(2)*w8 + S(3)*w12 - w10 - S(500)*w25;
-        out_G[8] = S(1)/S(2)*z*(S(6)*mu*w5*y - S(15)*J2*mu*w0*w11*w7*y - S(42)*J2*mu*w0*w13*w3*y + S(12)*J2*mu*w0*w11*y + S(1000)*CdA_m*rho0*w14*w16*w17*w20*w23 + S(18)*J2*mu*w0*w32*w5*y);
-        out_G[9] = -S(500)*w33;
-        out_G[10] = -S(500)*CdA_m*rho0*w17*(w23 + w21*w24);
-        out_G[11] = -S(500)*w35;
-        out_G[12] = -S(9)*J2*mu*w0*w13*w38*x_ + S(500)*CdA_m*rho0*w14*w16*w17*w23*x_*z_dot - S(15)/S(2)*J2*mu*w0*w11*w7*x_*z + S(9)*J2*mu*w0*w32*w5*x_*z + S(3)*mu*w5*x_*z + S(500)*CdA_m*omega*rho0*w17*w20*w24*z_dot - S(6)*J2*mu*w0*w37*w9*x_*z;
-        out_G[13] = -S(15)/S(2)*J2*mu*w0*w11*w7*y*z - S(9)*J2*mu*w0*w13*w38*y + S(3)*mu*w5*y*z + S(500)*CdA_m*rho0*w14*w16*w17*w23*y*z_dot + S(9)*J2*mu*w0*w32*w5*y*z - S(500)*CdA_m*omega*rho0*w15*w17*w24*z_dot - S(6)*J2*mu*w0*w37*w9*y*z;
-        out_G[14] = S(18)*J2*mu*w0*w3*w32*w5 + S(3)*J2*mu*w0*w9*(-w6 + S(5)*w31 - S(4)*w36*z*z*z*z) + S(3)/S(2)*w8 + S(3)*mu*w3*w5 - S(15)/S(2)*J2*mu*w0*w11*w3*w7 - w10 + S(500)*CdA_m*rho0*w14*w16*w17*w23*z*z_dot;
-        out_G[15] = -S(500)*w34;
-        out_G[16] = -S(500)*w35;
-        out_G[17] = -S(500)*CdA_m*rho0*w17*(w23 + w18*w24);
-    }
-
-    // The rows of ∂ẋ/∂x of the closed-form rates.
-    template <class S>
-    static void explicit_rates_jacobian_(S t, const S* x, S* out, const Parameters& p) {
-        (void)t;
-        (void)x;
-        (void)p;
-        out[0] = S(0);
-        out[1] = S(0);
-        out[2] = S(0);
-        out[3] = S(1);
-        out[4] = S(0);
-        out[5] = S(0);
-        out[6] = S(0);
-        out[7] = S(0);
-        out[8] = S(0);
-        out[9] = S(0);
-        out[10] = S(1);
-        out[11] = S(0);
-        out[12] = S(0);
-        out[13] = S(0);
-        out[14] = S(0);
-        out[15] = S(0);
-        out[16] = S(0);
-        out[17] = S(1);
     }
 };
 

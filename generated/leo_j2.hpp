@@ -2,14 +2,13 @@
 // A low Earth orbit under the Earth's oblateness J2 (Cowell: Cartesian equations)
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 3 coordinates, as the first-order system x =
-// (q, q̇), ẋ = (q̇, M⁻¹f). M u̇ = f is solved at run time (Eigen LDLT).
+// (q, q̇), ẋ = (q̇, M⁻¹f). M u̇ = f is solved at run time (Eigen LDLT). No jacobian()
+// (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
 //   forcing                         150 ->      44 (8 temporaries)
 //   mass_matrix + forcing           150 ->      44 (8 temporaries)
 //   explicit rates                    0 ->       0 (0 temporaries)
-//   mass_matrix + jacobian terms      796 ->     162 (25 temporaries)
-//   explicit rates jacobian           0 ->       0 (0 temporaries)
 //   invariants                       42 ->      31 (2 temporaries)
 //   events                            7 ->       7 (0 temporaries)
 #pragma once
@@ -40,6 +39,9 @@ struct BasicLeoJ2 {
     static constexpr int n_outputs = 0;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = true;
+    // True when jacobian() (∂ẋ/∂x) was generated: `eomc generate --jacobian`, [kernel] jacobian,
+    // --variational, or a method that needs it.
+    static constexpr bool has_jacobian = false;
     static constexpr const char* scene_name = "leo_j2";
     static constexpr std::array<const char*, n_state> state_names{ "x", "y", "z", "x_dot", "y_dot", "z_dot" };
     static constexpr std::array<const char*, n_parameters> parameter_names{ "mu", "Re", "J2" };
@@ -107,22 +109,6 @@ struct BasicLeoJ2 {
         mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);
         explicit_rates_(t, x, dxdt, p);
         Eigen::Map<Eigen::Matrix<S, n_velocities, 1>>(dxdt + velocity_offset) = M.ldlt().solve(f);
-    }
-
-    // ∂ẋ/∂x, row-major n_state×n_state.
-    template <class S>
-    static void jacobian(S t, const S* x, S* out, const Parameters& p) {
-        Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;
-        Eigen::Matrix<S, n_velocities, 1> f;
-        mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);
-        const Eigen::Matrix<S, n_velocities, 1> acc = M.ldlt().solve(f);
-        Eigen::Matrix<S, n_velocities, n_state, Eigen::RowMajor> G;
-        mass_matrix_and_jacobian_terms_(t, x, acc.data(), M.data(), G.data(), p);
-        explicit_rates_jacobian_(t, x, out, p);
-        // d(M⁻¹f)/dx = M⁻¹ (∂f/∂x − (∂M/∂x) u̇)
-        const Eigen::Matrix<S, n_velocities, n_state, Eigen::RowMajor> lower = M.ldlt().solve(G);
-        for (int i = 0; i < n_velocities; ++i)
-            for (int j = 0; j < n_state; ++j) out[(velocity_offset + i) * n_state + j] = lower(i, j);
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.
@@ -243,99 +229,6 @@ struct BasicLeoJ2 {
         dxdt[0] = x_dot;
         dxdt[1] = y_dot;
         dxdt[2] = z_dot;
-    }
-
-    // M and G = ∂f/∂x − (∂M/∂x) u̇, with u̇ = acc, both row-major.
-    template <class S>
-    static void mass_matrix_and_jacobian_terms_(S t, const S* x, const S* acc, S* out_M, S* out_G, const Parameters& p) {
-        (void)t;
-        (void)acc;
-        using std::pow;
-        using std::sqrt;
-        const S x_ = x[0];
-        const S y = x[1];
-        const S z = x[2];
-        const S mu = S(p.mu);
-        const S Re = S(p.Re);
-        const S J2 = S(p.J2);
-        const S w0 = x_*x_;
-        const S w1 = y*y;
-        const S w2 = z*z;
-        const S w3 = w0 + w1 + w2;
-        const S w4 = S(1)/(w3*sqrt(w3));
-        const S w5 = Re*Re;
-        const S w6 = pow(w3, S(-7)/S(2));
-        const S w7 = S(1)/w3;
-        const S w8 = S(-1) + S(3)*w2*w7;
-        const S w9 = pow(w3, S(-5)/S(2));
-        const S w10 = J2*w5*w8*w9;
-        const S w11 = J2*w2*w5*w6;
-        const S w12 = pow(w3, S(-9)/S(2));
-        const S w13 = J2*w5*w6*w8;
-        const S w14 = -S(2)*w9;
-        const S w15 = J2*w12*w2*w5;
-        const S w16 = mu*x_*y*(w14 + S(20)*w15 + S(5)*w13);
-        const S w17 = S(1)/(w3*w3);
-        const S w18 = w17*w2;
-        const S w19 = w18 - w7;
-        const S w20 = J2*w19*w5*w9;
-        const S w21 = w14 + S(14)*w15 + S(6)*w20 + S(5)*w13 - S(4)*J2*w5*w6;
-        const S w22 = -S(2)*w4;
-        const S w23 = S(1)/(w3*w3*w3);
-        const S w24 = w14 + S(6)*w15 + S(6)*w20 + S(4)*J2*w4*w5*(S(2)*w2*w23 - w17) + S(5)*w13;
-        out_M[0] = S(1);
-        out_M[1] = S(0);
-        out_M[2] = S(0);
-        out_M[3] = S(0);
-        out_M[4] = S(1);
-        out_M[5] = S(0);
-        out_M[6] = S(0);
-        out_M[7] = S(0);
-        out_M[8] = S(1);
-        out_G[0] = -S(1)/S(2)*mu*(-S(3)*w10 + S(2)*w4 - S(6)*w0*w9 + S(15)*J2*w0*w5*w6*w8 + S(60)*J2*w0*w12*w2*w5 - S(6)*w11);
-        out_G[1] = -S(3)/S(2)*w16;
-        out_G[2] = -S(3)/S(2)*mu*w21*x_*z;
-        out_G[3] = S(0);
-        out_G[4] = S(0);
-        out_G[5] = S(0);
-        out_G[6] = -S(3)/S(2)*w16;
-        out_G[7] = -S(1)/S(2)*mu*(-S(3)*w10 + S(60)*J2*w1*w12*w2*w5 - S(6)*w1*w9 + S(15)*J2*w1*w5*w6*w8 - w22 - S(6)*w11);
-        out_G[8] = -S(3)/S(2)*mu*w21*y*z;
-        out_G[9] = S(0);
-        out_G[10] = S(0);
-        out_G[11] = S(0);
-        out_G[12] = -S(3)/S(2)*mu*w24*x_*z;
-        out_G[13] = -S(3)/S(2)*mu*w24*y*z;
-        out_G[14] = S(1)/S(2)*mu*(w22 + S(6)*w2*w9 + S(6)*J2*w4*w5*(-S(4)*w23*z*z*z*z + S(5)*w18 - w7) - S(15)*J2*w2*w5*w6*w8 - S(36)*J2*w19*w2*w5*w9 + S(3)*w10);
-        out_G[15] = S(0);
-        out_G[16] = S(0);
-        out_G[17] = S(0);
-    }
-
-    // The rows of ∂ẋ/∂x of the closed-form rates.
-    template <class S>
-    static void explicit_rates_jacobian_(S t, const S* x, S* out, const Parameters& p) {
-        (void)t;
-        (void)x;
-        (void)p;
-        out[0] = S(0);
-        out[1] = S(0);
-        out[2] = S(0);
-        out[3] = S(1);
-        out[4] = S(0);
-        out[5] = S(0);
-        out[6] = S(0);
-        out[7] = S(0);
-        out[8] = S(0);
-        out[9] = S(0);
-        out[10] = S(1);
-        out[11] = S(0);
-        out[12] = S(0);
-        out[13] = S(0);
-        out[14] = S(0);
-        out[15] = S(0);
-        out[16] = S(0);
-        out[17] = S(1);
     }
 };
 

@@ -3,7 +3,8 @@
 //
 // The Euler-Poisson equations of a heavy rigid body about a fixed point: x = (ω, γ) in body
 // axes, I ω̇ = (Iω + k) × ω + P γ × r_c, γ̇ = γ × ω; project() keeps |γ| = 1. M
-// u̇ = f + D λ, Ā u̇ = c is solved at run time (runtime/program/control.hpp).
+// u̇ = f + D λ, Ā u̇ = c is solved at run time (runtime/program/control.hpp). No
+// jacobian() (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
 //   forcing                           5 ->       5 (0 temporaries)
@@ -42,6 +43,9 @@ struct BasicMiddleAxisHold {
     static constexpr int n_outputs = 7;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = false;
+    // True when jacobian() (∂ẋ/∂x) was generated: `eomc generate --jacobian`, [kernel] jacobian,
+    // --variational, or a method that needs it.
+    static constexpr bool has_jacobian = false;
     static constexpr const char* scene_name = "middle_axis_hold";
     static constexpr std::array<const char*, n_state> state_names{ "p", "q", "r", "gamma1", "gamma2", "gamma3" };
     static constexpr std::array<const char*, n_parameters> parameter_names{  };
@@ -91,14 +95,6 @@ struct BasicMiddleAxisHold {
     template <class S>
     static void rhs(S t, const S* x, S* dxdt, const Parameters& p) {
         controlled_rates_(t, x, dxdt, static_cast<S*>(nullptr), static_cast<S*>(nullptr), p);
-    }
-
-    // ∂ẋ/∂x, row-major n_state×n_state.
-    template <class S>
-    static void jacobian(S t, const S* x, S* out, const Parameters& p) {
-        // The rates go through the control solve: differenced, not derived.
-        eomc::runtime::central_difference_jacobian(t, x, out, n_state,
-                                                   [&p](S tau, const S* y, S* dydt) { rhs(tau, y, dydt, p); });
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.

@@ -2,12 +2,12 @@
 // A simple pendulum (theta from the downward vertical) released at 30 degrees at rest above a wall at theta_w = 10 degrees, theta >= theta_w, e = 0.6: its impacts accumulate (Zeno) and it comes to lean on the wall with lambda = m g l sin(theta_w) (Mei, ch. 6, §6.4)
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 1 coordinate, as the first-order system x =
-// (q, q̇), ẋ = (q̇, M⁻¹f). u̇ is solved in closed form (n_velocities ≤ 2).
+// (q, q̇), ẋ = (q̇, M⁻¹f). u̇ is solved in closed form (n_velocities ≤ 2). No
+// jacobian() (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       2 ->       2 (0 temporaries)
 //   forcing                           4 ->       4 (0 temporaries)
 //   rhs (u̇ in closed form)           4 ->       4 (0 temporaries)
-//   jacobian                          4 ->       4 (0 temporaries)
 //   invariants                        9 ->       9 (0 temporaries)
 //   contact gaps                      1 ->       1 (0 temporaries)
 //   contact jacobian                  0 ->       0 (0 temporaries)
@@ -38,6 +38,9 @@ struct BasicPendulumLeaningWall {
     static constexpr int n_outputs = 0;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = true;
+    // True when jacobian() (∂ẋ/∂x) was generated: `eomc generate --jacobian`, [kernel] jacobian,
+    // --variational, or a method that needs it.
+    static constexpr bool has_jacobian = false;
     static constexpr const char* scene_name = "pendulum_leaning_wall";
     static constexpr std::array<const char*, n_state> state_names{ "theta", "theta_dot" };
     static constexpr std::array<const char*, n_parameters> parameter_names{ "m", "l", "g", "e", "theta_w" };
@@ -90,20 +93,6 @@ struct BasicPendulumLeaningWall {
         const S g = S(p.g);
         dxdt[0] = theta_dot;
         dxdt[1] = -g*sin(theta)/l;
-    }
-
-    // ∂ẋ/∂x, row-major n_state×n_state.
-    template <class S>
-    static void jacobian(S t, const S* x, S* out, const Parameters& p) {
-        (void)t;
-        using std::cos;
-        const S theta = x[0];
-        const S l = S(p.l);
-        const S g = S(p.g);
-        out[0] = S(0);
-        out[1] = S(1);
-        out[2] = -g*cos(theta)/l;
-        out[3] = S(0);
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.

@@ -2,12 +2,12 @@
 // A simple pendulum (theta from the downward vertical) released at 90 degrees against a wall at the vertical, theta >= 0, e = 0.6 (Mei, ch. 6)
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 1 coordinate, as the first-order system x =
-// (q, q̇), ẋ = (q̇, M⁻¹f). u̇ is solved in closed form (n_velocities ≤ 2).
+// (q, q̇), ẋ = (q̇, M⁻¹f). u̇ is solved in closed form (n_velocities ≤ 2). No
+// jacobian() (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       2 ->       2 (0 temporaries)
 //   forcing                           4 ->       4 (0 temporaries)
 //   rhs (u̇ in closed form)           4 ->       4 (0 temporaries)
-//   jacobian                          4 ->       4 (0 temporaries)
 //   invariants                        9 ->       9 (0 temporaries)
 //   contact gaps                      0 ->       0 (0 temporaries)
 //   contact jacobian                  0 ->       0 (0 temporaries)
@@ -38,6 +38,9 @@ struct BasicPendulumWall {
     static constexpr int n_outputs = 0;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = true;
+    // True when jacobian() (∂ẋ/∂x) was generated: `eomc generate --jacobian`, [kernel] jacobian,
+    // --variational, or a method that needs it.
+    static constexpr bool has_jacobian = false;
     static constexpr const char* scene_name = "pendulum_wall";
     static constexpr std::array<const char*, n_state> state_names{ "theta", "theta_dot" };
     static constexpr std::array<const char*, n_parameters> parameter_names{ "m", "l", "g", "e" };
@@ -89,20 +92,6 @@ struct BasicPendulumWall {
         const S g = S(p.g);
         dxdt[0] = theta_dot;
         dxdt[1] = -g*sin(theta)/l;
-    }
-
-    // ∂ẋ/∂x, row-major n_state×n_state.
-    template <class S>
-    static void jacobian(S t, const S* x, S* out, const Parameters& p) {
-        (void)t;
-        using std::cos;
-        const S theta = x[0];
-        const S l = S(p.l);
-        const S g = S(p.g);
-        out[0] = S(0);
-        out[1] = S(1);
-        out[2] = -g*cos(theta)/l;
-        out[3] = S(0);
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.

@@ -2,12 +2,12 @@
 // Housner's rocking block 0.4 wide, 1.2 tall on a rigid floor, rocking about a corner: theta >= 0 with restitution 1 - 3/2 sin^2(alpha) = 0.85 (Housner 1963; Mei, ch. 6)
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 1 coordinate, as the first-order system x =
-// (q, q̇), ẋ = (q̇, M⁻¹f). u̇ is solved in closed form (n_velocities ≤ 2).
+// (q, q̇), ẋ = (q̇, M⁻¹f). u̇ is solved in closed form (n_velocities ≤ 2). No
+// jacobian() (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       5 ->       5 (0 temporaries)
 //   forcing                          12 ->      12 (0 temporaries)
 //   rhs (u̇ in closed form)          12 ->      12 (0 temporaries)
-//   jacobian                         12 ->      12 (0 temporaries)
 //   invariants                       21 ->      18 (1 temporaries)
 //   contact gaps                      0 ->       0 (0 temporaries)
 //   contact jacobian                  0 ->       0 (0 temporaries)
@@ -38,6 +38,9 @@ struct BasicRockingBlock {
     static constexpr int n_outputs = 0;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = true;
+    // True when jacobian() (∂ẋ/∂x) was generated: `eomc generate --jacobian`, [kernel] jacobian,
+    // --variational, or a method that needs it.
+    static constexpr bool has_jacobian = false;
     static constexpr const char* scene_name = "rocking_block";
     static constexpr std::array<const char*, n_state> state_names{ "theta", "theta_dot" };
     static constexpr std::array<const char*, n_parameters> parameter_names{ "m", "g", "b", "h" };
@@ -96,23 +99,6 @@ struct BasicRockingBlock {
         const S h = S(p.h);
         dxdt[0] = theta_dot;
         dxdt[1] = -S(3)/S(4)*g*sin(-theta + atan(b/h))/(sqrt(b*b + h*h));
-    }
-
-    // ∂ẋ/∂x, row-major n_state×n_state.
-    template <class S>
-    static void jacobian(S t, const S* x, S* out, const Parameters& p) {
-        (void)t;
-        using std::atan;
-        using std::cos;
-        using std::sqrt;
-        const S theta = x[0];
-        const S g = S(p.g);
-        const S b = S(p.b);
-        const S h = S(p.h);
-        out[0] = S(0);
-        out[1] = S(1);
-        out[2] = S(3)/S(4)*g*cos(-theta + atan(b/h))/(sqrt(b*b + h*h));
-        out[3] = S(0);
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.

@@ -2,14 +2,13 @@
 // A rod 2l = 1, m = 1 striking a floor with its end at 30 degrees, v = (0, -2), e = 0.5 (Mei ch. 6)
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 3 coordinates, as the first-order system x =
-// (q, q̇), ẋ = (q̇, M⁻¹f). M u̇ = f is solved at run time (Eigen LDLT).
+// (q, q̇), ẋ = (q̇, M⁻¹f). M u̇ = f is solved at run time (Eigen LDLT). No jacobian()
+// (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       3 ->       3 (0 temporaries)
 //   forcing                           0 ->       0 (0 temporaries)
 //   mass_matrix + forcing             3 ->       3 (0 temporaries)
 //   explicit rates                    0 ->       0 (0 temporaries)
-//   mass_matrix + jacobian terms        3 ->       3 (0 temporaries)
-//   explicit rates jacobian           0 ->       0 (0 temporaries)
 //   invariants                       12 ->      12 (0 temporaries)
 //   contact gaps                      3 ->       3 (0 temporaries)
 //   contact jacobian                  2 ->       2 (0 temporaries)
@@ -42,6 +41,9 @@ struct BasicRodFloorImpact {
     static constexpr int n_outputs = 0;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = true;
+    // True when jacobian() (∂ẋ/∂x) was generated: `eomc generate --jacobian`, [kernel] jacobian,
+    // --variational, or a method that needs it.
+    static constexpr bool has_jacobian = false;
     static constexpr const char* scene_name = "rod_floor_impact";
     static constexpr std::array<const char*, n_state> state_names{ "x", "y", "theta", "x_dot", "y_dot", "theta_dot" };
     static constexpr std::array<const char*, n_parameters> parameter_names{ "m", "l", "e" };
@@ -96,22 +98,6 @@ struct BasicRodFloorImpact {
         mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);
         explicit_rates_(t, x, dxdt, p);
         Eigen::Map<Eigen::Matrix<S, n_velocities, 1>>(dxdt + velocity_offset) = M.ldlt().solve(f);
-    }
-
-    // ∂ẋ/∂x, row-major n_state×n_state.
-    template <class S>
-    static void jacobian(S t, const S* x, S* out, const Parameters& p) {
-        Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;
-        Eigen::Matrix<S, n_velocities, 1> f;
-        mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);
-        const Eigen::Matrix<S, n_velocities, 1> acc = M.ldlt().solve(f);
-        Eigen::Matrix<S, n_velocities, n_state, Eigen::RowMajor> G;
-        mass_matrix_and_jacobian_terms_(t, x, acc.data(), M.data(), G.data(), p);
-        explicit_rates_jacobian_(t, x, out, p);
-        // d(M⁻¹f)/dx = M⁻¹ (∂f/∂x − (∂M/∂x) u̇)
-        const Eigen::Matrix<S, n_velocities, n_state, Eigen::RowMajor> lower = M.ldlt().solve(G);
-        for (int i = 0; i < n_velocities; ++i)
-            for (int j = 0; j < n_state; ++j) out[(velocity_offset + i) * n_state + j] = lower(i, j);
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.
@@ -242,69 +228,6 @@ struct BasicRodFloorImpact {
         dxdt[0] = x_dot;
         dxdt[1] = y_dot;
         dxdt[2] = theta_dot;
-    }
-
-    // M and G = ∂f/∂x − (∂M/∂x) u̇, with u̇ = acc, both row-major.
-    template <class S>
-    static void mass_matrix_and_jacobian_terms_(S t, const S* x, const S* acc, S* out_M, S* out_G, const Parameters& p) {
-        (void)t;
-        (void)x;
-        (void)acc;
-        const S m = S(p.m);
-        const S l = S(p.l);
-        out_M[0] = m;
-        out_M[1] = S(0);
-        out_M[2] = S(0);
-        out_M[3] = S(0);
-        out_M[4] = m;
-        out_M[5] = S(0);
-        out_M[6] = S(0);
-        out_M[7] = S(0);
-        out_M[8] = S(1)/S(3)*m*l*l;
-        out_G[0] = S(0);
-        out_G[1] = S(0);
-        out_G[2] = S(0);
-        out_G[3] = S(0);
-        out_G[4] = S(0);
-        out_G[5] = S(0);
-        out_G[6] = S(0);
-        out_G[7] = S(0);
-        out_G[8] = S(0);
-        out_G[9] = S(0);
-        out_G[10] = S(0);
-        out_G[11] = S(0);
-        out_G[12] = S(0);
-        out_G[13] = S(0);
-        out_G[14] = S(0);
-        out_G[15] = S(0);
-        out_G[16] = S(0);
-        out_G[17] = S(0);
-    }
-
-    // The rows of ∂ẋ/∂x of the closed-form rates.
-    template <class S>
-    static void explicit_rates_jacobian_(S t, const S* x, S* out, const Parameters& p) {
-        (void)t;
-        (void)x;
-        (void)p;
-        out[0] = S(0);
-        out[1] = S(0);
-        out[2] = S(0);
-        out[3] = S(1);
-        out[4] = S(0);
-        out[5] = S(0);
-        out[6] = S(0);
-        out[7] = S(0);
-        out[8] = S(0);
-        out[9] = S(0);
-        out[10] = S(1);
-        out[11] = S(0);
-        out[12] = S(0);
-        out[13] = S(0);
-        out[14] = S(0);
-        out[15] = S(0);
-        out[16] = S(0);
-        out[17] = S(1);
     }
 };
 

@@ -3,7 +3,7 @@
 //
 // Lagrange's equations of the heavy rigid body in the ZXZ Euler angles (φ precession, θ
 // nutation, ψ spin), x = (φ, θ, ψ, φ̇, θ̇, ψ̇); M is singular at sin θ = 0 (gimbal
-// lock). M u̇ = f is solved at run time (Eigen LDLT).
+// lock). M u̇ = f is solved at run time (Eigen LDLT). jacobian() gives ∂ẋ/∂x.
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                      27 ->      18 (8 temporaries)
 //   forcing                         100 ->      60 (7 temporaries)
@@ -42,6 +42,9 @@ struct BasicStaticImbalanceGyroscope {
     static constexpr int n_outputs = 6;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = false;
+    // True when jacobian() (∂ẋ/∂x) was generated: `eomc generate --jacobian`, [kernel] jacobian,
+    // --variational, or a method that needs it.
+    static constexpr bool has_jacobian = true;
     static constexpr const char* scene_name = "static_imbalance_gyroscope";
     static constexpr std::array<const char*, n_state> state_names{ "phi", "theta", "psi", "phi_dot", "theta_dot", "psi_dot" };
     static constexpr std::array<const char*, n_parameters> parameter_names{ "A", "C", "P", "l" };

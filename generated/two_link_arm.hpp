@@ -3,7 +3,7 @@
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 2 coordinates, as the first-order system x =
 // (q, q̇), ẋ = (q̇, M⁻¹f). M u̇ = f + D λ, Ā u̇ = c is solved at run time
-// (runtime/program/control.hpp).
+// (runtime/program/control.hpp). No jacobian() (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                      24 ->      16 (4 temporaries)
 //   forcing                          14 ->      13 (1 temporaries)
@@ -42,6 +42,9 @@ struct BasicTwoLinkArm {
     static constexpr int n_outputs = 6;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = false;
+    // True when jacobian() (∂ẋ/∂x) was generated: `eomc generate --jacobian`, [kernel] jacobian,
+    // --variational, or a method that needs it.
+    static constexpr bool has_jacobian = false;
     static constexpr const char* scene_name = "two_link_arm";
     static constexpr std::array<const char*, n_state> state_names{ "theta1", "theta2", "theta1_dot", "theta2_dot" };
     static constexpr std::array<const char*, n_parameters> parameter_names{ "m1", "m2", "l1", "l2", "Omega", "c2" };
@@ -102,14 +105,6 @@ struct BasicTwoLinkArm {
     template <class S>
     static void rhs(S t, const S* x, S* dxdt, const Parameters& p) {
         controlled_rates_(t, x, dxdt, static_cast<S*>(nullptr), static_cast<S*>(nullptr), p);
-    }
-
-    // ∂ẋ/∂x, row-major n_state×n_state.
-    template <class S>
-    static void jacobian(S t, const S* x, S* out, const Parameters& p) {
-        // The rates go through the control solve: differenced, not derived.
-        eomc::runtime::central_difference_jacobian(t, x, out, n_state,
-                                                   [&p](S tau, const S* y, S* dydt) { rhs(tau, y, dydt, p); });
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.

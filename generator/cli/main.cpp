@@ -1,6 +1,7 @@
 // eomc: the command line. It parses options and wires one call of the library per command:
 // the pipeline (host/pipeline), a printer (report/), a simulation or a benchmark (host/).
 // Exit codes: 0 success, 2 bad input (file:line:column: error: …), 1 any other failure.
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -141,6 +142,8 @@ Commands declare_commands(CLI::App& app, Options& o) {
     orbit_formulation(c.generate);
     variational_flag(c.generate, "also emit variational_rhs: the state extended by the state-transition matrix, "
                                  "Φ̇ = (∂ẋ/∂x) Φ (seed §2.9)");
+    c.generate->add_flag("--jacobian", o.front.jacobian,
+                         "also emit jacobian(), ∂ẋ/∂x (for implicit methods; --variational implies it)");
 
     c.simulate = app.add_subcommand("simulate", "generate, compile, integrate; write CSV and a summary");
     scene_argument(c.simulate);
@@ -252,9 +255,15 @@ void generate_command(const Pipeline& p, const Options& o, host::StageClock* clo
 }
 
 // `simulate`, and `run` (which also prints the derivation and writes the header first).
+// The method a simulate, sweep or ensemble run uses: the command line's, else the scene's.
+const std::string& chosen_integrator(const Pipeline& p, const Options& o) {
+    return o.simulate.integrator.empty() ? p.model.simulate.integrator : o.simulate.integrator;
+}
+
 void simulate_command(const Pipeline& p, Options& o, bool whole_job) {
     codegen::KernelIR ir;
-    const std::string header = host::kernel_header(p, nullptr, &ir);
+    const std::string header =
+        host::kernel_header(p, nullptr, &ir, host::method_needs_jacobian(chosen_integrator(p, o)));
     const fs::path header_path = fs::path(o.out_dir) / (p.model.name + ".hpp");
     if (whole_job && o.simulate.output.empty()) o.simulate.output = (fs::path(o.out_dir) / (p.model.name + ".csv")).string();
     const host::SimulationRequest request = cli::simulation_request(p, header, o.simulate);
@@ -305,7 +314,8 @@ void ensemble_command(const Pipeline& p, const Options& o) {
         return equilibria_sweep_command(p, o, r.spec);
     }
     codegen::KernelIR ir;
-    const std::string header = host::kernel_header(p, nullptr, &ir);
+    const std::string header =
+        host::kernel_header(p, nullptr, &ir, host::method_needs_jacobian(chosen_integrator(p, o)));
     r.base = cli::simulation_request(p, header, o.simulate);
     std::vector<std::string> parameters, states;  // the kernel's names, known before it compiles
     for (const auto& s : ir.parameters) parameters.push_back(s.name);
@@ -338,7 +348,10 @@ void ensemble_command(const Pipeline& p, const Options& o) {
 
 void bench_command(const Pipeline& p, const Options& o) {
     codegen::KernelIR ir;
-    const std::string header = host::kernel_header(p, nullptr, &ir);
+    // The sweep runs every method of the catalogue.
+    const bool jacobian = std::any_of(scene::integrator_names.begin(), scene::integrator_names.end(),
+                                      [](std::string_view name) { return host::method_needs_jacobian(name); });
+    const std::string header = host::kernel_header(p, nullptr, &ir, jacobian);
     host::BenchRequest r = cli::bench_request(p, header, ir, o.scene_path, o.out_dir, o.bench);
     const std::vector<std::string> formulations = cli::comma_list(o.bench.formulations);
     if (!o.bench.formulations.empty() && !p.model.orbit && !p.model.rigid)

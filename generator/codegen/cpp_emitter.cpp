@@ -544,8 +544,9 @@ Rates emit_rates(const KernelIR& ir, const LocalNames& names) {
     if (!ir.program_names.empty()) return emit_controlled_rates(ir, names);
     if (ir.explicit_solution) {
         r.rhs = function_body(ir, names, ir.rhs_explicit, indexed("dxdt", N));
-        r.jacobian = function_body(ir, names, ir.jacobian_explicit, indexed("out", N * N));
-        r.table = table_row("rhs (u̇ in closed form)", ir.rhs_explicit) + table_row("jacobian", ir.jacobian_explicit);
+        if (ir.has_jacobian) r.jacobian = function_body(ir, names, ir.jacobian_explicit, indexed("out", N * N));
+        r.table = table_row("rhs (u̇ in closed form)", ir.rhs_explicit) +
+                  (ir.has_jacobian ? table_row("jacobian", ir.jacobian_explicit) : std::string());
         return r;
     }
     r.includes = "#include <Eigen/Core>\n#include <Eigen/Cholesky>\n";  // LDLT only: Dense would double the compile time
@@ -575,9 +576,10 @@ Rates emit_rates(const KernelIR& ir, const LocalNames& names) {
                  "const " + wide_type + " lower = M.ldlt().solve(G);\n"
                  "for (int i = 0; i < n_velocities; ++i)\n"
                  "    for (int j = 0; j < n_state; ++j) out[(velocity_offset + i) * n_state + j] = lower(i, j);";
-    r.table = table_row("mass_matrix + forcing", ir.mass_and_forcing) + table_row("explicit rates", ir.explicit_rates) +
-              table_row("mass_matrix + jacobian terms", ir.mass_and_jacobian_terms) +
-              table_row("explicit rates jacobian", ir.explicit_rates_jacobian);
+    r.table = table_row("mass_matrix + forcing", ir.mass_and_forcing) + table_row("explicit rates", ir.explicit_rates);
+    if (ir.has_jacobian)
+        r.table += table_row("mass_matrix + jacobian terms", ir.mass_and_jacobian_terms) +
+                   table_row("explicit rates jacobian", ir.explicit_rates_jacobian);
     std::vector<std::string> mf = indexed("out_M", nu * nu);
     for (const auto& s : indexed("out_f", nu)) mf.push_back(s);
     std::vector<std::string> mg = indexed("out_M", nu * nu);
@@ -594,15 +596,17 @@ Rates emit_rates(const KernelIR& ir, const LocalNames& names) {
         "    static void mass_matrix_and_forcing_(S t, const S* x, S* out_M, S* out_f, const Parameters& p) {{\n{}\n    }}\n\n"
         "    // The rates given in closed form (everything outside the velocity block).\n"
         "    template <class S>\n"
-        "    static void explicit_rates_(S t, const S* x, S* dxdt, const Parameters& p) {{\n{}\n    }}\n\n"
-        "    // M and G = ∂f/∂x − (∂M/∂x) u̇, with u̇ = acc, both row-major.\n"
+        "    static void explicit_rates_(S t, const S* x, S* dxdt, const Parameters& p) {{\n{}\n    }}\n",
+        indent(function_body(ir, names, ir.mass_and_forcing, mf), 8),
+        indent(function_body(ir, names, ir.explicit_rates, rates), 8));
+    if (!ir.has_jacobian) return r;
+    r.private_part += fmt::format(
+        "\n    // M and G = ∂f/∂x − (∂M/∂x) u̇, with u̇ = acc, both row-major.\n"
         "    template <class S>\n"
         "    static void mass_matrix_and_jacobian_terms_(S t, const S* x, const S* acc, S* out_M, S* out_G, const Parameters& p) {{\n{}\n    }}\n\n"
         "    // The rows of ∂ẋ/∂x of the closed-form rates.\n"
         "    template <class S>\n"
         "    static void explicit_rates_jacobian_(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n",
-        indent(function_body(ir, names, ir.mass_and_forcing, mf), 8),
-        indent(function_body(ir, names, ir.explicit_rates, rates), 8),
         indent(function_body(ir, names, ir.mass_and_jacobian_terms, mg, {true}), 8),
         indent(function_body(ir, names, ir.explicit_rates_jacobian, rate_rows), 8));
     return r;
@@ -722,6 +726,16 @@ Rectification rectification(const KernelIR& ir, const LocalNames& names) {
         "    static void reference_orbit_(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n",
         indent(block_body(ir, names, r.reference, "out"), 8));
     return out;
+}
+
+// ∂ẋ/∂x, only in kernels lowered with it (LowerOptions::jacobian): the rest keep their compile
+// time and size.
+std::string jacobian_function(const std::string& body) {
+    return fmt::format(
+        "\n    // ∂ẋ/∂x, row-major n_state×n_state.\n"
+        "    template <class S>\n"
+        "    static void jacobian(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n",
+        indent(body, 8));
 }
 
 // The variational equations ride on the kernel's own rhs and symbolic Jacobian
@@ -988,6 +1002,8 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
         includes += "#include <eomc/runtime/orbit/encke.hpp>\n";
     }
     std::string variational;
+    if (options.variational && !ir.has_jacobian)
+        throw std::logic_error("variational_rhs needs jacobian(): lower the kernel with LowerOptions::jacobian");
     if (options.variational) {
         variational = variational_function(ir);
         includes += "#include <eomc/runtime/variational.hpp>\n";
@@ -1000,11 +1016,13 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
                                        ? "M u̇ = f + D λ, Ā u̇ = c is solved at run time (runtime/program/control.hpp)."
                                    : ir.explicit_solution ? "u̇ is solved in closed form (n_velocities ≤ 2)."
                                                         : "M u̇ = f is solved at run time (Eigen LDLT).";
+    const std::string jacobian_note = ir.has_jacobian ? "jacobian() gives ∂ẋ/∂x."
+                                                      : "No jacobian() (eomc generate --jacobian adds it).";
     const std::vector<std::pair<std::string, std::string>> fields{
         {"version", options.generator_version},
         {"source", comment_text(ir.source)},
         {"summary", comment_text(ir.summary.empty() ? ir.scene_name : ir.summary)},
-        {"description", comment(ir.description + " " + solve_note)},
+        {"description", comment(ir.description + " " + solve_note + " " + jacobian_note)},
         {"operation_table", table},
         {"includes", includes},
         {"runtime_version", "1"},
@@ -1032,7 +1050,8 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
         {"mass_matrix_body", indent(block_body(ir, names, ir.mass_matrix, "out"), 8)},
         {"forcing_body", indent(block_body(ir, names, ir.forcing, "out"), 8)},
         {"rhs_body", indent(rates.rhs, 8)},
-        {"jacobian_body", indent(rates.jacobian, 8)},
+        {"has_jacobian", ir.has_jacobian ? "true" : "false"},
+        {"jacobian", ir.has_jacobian ? jacobian_function(rates.jacobian) : std::string()},
         {"invariants_body", indent(block_body(ir, names, ir.invariants, "out"), 8)},
         {"outputs_note", ir.output_names.empty() ? "none for this model" : "functions of t, x and u̇"},
         {"outputs_body", indent(outputs_body(ir, names), 8)},

@@ -66,6 +66,7 @@ struct KernelIR {
 
     Block mass_matrix;       // n_velocities² outputs, row-major
     Block forcing;           // n_velocities outputs
+    bool has_jacobian = false;       // jacobian() is emitted (LowerOptions::jacobian); the blocks below are filled
     bool explicit_solution = false;  // n_velocities ≤ 2: u̇ = M⁻¹f solved symbolically
     Block rhs_explicit;              // when explicit_solution: every rate, in state order
     Block jacobian_explicit;         // when explicit_solution: n_state² outputs
@@ -143,10 +144,19 @@ struct LoweringTimes {
     double invariants = 0;
 };
 
+// What lower() builds beyond the blocks every kernel needs.
+struct LowerOptions {
+    // ∂ẋ/∂x and jacobian(): for --jacobian, the variational equations and the implicit methods
+    // that take it. It costs most of the lowering, so it is left out unless asked for.
+    bool jacobian = false;
+};
+
 // A first-order form → kernel IR. Deterministic: the same scene gives the same IR.
-KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form, LoweringTimes* times = nullptr);
+KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form, LoweringTimes* times = nullptr,
+               LowerOptions options = {});
 // Lagrange's equations of the model, through mechanics::first_order_form (an orbit scene with
 // formulation = "equinoctial": through mechanics::equinoctial_form).
-KernelIR lower(const model::Model& model, const mechanics::Equations& equations, LoweringTimes* times = nullptr);
+KernelIR lower(const model::Model& model, const mechanics::Equations& equations, LoweringTimes* times = nullptr,
+               LowerOptions options = {});
 
 }  // namespace eomc::codegen

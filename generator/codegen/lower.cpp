@@ -9,7 +9,7 @@
 
 #include "codegen/cpp_text.hpp"
 #include "codegen/kernel_ir.hpp"
-#include "symbolic/differentiation.hpp"
+#include "symbolic/gradient.hpp"
 
 namespace eomc::codegen {
 
@@ -191,7 +191,8 @@ void require_distinct_columns(const KernelIR& ir) {
 
 }  // namespace
 
-KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form, LoweringTimes* times) {
+KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form, LoweringTimes* times,
+               LowerOptions options) {
     using clock = std::chrono::steady_clock;
     auto lap = [last = clock::now()]() mutable {
         const auto now = clock::now();
@@ -226,7 +227,12 @@ KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form,
         ir.parameter_defaults.push_back(p.value);
     }
     const std::string prefix = temporary_prefix(model, form);
-    auto d = [&](const ex& e, std::size_t j) { return symbolic::derivative(e, as_symbol(ir.state[j].symbol)); };
+    ir.has_jacobian = options.jacobian;
+    // ∂/∂x over every rate and residual through one memo (forward mode over the DAG): each
+    // subexpression's gradient is formed once, not once per state variable.
+    std::vector<GiNaC::symbol> state_symbols;
+    for (const auto& s : ir.state) state_symbols.push_back(as_symbol(s.symbol));
+    symbolic::Gradient gradient(state_symbols);
 
     std::vector<ex> M;
     for (std::size_t i = 0; i < nu; ++i)
@@ -255,14 +261,14 @@ KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form,
         const std::vector<ex> acc = nu == 0 ? std::vector<ex>{} : solve_explicitly(form.mass_matrix, form.forcing);
         for (std::size_t k = 0; k < nu; ++k) rates[form.velocity_offset + k] = acc[k];
         ir.rhs_explicit = eliminate_common_subexpressions(rates, prefix);
-        std::vector<ex> J;
-        for (std::size_t i = 0; i < N; ++i)
-            for (std::size_t j = 0; j < N; ++j) J.push_back(d(rates[i], j));
-        ir.jacobian_explicit = eliminate_common_subexpressions(J, prefix);
-    } else if (form.constraints.empty() && form.programs.empty()) {
+        if (options.jacobian)
+            ir.jacobian_explicit = eliminate_common_subexpressions(symbolic::jacobian(rates, state_symbols), prefix);
+    } else if (options.jacobian && form.constraints.empty() && form.programs.empty()) {
         std::vector<ex> rows;
-        for (const auto& [index, rate] : form.explicit_rates)
-            for (std::size_t j = 0; j < N; ++j) rows.push_back(d(rate, j));
+        for (const auto& [index, rate] : form.explicit_rates) {
+            const std::vector<ex> g = gradient(rate);
+            rows.insert(rows.end(), g.begin(), g.end());
+        }
         ir.explicit_rates_jacobian = eliminate_common_subexpressions(rows, prefix);
         // d(M⁻¹f)/dx_j = M⁻¹ ∂(f − M u̇)/∂x_j with u̇ held at the solved value (acc): one
         // derivative of the residual per entry instead of one per entry of M.
@@ -271,7 +277,8 @@ KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form,
             ex residual = form.forcing[i];
             for (std::size_t k = 0; k < nu; ++k)
                 residual -= form.mass_matrix(unsigned(i), unsigned(k)) * form.velocity_rates[k].symbol;
-            for (std::size_t j = 0; j < N; ++j) terms.push_back(d(residual, j));
+            const std::vector<ex> g = gradient(residual);
+            terms.insert(terms.end(), g.begin(), g.end());
         }
         ir.mass_and_jacobian_terms = eliminate_common_subexpressions(terms, prefix);
     }
@@ -324,8 +331,9 @@ KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form,
     return ir;
 }
 
-KernelIR lower(const model::Model& model, const mechanics::Equations& equations, LoweringTimes* times) {
-    return lower(model, mechanics::first_order_form(model, equations), times);
+KernelIR lower(const model::Model& model, const mechanics::Equations& equations, LoweringTimes* times,
+               LowerOptions options) {
+    return lower(model, mechanics::first_order_form(model, equations), times, options);
 }
 
 }  // namespace eomc::codegen

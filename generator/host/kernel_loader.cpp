@@ -21,12 +21,13 @@ namespace {
 
 // Bumped whenever the C interface below changes; the loader refuses a library that reports
 // another value (a cache written by an older eomc).
-constexpr int adapter_abi = 14;  // 3: acceleration and events; 4: project; 5: variational_rhs; 6: project(t, x, p);
+constexpr int adapter_abi = 15;  // 3: acceleration and events; 4: project; 5: variational_rhs; 6: project(t, x, p);
                                  // 7: eomc_kernel_identity; 8: constraint rows; 9: singular sets;
                                  // 10: the mechanical form (sizes, M, f) and unilateral rows; 11: programs;
                                  // 12: bilateral rows beside unilateral ones (constraint_rows);
                                  // 13: contact_time_rates (moving gaps; zeros for a kernel without it);
-                                 // 14: the batched rhs and invariants (batch_width lanes)
+                                 // 14: the batched rhs and invariants (batch_width lanes);
+                                 // 15: jacobian (kernels generated with it only)
 
 // The adapter: C functions over double, so that the host needs no knowledge of the kernel's
 // C++ types. Parameters travel by position in parameter_names order, never by member name
@@ -65,6 +66,11 @@ template <class M>
 void variational_rhs(double t, const double* y, double* dydt, const void* p) {
     if constexpr (rt::VariationalKernel<M>) M::template variational_rhs<double>(t, y, dydt, *static_cast<const typename M::Parameters*>(p));
     else (void)t, (void)y, (void)dydt, (void)p;
+}
+template <class M>
+void jacobian(double t, const double* x, double* out, const void* p) {
+    if constexpr (rt::KernelWithJacobian<M>) M::template jacobian<double>(t, x, out, *static_cast<const typename M::Parameters*>(p));
+    else (void)t, (void)x, (void)out, (void)p;
 }
 template <class M>
 void project(double t, double* x, const void* p) {
@@ -319,6 +325,8 @@ EOMC_EXPORT int eomc_variational() { return rt::VariationalKernel<K> ? 1 : 0; }
 EOMC_EXPORT void eomc_variational_rhs(double t, const double* y, double* dydt, const void* p) {
     variational_rhs<K>(t, y, dydt, p);
 }
+EOMC_EXPORT int eomc_has_jacobian() { return rt::KernelWithJacobian<K> ? 1 : 0; }
+EOMC_EXPORT void eomc_jacobian(double t, const double* x, double* out, const void* p) { jacobian<K>(t, x, out, p); }
 EOMC_EXPORT void eomc_project(double t, double* x, const void* p) { project<K>(t, x, p); }
 EOMC_EXPORT void eomc_acceleration(double t, const double* q, double* a, const void* p) { acceleration<K>(t, q, a, p); }
 EOMC_EXPORT int eomc_n_events() { return n_events<K>(); }
@@ -490,6 +498,8 @@ KernelLibrary KernelLibrary::load(const std::string& header_text, const std::str
     lib.projects_ = symbol<int (*)()>(h, "eomc_projects", p)() != 0;
     lib.variational_ = symbol<int (*)()>(h, "eomc_variational", p)() != 0;
     lib.variational_rhs_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_variational_rhs", p);
+    lib.has_jacobian_ = symbol<int (*)()>(h, "eomc_has_jacobian", p)() != 0;
+    lib.jacobian_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_jacobian", p);
     lib.project_ = symbol<void (*)(double, double*, const void*)>(h, "eomc_project", p);
     lib.acceleration_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_acceleration", p);
     const int n_ev = symbol<int (*)()>(h, "eomc_n_events", p)();
@@ -600,6 +610,8 @@ KernelLibrary& KernelLibrary::operator=(KernelLibrary&& other) noexcept {
         projects_ = other.projects_;
         variational_ = other.variational_;
         variational_rhs_ = other.variational_rhs_;
+        has_jacobian_ = other.has_jacobian_;
+        jacobian_ = other.jacobian_;
         project_ = other.project_;
         acceleration_ = other.acceleration_;
         event_names_ = std::move(other.event_names_);

@@ -61,6 +61,13 @@ public:
         variational_rhs_(t, y, dydt, p.get());
     }
 
+    // Kernels generated with jacobian() (--jacobian, [kernel] jacobian, a method that needs it):
+    // ∂ẋ/∂x, row-major n_state × n_state.
+    bool has_jacobian() const { return has_jacobian_; }
+    void jacobian(double t, const double* x, double* out, const Parameters& p) const {
+        jacobian_(t, x, out, p.get());
+    }
+
     // After an accepted step at time t, in place: kernels whose state holds a unit quaternion (a
     // free carrier's attitude) put it back on |e| = 1, encke kernels rectify their reference
     // orbit when the deviation has grown; project() does nothing for the others.
@@ -177,6 +184,8 @@ private:
     bool projects_ = false;
     bool variational_ = false;
     void (*variational_rhs_)(double, const double*, double*, const void*) = nullptr;
+    bool has_jacobian_ = false;
+    void (*jacobian_)(double, const double*, double*, const void*) = nullptr;
     void (*project_)(double, double*, const void*) = nullptr;
     void (*acceleration_)(double, const double*, double*, const void*) = nullptr;
     std::vector<std::string> event_names_;

@@ -91,7 +91,8 @@ Pipeline front_end(const std::string& scene_path, const FrontEndOptions& options
         scene::set_rigid_formulation(scene, options.rigid_formulation,
                                      SourcePos{std::string(options.flag ? options.flag : "--rigid-formulation") + " " +
                                                options.rigid_formulation});
-    Pipeline p{model::build_model(scene), {}, std::nullopt, options.variational};
+    Pipeline p{model::build_model(scene), {}, std::nullopt, options.variational,
+               options.jacobian || options.variational || scene.kernel_jacobian};
     for (const auto& w : p.model.warnings) std::cerr << format_warning(w) << "\n";
     if (clock) clock->lap("parse");
     p.equations = mechanics::derive(p.model);
@@ -113,10 +114,11 @@ Pipeline front_end(const std::string& scene_path, const FrontEndOptions& options
     return p;
 }
 
-std::string kernel_header(const Pipeline& p, StageClock* clock, codegen::KernelIR* ir_out) {
+std::string kernel_header(const Pipeline& p, StageClock* clock, codegen::KernelIR* ir_out, bool jacobian) {
     codegen::LoweringTimes lowering;
-    const codegen::KernelIR ir = p.canonical ? codegen::lower(p.model, p.canonical->form, &lowering)
-                                             : codegen::lower(p.model, p.equations, &lowering);
+    const codegen::LowerOptions options{.jacobian = p.jacobian || jacobian};
+    const codegen::KernelIR ir = p.canonical ? codegen::lower(p.model, p.canonical->form, &lowering, options)
+                                             : codegen::lower(p.model, p.equations, &lowering, options);
     if (ir_out) *ir_out = ir;
     if (clock) {
         clock->lap("lower");
@@ -128,6 +130,8 @@ std::string kernel_header(const Pipeline& p, StageClock* clock, codegen::KernelI
     if (clock) clock->lap("emit");
     return header;
 }
+
+bool method_needs_jacobian(std::string_view integrator) { return integrator == "radau5"; }
 
 bool depends_on_time(const Pipeline& p) {
     for (const auto& f : p.equations.forcing)

@@ -6,6 +6,7 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -33,6 +34,7 @@ struct Pipeline {
     mechanics::Equations equations;
     std::optional<mechanics::CanonicalEquations> canonical;  // the Hamiltonian formulation, when asked for
     bool variational = false;                                // emit variational_rhs too (--variational)
+    bool jacobian = false;  // emit jacobian() (--jacobian, [kernel] jacobian, or --variational, which needs it)
 };
 
 struct FrontEndOptions {
@@ -40,6 +42,7 @@ struct FrontEndOptions {
     std::string orbit_formulation;   // --orbit-formulation; "" = the scene's own
     std::string rigid_formulation;   // --rigid-formulation; "" = the scene's own
     bool variational = false;        // --variational
+    bool jacobian = false;           // --jacobian
     const char* flag = nullptr;  // the option that chose the formulation, for messages (nullptr: the one above)
 };
 
@@ -48,7 +51,15 @@ struct FrontEndOptions {
 Pipeline front_end(const std::string& scene_path, const FrontEndOptions& options, StageClock* clock = nullptr);
 
 // Lower and emit; `ir_out` (when given) receives the kernel IR the header was printed from.
-std::string kernel_header(const Pipeline& p, StageClock* clock = nullptr, codegen::KernelIR* ir_out = nullptr);
+// jacobian() is emitted when the pipeline asks for it (p.jacobian) or `jacobian` is set (the run
+// needs it: method_needs_jacobian).
+std::string kernel_header(const Pipeline& p, StageClock* clock = nullptr, codegen::KernelIR* ir_out = nullptr,
+                          bool jacobian = false);
+
+// The integrators whose run takes the kernel's jacobian(): radau5's Newton iteration. (gl4, gl6
+// and gl8 iterate to a fixed point in `eomc simulate` and need none.) simulate, sweep, ensemble and
+// bench generate jacobian() only when their method is one of these, or for --variational.
+bool method_needs_jacobian(std::string_view integrator);
 
 // The equations depend on t explicitly (a driven carrier, a time-dependent force).
 bool depends_on_time(const Pipeline& p);

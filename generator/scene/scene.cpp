@@ -115,7 +115,7 @@ public:
         Scene s;
         check_keys(root_, {"scene", "parameters", "coordinates", "carrier", "body", "lagrangian", "forces",
                            "effects", "simulate", "events", "formulation", "reference", "newtonian", "inverse", "orbit",
-                           "constraint", "rigid_body", "unilateral", "contact", "program"},
+                           "constraint", "rigid_body", "unilateral", "contact", "program", "kernel"},
                    "at the top level");
         read_scene(s);
         read_parameters(s);
@@ -132,6 +132,7 @@ public:
         read_events(s);
         read_constraints(s);
         read_formulation(s);
+        read_kernel(s);
         read_reference(s);
         read_newtonian(s);
         read_inverse(s);
@@ -595,6 +596,14 @@ private:
                                        near.empty() ? std::string("expected 'lagrangian' or 'hamiltonian'")
                                                     : fmt::format("did you mean '{}'?", near)));
         }
+    }
+
+    void read_kernel(Scene& s) const {
+        const toml::node* node = root_.get("kernel");
+        if (!node) return;
+        const toml::table& t = as_table(*node, "kernel");
+        check_keys(t, {"jacobian"}, "in [kernel]");
+        if (const toml::node* v = t.get("jacobian")) s.kernel_jacobian = read_bool(*v, "kernel.jacobian");
     }
 
     void read_lagrangian(Scene& s) const {

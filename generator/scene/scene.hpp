@@ -343,6 +343,7 @@ struct Scene {
     std::vector<Program> programs;        // [[program]], file order
     std::string formulation = "lagrangian";  // one of formulation_names ([formulation] kind)
     SourcePos formulation_pos;
+    bool kernel_jacobian = false;  // [kernel] jacobian: the generated kernel always has jacobian()
     std::optional<Reference> reference;
     std::optional<Newtonian> newtonian;  // instead of [[body]] or [lagrangian]
     std::optional<Orbit> orbit;          // instead of [coordinates] and [[body]] / [lagrangian]

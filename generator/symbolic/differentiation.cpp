@@ -11,9 +11,6 @@ using namespace eomc::symbolic;
 
 using GiNaC::ex;
 
-namespace {
-
-// d f(u)/du for the scene language's functions into `out`; false for any other function.
 bool outer_derivative(const std::string& f, const ex& u, ex& out) {
     if (f == "sin") out = GiNaC::cos(u);
     else if (f == "cos") out = -GiNaC::sin(u);
@@ -29,6 +26,8 @@ bool outer_derivative(const std::string& f, const ex& u, ex& out) {
     else return false;
     return true;
 }
+
+namespace {
 
 class Differentiator {
 public:

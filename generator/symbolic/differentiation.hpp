@@ -8,10 +8,16 @@
 // DAG, and defers to GiNaC only for anything else.
 #pragma once
 
+#include <string>
+
 #include <ginac/ginac.h>
 
 namespace eomc::symbolic {
 
 GiNaC::ex derivative(const GiNaC::ex& e, const GiNaC::symbol& s);
+
+// d f(u)/du for the scene language's functions into `out`; false for any other function
+// (shared with symbolic/gradient.cpp, which applies the same rules).
+bool outer_derivative(const std::string& f, const GiNaC::ex& u, GiNaC::ex& out);
 
 }  // namespace eomc::symbolic

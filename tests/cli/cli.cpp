@@ -348,3 +348,35 @@ integrator = "kahanli8"
     r = run("simulate " + tube_file.string() + " --compensated maybe", dir);
     BOOST_TEST(r.status == 2);
 }
+
+// jacobian() is emitted only when asked for: --jacobian, [kernel] jacobian = true, --variational;
+// the kernel says which (has_jacobian) and so does its banner. A bad [kernel] key is refused at its place.
+BOOST_AUTO_TEST_CASE(the_jacobian_is_generated_only_when_asked_for) {
+    const fs::path dir = scratch("jacobian");
+    const auto generate = [&](const std::string& scene, const std::string& flags) {
+        const fs::path file = write_scene(dir, scene);
+        const Result r = run("generate " + file.string() + " -o " + (dir / "out").string() + flags, dir);
+        BOOST_TEST_REQUIRE(r.status == 0, "stderr: " << r.err);
+        return slurp(dir / "out" / "tube.hpp");
+    };
+    // The banner's text with its comment lines joined.
+    const auto banner = [](const std::string& header) {
+        std::string text = header.substr(0, header.find("#pragma once"));
+        for (std::size_t at; (at = text.find("\n// ")) != std::string::npos;) text.replace(at, 4, " ");
+        return text;
+    };
+    const std::string plain = generate(tube, "");
+    BOOST_TEST(plain.find("has_jacobian = false") != std::string::npos);
+    BOOST_TEST(plain.find("static void jacobian(") == std::string::npos);
+    BOOST_TEST(banner(plain).find("No jacobian() (eomc generate --jacobian adds it).") != std::string::npos);
+    for (const auto& [scene, flags] : {std::pair<std::string, std::string>{tube, " --jacobian"},
+                                       {std::string(tube) + "[kernel]\njacobian = true\n", ""},
+                                       {tube, " --variational"}}) {
+        const std::string header = generate(scene, flags);
+        BOOST_TEST(header.find("has_jacobian = true") != std::string::npos, flags);
+        BOOST_TEST(header.find("static void jacobian(") != std::string::npos, flags);
+        BOOST_TEST(banner(header).find("jacobian() gives ∂ẋ/∂x.") != std::string::npos, flags);
+    }
+    expect_input_error(std::string(tube) + "[kernel]\njacobian = \"yes\"\n", "15:12", "expected true or false");
+    expect_input_error(std::string(tube) + "[kernel]\njacobain = true\n", "15:1", "did you mean 'jacobian'");
+}

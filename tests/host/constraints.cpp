@@ -82,7 +82,7 @@ test_support::Kernel rod_kernel(Stabilization stabilization, double alpha = 0.0,
     row.alpha = alpha;
     row.beta = beta;
     form.constraints.push_back(row);
-    const auto ir = eomc::codegen::lower(model, form);
+    const auto ir = eomc::codegen::lower(model, form, nullptr, {.jacobian = true});  // compiled and called below
     return {eomc::codegen::emit_header(ir, {EOMC_VERSION, false}), model.struct_name};
 }
 

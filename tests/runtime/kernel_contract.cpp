@@ -42,23 +42,29 @@ struct Base {
   }
 };
 
-// Everything templates/kernel.hpp.in prints, plus events and a projection.
-struct Full : Base {
+// What templates/kernel.hpp.in prints for a kernel generated without jacobian().
+struct WithoutJacobian : Base {
   static constexpr int velocity_offset = 1;
   static constexpr int n_velocities = 1;
   static constexpr int n_outputs = 1;
   static constexpr bool separable = true;
+  static constexpr bool has_jacobian = false;
   static constexpr std::array<const char*, n_outputs> output_names{"force"};
   template <class S>
   static void mass_matrix(S, const S*, S* out, const Parameters& p) { out[0] = S(p.m); }
   template <class S>
   static void forcing(S, const S* x, S* out, const Parameters& p) { out[0] = -S(p.k) * x[0]; }
   template <class S>
+  static void outputs(S, const S* x, S* out, const Parameters& p) { out[0] = -S(p.k) * x[0]; }
+};
+
+// Everything templates/kernel.hpp.in prints (jacobian() included), plus events and a projection.
+struct Full : WithoutJacobian {
+  static constexpr bool has_jacobian = true;
+  template <class S>
   static void jacobian(S, const S*, S* out, const Parameters& p) {
     out[0] = S(0), out[1] = S(1), out[2] = -S(p.k) / S(p.m), out[3] = S(0);
   }
-  template <class S>
-  static void outputs(S, const S* x, S* out, const Parameters& p) { out[0] = -S(p.k) * x[0]; }
   template <class S>
   static void acceleration(S, const S* q, S* a, const Parameters& p) { a[0] = -S(p.k) / S(p.m) * q[0]; }
   template <class S>
@@ -72,6 +78,12 @@ struct Full : Base {
 };
 
 // One part missing or misshapen each.
+struct ClaimsJacobian : WithoutJacobian {
+  static constexpr bool has_jacobian = true;
+};
+struct HidesJacobian : Full {
+  static constexpr bool has_jacobian = false;
+};
 struct NoRhs {
   static constexpr int n_coordinates = 1, n_state = 1, n_parameters = 0, n_invariants = 0;
   static constexpr const char* scene_name = "no_rhs";
@@ -118,6 +130,10 @@ static_assert(!rt::GeneratedKernel<Base> && !rt::SeparableKernel<Base> && !rt::E
 static_assert(rt::GeneratedKernel<Full> && rt::SeparableKernel<Full> && rt::EventKernel<Full> &&
               rt::ProjectingKernel<Full>);
 static_assert(!rt::VariationalKernel<Full> && !rt::SantilliKernel<Full>);
+// jacobian() is optional, and has_jacobian must say whether it is there.
+static_assert(rt::GeneratedKernel<WithoutJacobian> && !rt::KernelWithJacobian<WithoutJacobian> &&
+              rt::KernelWithJacobian<Full>);
+static_assert(!rt::GeneratedKernel<ClaimsJacobian> && !rt::GeneratedKernel<HidesJacobian>);
 static_assert(!rt::Kernel<NoRhs>);
 static_assert(!rt::Kernel<ShortNames>);
 static_assert(rt::Kernel<EventsWithoutDirections> && !rt::EventKernel<EventsWithoutDirections>);

@@ -239,6 +239,14 @@ BOOST_AUTO_TEST_CASE(lagrangian_potential_defaults_to_zero) {
     BOOST_TEST(s.lagrangian->potential.text == "0");
 }
 
+// [kernel] jacobian: off unless the scene says so.
+BOOST_AUTO_TEST_CASE(kernel_jacobian_key) {
+    const std::string free = "[scene]\nname = \"free\"\n[coordinates]\nx = {}\n[lagrangian]\nT = \"x_dot^2/2\"\n";
+    BOOST_TEST(!parse_scene_string(free, "t.toml").kernel_jacobian);
+    BOOST_TEST(parse_scene_string(free + "[kernel]\njacobian = true\n", "t.toml").kernel_jacobian);
+    BOOST_TEST(!parse_scene_string(free + "[kernel]\njacobian = false\n", "t.toml").kernel_jacobian);
+}
+
 BOOST_AUTO_TEST_CASE(bodies_without_carrier) {
     const Scene s = parse_scene_string(R"([scene]
 name = "two_balls"

@@ -41,15 +41,18 @@ struct Kernel {
 struct KernelOptions {
     bool hamiltonian = false;  // Hamilton's equations instead of Lagrange's
     bool variational = false;  // with the variational equations (--variational)
+    bool jacobian = false;     // with jacobian() (--jacobian; --variational implies it)
 };
 
 // The kernel header `eomc generate` writes for the scene.
 inline Kernel kernel_of(const std::string& toml, KernelOptions options = {}) {
     const auto model = model_of(toml);
     const auto equations = eomc::mechanics::derive(model);
-    const auto ir = options.hamiltonian
-                        ? eomc::codegen::lower(model, eomc::mechanics::canonical_equations(model, equations).form)
-                        : eomc::codegen::lower(model, equations);
+    const eomc::codegen::LowerOptions lowering{.jacobian = options.jacobian || options.variational};
+    const auto ir =
+        options.hamiltonian
+            ? eomc::codegen::lower(model, eomc::mechanics::canonical_equations(model, equations).form, nullptr, lowering)
+            : eomc::codegen::lower(model, equations, nullptr, lowering);
     return {eomc::codegen::emit_header(ir, {EOMC_VERSION, options.variational}), model.struct_name};
 }
 

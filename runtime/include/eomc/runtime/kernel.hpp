@@ -79,12 +79,15 @@ concept KernelWithMassMatrix = Kernel<K, S> && requires(S t, const S* x, S* out,
   K::template forcing<S>(t, x, out, p);
 };
 
-// Everything templates/kernel.hpp.in prints for every scene, the `separable` flag included.
+// Everything templates/kernel.hpp.in prints for every scene, the `separable` and `has_jacobian`
+// flags included; jacobian() is there exactly when has_jacobian says so (it is generated on
+// request: eomc generate --jacobian).
 template <class K, class S = double>
-concept GeneratedKernel = KernelWithOutputs<K, S> && KernelWithJacobian<K, S> && KernelWithMassMatrix<K, S> &&
+concept GeneratedKernel = KernelWithOutputs<K, S> && KernelWithMassMatrix<K, S> &&
                           requires {
                             { K::separable } -> std::convertible_to<bool>;
-                          };
+                            { K::has_jacobian } -> std::convertible_to<bool>;
+                          } && (KernelWithJacobian<K, S> == bool(K::has_jacobian));
 
 // Parameters travel by position (a C interface, a command line): then the struct must be an
 // aggregate of exactly n_parameters doubles in parameter_names order, so that aggregate
