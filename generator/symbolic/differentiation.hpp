@@ -26,7 +26,7 @@ GiNaC::ex derivative(const GiNaC::ex& e, const GiNaC::symbol& s);
 class DirectionalDerivative {
 public:
     explicit DirectionalDerivative(GiNaC::exmap direction) : direction_(std::move(direction)) {}
-    DirectionalDerivative(const GiNaC::symbol& s) : direction_{{s, 1}} {}
+    explicit DirectionalDerivative(const GiNaC::symbol& s) : direction_{{s, 1}} {}
 
     GiNaC::ex operator()(const GiNaC::ex& e);
 
