@@ -20,23 +20,37 @@ namespace {
 // 1e-35 lies a trillion times above that rounding (10^-47 per operation) and ten orders of
 // magnitude below the smallest real residual the chapters produce (a third body's tidal terms,
 // 1e-25 of the Kepler terms at the probe points).
-bool vanishes(const std::vector<ex>& terms, const GiNaC::exmap& values) {
+bool vanishes(const std::vector<GiNaC::numeric>& terms) {
     GiNaC::numeric sum = 0, scale = 0;
     for (const auto& term : terms) {
-        const auto v = evaluate_precise(term, values);
-        if (!v) return false;
-        sum += *v;
-        scale += GiNaC::abs(*v);
+        sum += term;
+        scale += GiNaC::abs(term);
     }
     return GiNaC::abs(sum) <= GiNaC::numeric(1, 10).power(35) * scale;
 }
 
-// The terms ∂h/∂x · ẋ of dh/dt, over the symbols with a rate.
-std::vector<ex> rate_terms(const ex& h, const GiNaC::exmap& rates) {
-    std::vector<ex> terms;
-    for (const auto& [x, rate] : rates) {
-        const ex dh = derivative(h, GiNaC::ex_to<GiNaC::symbol>(x));
-        if (!dh.is_zero()) terms.push_back(dh * rate);
+// The terms ∂h/∂x · ẋ of dh/dt at the evaluator's point, over the symbols with a rate: the
+// partials from one reverse sweep over h, or symbolically where h holds a node the sweep cannot
+// differentiate; nullopt where a term does not evaluate to a real number.
+std::optional<std::vector<GiNaC::numeric>> rate_terms(PreciseEvaluator& at, const ex& h, const GiNaC::exmap& rates) {
+    std::vector<ex> variables;
+    std::vector<GiNaC::numeric> rate;
+    for (const auto& [x, r] : rates) {
+        variables.push_back(x);
+        rate.push_back(GiNaC::ex_to<GiNaC::numeric>(r));
+    }
+    std::vector<GiNaC::numeric> terms;
+    if (const auto partials = at.gradient(h, variables)) {
+        for (std::size_t i = 0; i < variables.size(); ++i)
+            if (!(*partials)[i].is_zero()) terms.push_back((*partials)[i] * rate[i]);
+        return terms;
+    }
+    for (std::size_t i = 0; i < variables.size(); ++i) {
+        const ex dh = derivative(h, GiNaC::ex_to<GiNaC::symbol>(variables[i]));
+        if (dh.is_zero()) continue;
+        const auto v = at.value(dh);
+        if (!v) return std::nullopt;
+        terms.push_back(*v * rate[i]);
     }
     return terms;
 }
@@ -97,9 +111,15 @@ bool proven_conserved(const model::Model& model, const Equations& eqs, const ex&
         if (std::abs(a - b) > 1e-9 * (1.0 + std::abs(a) + std::abs(b))) return false;
     }
     for (const auto& point : points) {
-        std::vector<ex> terms = rate_terms(h, precise_values(point.rates));
-        for (const auto& [u, E] : residuals) terms.push_back(-u * E);
-        if (!vanishes(terms, precise_values(point.values))) return false;
+        PreciseEvaluator at(precise_values(point.values));
+        auto terms = rate_terms(at, h, precise_values(point.rates));
+        if (!terms) return false;
+        for (const auto& [u, E] : residuals) {
+            const auto u_value = at.value(u), E_value = at.value(E);
+            if (!u_value || !E_value) return false;
+            terms->push_back(-*u_value * *E_value);
+        }
+        if (!vanishes(*terms)) return false;
     }
     return true;
 }
@@ -134,14 +154,15 @@ bool proven_constant(const model::Model& model, const Equations& eqs, const ex& 
     }
     for (const auto& point : points) {
         GiNaC::exmap values = precise_values(point.values);
+        PreciseEvaluator at_state(values);
         std::vector<std::vector<GiNaC::numeric>> M(n, std::vector<GiNaC::numeric>(n));
         std::vector<GiNaC::numeric> f(n);
         for (std::size_t i = 0; i < n; ++i) {
-            const auto fi = evaluate_precise(eqs.forcing[i], values);
+            const auto fi = at_state.value(eqs.forcing[i]);
             if (!fi) return false;
             f[i] = *fi;
             for (std::size_t j = 0; j < n; ++j) {
-                const auto m = evaluate_precise(eqs.mass_matrix(unsigned(i), unsigned(j)), values);
+                const auto m = at_state.value(eqs.mass_matrix(unsigned(i), unsigned(j)));
                 if (!m) return false;
                 M[i][j] = *m;
             }
@@ -156,7 +177,9 @@ bool proven_constant(const model::Model& model, const Equations& eqs, const ex& 
             rates[c.q] = values[c.q_dot];
             rates[c.q_dot] = (*q_ddot)[s];
         }
-        if (!vanishes(rate_terms(h, rates), values)) return false;
+        PreciseEvaluator at(values);  // with q̈
+        const auto terms = rate_terms(at, h, rates);
+        if (!terms || !vanishes(*terms)) return false;
     }
     return true;
 }

@@ -1,12 +1,15 @@
 #include "symbolic/numeric_probe.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <random>
 #include <stdexcept>
 #include <unordered_map>
 
 #include "model/kepler_function.hpp"
+#include "symbolic/differentiation.hpp"
 
 namespace eomc::symbolic {
 
@@ -175,10 +178,172 @@ GiNaC::exmap precise_values(const std::map<GiNaC::ex, double, GiNaC::ex_is_less>
 }
 
 std::optional<GiNaC::numeric> evaluate_precise(const GiNaC::ex& e, const GiNaC::exmap& values) {
+    return PreciseEvaluator(values).value(e);
+}
+
+namespace {
+
+bool has_operands(const GiNaC::ex& e) {
+    return GiNaC::is_a<GiNaC::add>(e) || GiNaC::is_a<GiNaC::mul>(e) || GiNaC::is_a<GiNaC::power>(e) ||
+           GiNaC::is_a<GiNaC::function>(e);
+}
+
+// A numeric result of evalf, or nothing (a symbol without a value, a function evalf leaves alone).
+bool as_number(const GiNaC::ex& v, GiNaC::numeric& out) {
+    if (!GiNaC::is_a<GiNaC::numeric>(v)) return false;
+    out = GiNaC::ex_to<GiNaC::numeric>(v);
+    return true;
+}
+
+}  // namespace
+
+std::size_t PreciseEvaluator::visit(const GiNaC::ex& e) {
+    if (auto it = index_.find(e); it != index_.end()) return it->second;
+    std::vector<std::size_t> children;
+    if (has_operands(e))
+        for (std::size_t i = 0; i < e.nops(); ++i) children.push_back(visit(e.op(i)));
+    bool ok = true;
+    GiNaC::numeric value = compute(e, children, ok);
+    nodes_.push_back({e, std::move(children), std::move(value), ok});
+    index_.emplace(e, nodes_.size() - 1);
+    return nodes_.size() - 1;
+}
+
+// The node's value from its operands' values, as subs + evalf would form it (the same GiNaC
+// evaluation of powers and functions, at the same digits).
+GiNaC::numeric PreciseEvaluator::compute(const GiNaC::ex& e, const std::vector<std::size_t>& children, bool& ok) {
+    for (const std::size_t c : children)
+        if (!nodes_[c].real_number) {
+            ok = false;
+            return 0;
+        }
+    GiNaC::numeric out;
+    try {
+        if (GiNaC::is_a<GiNaC::numeric>(e)) return GiNaC::ex_to<GiNaC::numeric>(e);
+        if (GiNaC::is_a<GiNaC::symbol>(e)) {
+            const auto v = values_.find(e);
+            ok = v != values_.end() && as_number(v->second, out);
+            return out;
+        }
+        if (GiNaC::is_a<GiNaC::add>(e)) {
+            out = 0;
+            for (const std::size_t c : children) out += nodes_[c].value;
+            return out;
+        }
+        if (GiNaC::is_a<GiNaC::mul>(e)) {
+            out = 1;
+            for (const std::size_t c : children) out *= nodes_[c].value;
+            return out;
+        }
+        if (GiNaC::is_a<GiNaC::power>(e)) {
+            ok = as_number(GiNaC::pow(nodes_[children[0]].value, nodes_[children[1]].value).evalf(), out);
+            return out;
+        }
+        if (GiNaC::is_a<GiNaC::function>(e)) {
+            GiNaC::exvector args;
+            for (const std::size_t c : children) args.push_back(nodes_[c].value);
+            ok = as_number(GiNaC::function(GiNaC::ex_to<GiNaC::function>(e).get_serial(), args).evalf(), out);
+            return out;
+        }
+        // Constants (π) and anything else: GiNaC's own evaluation of the node.
+        ok = as_number(e.subs(values_, GiNaC::subs_options::no_pattern).evalf(), out);
+    } catch (const std::exception&) {
+        ok = false;  // a pole (1/0, log 0) at this point
+    }
+    return out;
+}
+
+std::optional<GiNaC::numeric> PreciseEvaluator::value(const GiNaC::ex& e) {
     const PreciseDigits digits;
-    const GiNaC::ex v = e.subs(values, GiNaC::subs_options::no_pattern).evalf();
-    if (!GiNaC::is_a<GiNaC::numeric>(v) || !GiNaC::ex_to<GiNaC::numeric>(v).is_real()) return std::nullopt;
-    return GiNaC::ex_to<GiNaC::numeric>(v);
+    const Node& node = nodes_[visit(e)];
+    if (!node.real_number || !node.value.is_real()) return std::nullopt;
+    return node.value;
+}
+
+// ∂node/∂operand_i for each operand, at the point; false for a node whose partials are not known.
+bool PreciseEvaluator::local_partials(const Node& node, std::vector<GiNaC::numeric>& out) {
+    const std::size_t m = node.children.size();
+    out.assign(m, 0);
+    auto value = [&](std::size_t i) -> const GiNaC::numeric& { return nodes_[node.children[i]].value; };
+    if (GiNaC::is_a<GiNaC::add>(node.e)) {
+        out.assign(m, 1);
+        return true;
+    }
+    if (GiNaC::is_a<GiNaC::mul>(node.e)) {
+        // Π_{j≠i} f_j from prefix and suffix products: no division, so a zero factor is no pole.
+        GiNaC::numeric prefix = 1;
+        for (std::size_t i = 0; i < m; ++i) {
+            out[i] = prefix;
+            prefix *= value(i);
+        }
+        GiNaC::numeric suffix = 1;
+        for (std::size_t i = m; i-- > 0;) {
+            out[i] *= suffix;
+            suffix *= value(i);
+        }
+        return true;
+    }
+    if (GiNaC::is_a<GiNaC::power>(node.e)) {
+        const GiNaC::numeric& b = value(0);
+        const GiNaC::numeric& k = value(1);
+        // d(b^k) = k b^(k−1) db + b^k log(b) dk, the second only when the exponent is not a number.
+        if (!as_number((k * GiNaC::pow(b, k - 1)).evalf(), out[0])) return false;
+        if (!GiNaC::is_a<GiNaC::numeric>(node.e.op(1)) && !as_number((node.value * GiNaC::log(b)).evalf(), out[1]))
+            return false;
+        return true;
+    }
+    if (GiNaC::is_a<GiNaC::function>(node.e)) {
+        const std::string name = GiNaC::ex_to<GiNaC::function>(node.e).get_name();
+        GiNaC::ex outer;
+        if (m == 1 && outer_derivative(name, value(0), outer)) return as_number(outer.evalf(), out[0]);
+        if (name == model::kepler_E_name)
+            return as_number(model::kepler_E_partial_M(node.value, value(1)).evalf(), out[0]) &&
+                   as_number(model::kepler_E_partial_e(node.value, value(1)).evalf(), out[1]);
+    }
+    return false;
+}
+
+std::optional<std::vector<GiNaC::numeric>> PreciseEvaluator::gradient(const GiNaC::ex& e,
+                                                                      const std::vector<GiNaC::ex>& variables) {
+    const PreciseDigits digits;
+    const std::size_t root = visit(e);
+    if (!nodes_[root].real_number || !nodes_[root].value.is_real()) return std::nullopt;
+    // The nodes e depends on, parents before children (every child has a smaller index).
+    std::vector<char> reached(nodes_.size(), 0);
+    std::vector<std::size_t> order{root}, stack{root};
+    reached[root] = 1;
+    while (!stack.empty()) {
+        const std::size_t i = stack.back();
+        stack.pop_back();
+        for (const std::size_t c : nodes_[i].children)
+            if (!reached[c]) {
+                reached[c] = 1;
+                order.push_back(c);
+                stack.push_back(c);
+            }
+    }
+    std::sort(order.begin(), order.end(), std::greater<>());
+    std::vector<GiNaC::numeric> adjoint(nodes_.size());
+    adjoint[root] = 1;
+    std::vector<GiNaC::numeric> partials;
+    try {
+        for (const std::size_t i : order) {
+            const Node& node = nodes_[i];
+            if (node.children.empty() || adjoint[i].is_zero()) continue;
+            if (!local_partials(node, partials)) return std::nullopt;
+            for (std::size_t k = 0; k < node.children.size(); ++k)
+                adjoint[node.children[k]] += adjoint[i] * partials[k];
+        }
+    } catch (const std::exception&) {
+        return std::nullopt;  // a partial with a pole at this point
+    }
+    std::vector<GiNaC::numeric> out;
+    for (const auto& x : variables) {
+        const auto it = index_.find(x);
+        out.push_back(it != index_.end() && it->second < reached.size() && reached[it->second] ? adjoint[it->second]
+                                                                                               : GiNaC::numeric(0));
+    }
+    return out;
 }
 
 double evaluate(const GiNaC::ex& e, const ProbePoint& at) { return Evaluator(at)(e).v; }

@@ -13,6 +13,8 @@
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include <ginac/ginac.h>
@@ -49,5 +51,36 @@ inline constexpr int precise_digits = 50;
 GiNaC::exmap precise_values(const std::map<GiNaC::ex, double, GiNaC::ex_is_less>& values);
 // The value at precise_digits digits; nullopt if it does not evaluate to a real number there.
 std::optional<GiNaC::numeric> evaluate_precise(const GiNaC::ex& e, const GiNaC::exmap& values);
+
+// Precise evaluation of many expressions at one point, each shared node once across all of them
+// (GiNaC's subs + evalf walks the tree, so a subexpression shared k times costs k evaluations,
+// and an identity's residual over n equations shares most of its nodes).
+class PreciseEvaluator {
+public:
+    explicit PreciseEvaluator(GiNaC::exmap values) : values_(std::move(values)) {}
+
+    // As evaluate_precise.
+    std::optional<GiNaC::numeric> value(const GiNaC::ex& e);
+    // ∂e/∂x at the point for each x in `variables` (symbols), by one reverse sweep over e's DAG
+    // (reverse-mode differentiation, Griewank & Walther, Evaluating Derivatives, 2008, §3.2);
+    // nullopt where e does not evaluate to a real number or holds a node whose partials are not
+    // known here (then differentiate symbolically).
+    std::optional<std::vector<GiNaC::numeric>> gradient(const GiNaC::ex& e, const std::vector<GiNaC::ex>& variables);
+
+private:
+    struct Node {
+        GiNaC::ex e;
+        std::vector<std::size_t> children;  // indices of the operands, in operand order
+        GiNaC::numeric value;
+        bool real_number = true;  // evaluated to a number (complex values may still cancel)
+    };
+    std::size_t visit(const GiNaC::ex& e);
+    GiNaC::numeric compute(const GiNaC::ex& e, const std::vector<std::size_t>& children, bool& ok);
+    bool local_partials(const Node& node, std::vector<GiNaC::numeric>& out);
+
+    GiNaC::exmap values_;
+    std::vector<Node> nodes_;  // every child before its parent
+    std::unordered_map<GiNaC::ex, std::size_t> index_;
+};
 
 }  // namespace eomc::symbolic

@@ -26,6 +26,9 @@ namespace {
 // apart ω is a placeholder W while differentiating, then W → ω and Ẇ → ω̇.
 struct RotationalEffects {
     ex relative = 0, euler = 0, centrifugal = 0, coriolis = 0;
+    // relative = Σ_k relative_rates[k] u̇_k + relative_rest (kinematics/operators: euler_operator_split)
+    ex relative_rest = 0;
+    std::vector<ex> relative_rates;
 };
 
 std::vector<RotationalEffects> rotational_effects(const model::Model& model, const CarrierMotion& carrier) {
@@ -40,9 +43,12 @@ std::vector<RotationalEffects> rotational_effects(const model::Model& model, con
         back[W[i]] = carrier.omega[std::size_t(i)];
         back[W_dot[i]] = carrier.omega_dot[std::size_t(i)];
     }
+    const EulerOperatorSplit relative = euler_operator_split(model, actual.T_r);
     for (std::size_t s = 0; s < effects.size(); ++s) {
         RotationalEffects& r = effects[s];
-        r.relative = euler_operator(model, actual.T_r, s);
+        r.relative = relative.value(model, s);
+        r.relative_rest = relative.rest[s];
+        r.relative_rates = relative.rates[s];
         if (!model.carrier) continue;
         r.centrifugal = euler_operator(model, actual.T_e, s);
         const ex A = derivative(T_m, model.coordinates[s].q_dot);
@@ -163,7 +169,9 @@ Equations lagrange_equations(const model::Model& model) {
     const ex T_rotation = rotation.T_e + rotation.T_m + rotation.T_r;
 
     const std::vector<RotationalEffects> rotational = rotational_effects(model, carrier);
-    std::vector<ex> rigid_relative(n, 0);  // the rotation's relative effect, kept apart for M
+    // A given T: ε_s(T) with its u̇ terms apart, from T as written (no expansion of its squares).
+    const EulerOperatorSplit given =
+        eqs.from_particles ? EulerOperatorSplit{} : euler_operator_split(model, eqs.T);
     for (std::size_t s = 0; s < n; ++s) {
         Equation eq;
         eq.coordinate = model.coordinates[s].name;
@@ -174,11 +182,10 @@ Equations lagrange_equations(const model::Model& model) {
                                                    [&](const ParticleKinematics& k) {
                                                        return carrier.v_o + cross(carrier.omega, k.r) + k.r_dot;
                                                    }) + derivative(T_rotation, model.coordinates[s].q_dot)
-                                         : derivative(eqs.T, model.coordinates[s].q_dot);
+                                         : given.momenta[s];
         eq.rhs = model.generalized_forces[s] + euler_operator(model, eqs.V, s);  // ε_s(V) = −∂V/∂q_s for V(q)
         if (eqs.from_particles) {
             const RotationalEffects& rot = rotational[s];
-            rigid_relative[s] = rot.relative;
             eq.lhs = 0;
             for (Effect effect : model::all_effects) {
                 if (!model.keeps(effect)) continue;
@@ -188,24 +195,27 @@ Equations lagrange_equations(const model::Model& model) {
                 eq.lhs += term;
             }
         } else {
-            eq.lhs = euler_operator(model, eqs.T, s);
+            eq.lhs = given.value(model, s);
         }
         eqs.equations.push_back(std::move(eq));
     }
     if (model.free_carrier()) add_free_carrier_equations(model, eqs);
 
     // M u̇ = f from E_s = lhs_s − rhs_s, which is linear in u̇. For particles the q̈ terms
-    // are known by construction (only the relative effect has them: M_sk = Σ m e_k·e_s), so
-    // M and f are assembled directly instead of differentiating and substituting large sums.
+    // are known by construction (only the relative effect has them: M_sk = Σ m e_k·e_s, and the
+    // rotation's from its split), and for a given T from the split of ε_s(T), so M and f are
+    // assembled directly instead of differentiating and substituting large sums; only what the
+    // applied side adds (a potential in q̇) is differentiated.
     std::vector<ex> rates;  // u̇: q̈, then the quasi-velocities' rates
     for (const auto& c : model.coordinates) rates.push_back(c.q_ddot);
     for (const auto& v : model.quasi_velocities) rates.push_back(v.rate);
     const std::size_t nu = rates.size();
     GiNaC::exmap no_acceleration;
-    for (const auto& r : rates) no_acceleration[r] = 0;
-    auto has_rates = [&](const ex& e) {
-        return std::any_of(rates.begin(), rates.end(), [&](const ex& r) { return e.has(r); });
-    };
+    GiNaC::exset rate_set;
+    for (const auto& r : rates) {
+        no_acceleration[r] = 0;
+        rate_set.insert(r);
+    }
     eqs.mass_matrix = GiNaC::matrix(unsigned(nu), unsigned(nu));
     const bool direct = eqs.from_particles && model.keeps(Effect::relative);
     for (std::size_t s = 0; s < n; ++s) {
@@ -217,13 +227,19 @@ Equations lagrange_equations(const model::Model& model) {
                                      ? project(particles, s, [](const ParticleKinematics& k) { return k.a_rest; })
                                      : term.value;
         }
-        // What still needs u̇ extracted by differentiation.
-        const ex E = direct ? eq.rhs - inertial_rest - rigid_relative[s] : eq.lhs - eq.rhs;
-        const bool E_has_rates = has_rates(E);
+        // The u̇ coefficients known from a split, and what may still need u̇ extracted by differentiation.
+        const std::vector<ex>* split_rates = direct                ? &rotational[s].relative_rates
+                                             : !eqs.from_particles ? &given.rates[s]
+                                                                   : nullptr;
+        const ex E = direct ? eq.rhs - inertial_rest - rotational[s].relative_rest
+                     : eqs.from_particles ? eq.lhs - eq.rhs
+                                          : given.rest[s] - eq.rhs;
+        const bool E_has_rates = symbolic::depends_on_any(E, rate_set);
         for (std::size_t k = 0; k < nu; ++k) {
             ex m_sk = 0;
             if (direct && k < n)
                 for (const auto& p : particles) m_sk += p.mass * dot(p.e[k], p.e[s]);
+            if (split_rates && !split_rates->empty()) m_sk += (*split_rates)[k];
             if (E_has_rates) m_sk += (direct ? -1 : 1) * derivative(E, GiNaC::ex_to<GiNaC::symbol>(rates[k]));
             eqs.mass_matrix(unsigned(s), unsigned(k)) = m_sk;
         }
