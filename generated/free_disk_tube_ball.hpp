@@ -3,14 +3,16 @@
 //
 // Lagrange's equations in the 1 coordinate and the free carrier's balance equations
 // (1.1.14)-(1.1.15) for its 2 quasi-velocities, M u̇ = f with u = (q̇, quasi-velocities);
-// the state adds the carrier's attitude quaternion e and the pole's inertial position. M u̇ =
-// f is solved at run time (Eigen LDLT).
+// the state adds the carrier's attitude quaternion e and the pole's inertial position. Solve
+// of M u̇ = f: diagonal (u̇_k = f_k / M_kk).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       7 ->       7 (0 temporaries)
 //   forcing                           7 ->       7 (0 temporaries)
 //   mass_matrix + forcing            14 ->      14 (0 temporaries)
 //   explicit rates                   53 ->      33 (5 temporaries)
+//   M u̇ = f solved                  18 ->      17 (3 temporaries)
 //   mass_matrix + jacobian terms       23 ->      21 (1 temporaries)
+//   M⁻¹ (jacobian terms)             31 ->      27 (9 temporaries)
 //   explicit rates jacobian         382 ->      97 (19 temporaries)
 //   invariants                       35 ->      29 (4 temporaries)
 //   outputs                          11 ->      11 (0 temporaries)
@@ -18,8 +20,6 @@
 
 #include <array>
 #include <cmath>
-#include <Eigen/Core>
-#include <Eigen/Cholesky>
 
 #if __has_include(<eomc/runtime/version.hpp>)
 #include <eomc/runtime/version.hpp>
@@ -88,27 +88,18 @@ struct FreeDiskTubeBall {
     // ẋ = F(t, x).
     template <class S>
     static void rhs(S t, const S* x, S* dxdt, const Parameters& p) {
-        Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;
-        Eigen::Matrix<S, n_velocities, 1> f;
-        mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);
         explicit_rates_(t, x, dxdt, p);
-        Eigen::Map<Eigen::Matrix<S, n_velocities, 1>>(dxdt + velocity_offset) = M.ldlt().solve(f);
+        velocity_rates_(t, x, dxdt + velocity_offset, p);
     }
 
     // ∂ẋ/∂x, row-major n_state×n_state.
     template <class S>
     static void jacobian(S t, const S* x, S* out, const Parameters& p) {
-        Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;
-        Eigen::Matrix<S, n_velocities, 1> f;
-        mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);
-        const Eigen::Matrix<S, n_velocities, 1> acc = M.ldlt().solve(f);
-        Eigen::Matrix<S, n_velocities, n_state, Eigen::RowMajor> G;
-        mass_matrix_and_jacobian_terms_(t, x, acc.data(), M.data(), G.data(), p);
+        std::array<S, n_velocities> acc;
+        velocity_rates_(t, x, acc.data(), p);
         explicit_rates_jacobian_(t, x, out, p);
-        // d(M⁻¹f)/dx = M⁻¹ (∂f/∂x − (∂M/∂x) u̇)
-        const Eigen::Matrix<S, n_velocities, n_state, Eigen::RowMajor> lower = M.ldlt().solve(G);
-        for (int i = 0; i < n_velocities; ++i)
-            for (int j = 0; j < n_state; ++j) out[(velocity_offset + i) * n_state + j] = lower(i, j);
+        // d(M⁻¹f)/dx = M⁻¹ (∂f/∂x − (∂M/∂x) u̇): the velocity block's rows
+        velocity_jacobian_(t, x, acc.data(), out + velocity_offset * n_state, p);
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.
@@ -171,9 +162,10 @@ struct FreeDiskTubeBall {
 
 
  private:
-    // M and f together: they share most of their subexpressions.
+    // u̇ = M⁻¹f to out[0 .. n_velocities): M and f together (they share most of their
+    // subexpressions), then the solve the banner names.
     template <class S>
-    static void mass_matrix_and_forcing_(S t, const S* x, S* out_M, S* out_f, const Parameters& p) {
+    static void velocity_rates_(S t, const S* x, S* out, const Parameters& p) {
         (void)t;
         const S q = x[0];
         const S q_dot = x[1];
@@ -181,18 +173,12 @@ struct FreeDiskTubeBall {
         const S M = S(p.M);
         const S m = S(p.m);
         const S r = S(p.r);
-        out_M[0] = m;
-        out_M[1] = S(0);
-        out_M[2] = S(0);
-        out_M[3] = S(0);
-        out_M[4] = M + m;
-        out_M[5] = S(0);
-        out_M[6] = S(0);
-        out_M[7] = S(0);
-        out_M[8] = S(1)/S(2)*M*r*r + m*q*q;
-        out_f[0] = m*q*w*w;
-        out_f[1] = S(0);
-        out_f[2] = -S(2)*m*q*q_dot*w;
+        const S w0 = m*q*w*w;
+        const S w1 = -S(2)*m*q*q_dot*w;
+        const S w3 = S(1)/S(2)*M*r*r + m*q*q;
+        out[0] = w0/m;
+        out[1] = S(0);
+        out[2] = w1/w3;
     }
 
     // The rates given in closed form (everything outside the velocity block).
@@ -222,9 +208,9 @@ struct FreeDiskTubeBall {
         dxdt[10] = S(2)*v0*w4*(carrier_e0*carrier_e1 + carrier_e2*carrier_e3);
     }
 
-    // M and G = ∂f/∂x − (∂M/∂x) u̇, with u̇ = acc, both row-major.
+    // M⁻¹G, G = ∂f/∂x − (∂M/∂x) u̇ with u̇ = acc, row-major n_velocities × n_state.
     template <class S>
-    static void mass_matrix_and_jacobian_terms_(S t, const S* x, const S* acc, S* out_M, S* out_G, const Parameters& p) {
+    static void velocity_jacobian_(S t, const S* x, const S* acc, S* out, const Parameters& p) {
         (void)t;
         const S q = x[0];
         const S q_dot = x[1];
@@ -234,48 +220,47 @@ struct FreeDiskTubeBall {
         const S m = S(p.m);
         const S r = S(p.r);
         const S w0 = m*q*w;
-        out_M[0] = m;
-        out_M[1] = S(0);
-        out_M[2] = S(0);
-        out_M[3] = S(0);
-        out_M[4] = M + m;
-        out_M[5] = S(0);
-        out_M[6] = S(0);
-        out_M[7] = S(0);
-        out_M[8] = S(1)/S(2)*M*r*r + m*q*q;
-        out_G[0] = m*w*w;
-        out_G[1] = S(0);
-        out_G[2] = S(0);
-        out_G[3] = S(2)*w0;
-        out_G[4] = S(0);
-        out_G[5] = S(0);
-        out_G[6] = S(0);
-        out_G[7] = S(0);
-        out_G[8] = S(0);
-        out_G[9] = S(0);
-        out_G[10] = S(0);
-        out_G[11] = S(0);
-        out_G[12] = S(0);
-        out_G[13] = S(0);
-        out_G[14] = S(0);
-        out_G[15] = S(0);
-        out_G[16] = S(0);
-        out_G[17] = S(0);
-        out_G[18] = S(0);
-        out_G[19] = S(0);
-        out_G[20] = S(0);
-        out_G[21] = S(0);
-        out_G[22] = -S(2)*m*(q*w_dot + q_dot*w);
-        out_G[23] = -S(2)*w0;
-        out_G[24] = S(0);
-        out_G[25] = -S(2)*m*q*q_dot;
-        out_G[26] = S(0);
-        out_G[27] = S(0);
-        out_G[28] = S(0);
-        out_G[29] = S(0);
-        out_G[30] = S(0);
-        out_G[31] = S(0);
-        out_G[32] = S(0);
+        const S w1 = m*w*w;
+        const S w2 = S(2)*w0;
+        const S w3 = -S(2)*m*(q*w_dot + q_dot*w);
+        const S w4 = -S(2)*w0;
+        const S w5 = -S(2)*m*q*q_dot;
+        const S w7 = S(1)/S(2)*M*r*r + m*q*q;
+        const S w8 = S(1)/m;
+        const S w10 = S(1)/w7;
+        out[0] = w1*w8;
+        out[1] = S(0);
+        out[2] = S(0);
+        out[3] = w2*w8;
+        out[4] = S(0);
+        out[5] = S(0);
+        out[6] = S(0);
+        out[7] = S(0);
+        out[8] = S(0);
+        out[9] = S(0);
+        out[10] = S(0);
+        out[11] = S(0);
+        out[12] = S(0);
+        out[13] = S(0);
+        out[14] = S(0);
+        out[15] = S(0);
+        out[16] = S(0);
+        out[17] = S(0);
+        out[18] = S(0);
+        out[19] = S(0);
+        out[20] = S(0);
+        out[21] = S(0);
+        out[22] = w10*w3;
+        out[23] = w10*w4;
+        out[24] = S(0);
+        out[25] = w10*w5;
+        out[26] = S(0);
+        out[27] = S(0);
+        out[28] = S(0);
+        out[29] = S(0);
+        out[30] = S(0);
+        out[31] = S(0);
+        out[32] = S(0);
     }
 
     // The rows of ∂ẋ/∂x of the closed-form rates.

@@ -2,13 +2,16 @@
 // A low Earth orbit decaying under drag in an exponential, co-rotating atmosphere, with J2
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 3 coordinates, as the first-order system x =
-// (q, q̇), ẋ = (q̇, M⁻¹f). M u̇ = f is solved at run time (Eigen LDLT).
+// (q, q̇), ẋ = (q̇, M⁻¹f). Solve of M u̇ = f: identity (M = I, u̇ = f; no solve at
+// run time).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
 //   forcing                         241 ->      99 (12 temporaries)
 //   mass_matrix + forcing           241 ->      99 (12 temporaries)
 //   explicit rates                    0 ->       0 (0 temporaries)
+//   M u̇ = f solved                 241 ->      99 (12 temporaries)
 //   mass_matrix + jacobian terms     1736 ->     456 (39 temporaries)
+//   M⁻¹ (jacobian terms)           1736 ->     456 (39 temporaries)
 //   explicit rates jacobian           0 ->       0 (0 temporaries)
 //   invariants                        0 ->       0 (0 temporaries)
 //   events                            7 ->       7 (0 temporaries)
@@ -16,8 +19,6 @@
 
 #include <array>
 #include <cmath>
-#include <Eigen/Core>
-#include <Eigen/Cholesky>
 
 #if __has_include(<eomc/runtime/version.hpp>)
 #include <eomc/runtime/version.hpp>
@@ -114,27 +115,18 @@ struct LeoDrag {
     // ẋ = F(t, x).
     template <class S>
     static void rhs(S t, const S* x, S* dxdt, const Parameters& p) {
-        Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;
-        Eigen::Matrix<S, n_velocities, 1> f;
-        mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);
         explicit_rates_(t, x, dxdt, p);
-        Eigen::Map<Eigen::Matrix<S, n_velocities, 1>>(dxdt + velocity_offset) = M.ldlt().solve(f);
+        velocity_rates_(t, x, dxdt + velocity_offset, p);
     }
 
     // ∂ẋ/∂x, row-major n_state×n_state.
     template <class S>
     static void jacobian(S t, const S* x, S* out, const Parameters& p) {
-        Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;
-        Eigen::Matrix<S, n_velocities, 1> f;
-        mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);
-        const Eigen::Matrix<S, n_velocities, 1> acc = M.ldlt().solve(f);
-        Eigen::Matrix<S, n_velocities, n_state, Eigen::RowMajor> G;
-        mass_matrix_and_jacobian_terms_(t, x, acc.data(), M.data(), G.data(), p);
+        std::array<S, n_velocities> acc;
+        velocity_rates_(t, x, acc.data(), p);
         explicit_rates_jacobian_(t, x, out, p);
-        // d(M⁻¹f)/dx = M⁻¹ (∂f/∂x − (∂M/∂x) u̇)
-        const Eigen::Matrix<S, n_velocities, n_state, Eigen::RowMajor> lower = M.ldlt().solve(G);
-        for (int i = 0; i < n_velocities; ++i)
-            for (int j = 0; j < n_state; ++j) out[(velocity_offset + i) * n_state + j] = lower(i, j);
+        // d(M⁻¹f)/dx = M⁻¹ (∂f/∂x − (∂M/∂x) u̇): the velocity block's rows
+        velocity_jacobian_(t, x, acc.data(), out + velocity_offset * n_state, p);
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.
@@ -176,9 +168,10 @@ struct LeoDrag {
 
 
  private:
-    // M and f together: they share most of their subexpressions.
+    // u̇ = M⁻¹f to out[0 .. n_velocities): M and f together (they share most of their
+    // subexpressions), then the solve the banner names.
     template <class S>
-    static void mass_matrix_and_forcing_(S t, const S* x, S* out_M, S* out_f, const Parameters& p) {
+    static void velocity_rates_(S t, const S* x, S* out, const Parameters& p) {
         (void)t;
         using std::exp;
         using std::pow;
@@ -209,18 +202,9 @@ struct LeoDrag {
         const S w9 = S(1)/w2;
         const S w10 = S(-1) + S(3)*w1*w9;
         const S w11 = pow(w2, S(-7)/S(2));
-        out_M[0] = S(1);
-        out_M[1] = S(0);
-        out_M[2] = S(0);
-        out_M[3] = S(0);
-        out_M[4] = S(1);
-        out_M[5] = S(0);
-        out_M[6] = S(0);
-        out_M[7] = S(0);
-        out_M[8] = S(1);
-        out_f[0] = -mu*w6*x_ + S(3)*J2*mu*w1*w11*w7*x_ - S(500)*CdA_m*rho0*w0*w3*w5 + S(3)/S(2)*J2*mu*w10*w7*w8*x_;
-        out_f[1] = S(3)/S(2)*J2*mu*w10*w7*w8*y - S(500)*CdA_m*rho0*w3*w4*w5 + S(3)*J2*mu*w1*w11*w7*y - mu*w6*y;
-        out_f[2] = -S(3)*J2*mu*w6*w7*z*(w9 - w1/(w2*w2)) + S(3)/S(2)*J2*mu*w10*w7*w8*z - S(500)*CdA_m*rho0*w3*w5*z_dot - mu*w6*z;
+        out[0] = -mu*w6*x_ + S(3)*J2*mu*w1*w11*w7*x_ - S(500)*CdA_m*rho0*w0*w3*w5 + S(3)/S(2)*J2*mu*w10*w7*w8*x_;
+        out[1] = S(3)/S(2)*J2*mu*w10*w7*w8*y - S(500)*CdA_m*rho0*w3*w4*w5 + S(3)*J2*mu*w1*w11*w7*y - mu*w6*y;
+        out[2] = -S(3)*J2*mu*w6*w7*z*(w9 - w1/(w2*w2)) + S(3)/S(2)*J2*mu*w10*w7*w8*z - S(500)*CdA_m*rho0*w3*w5*z_dot - mu*w6*z;
     }
 
     // The rates given in closed form (everything outside the velocity block).
@@ -236,9 +220,9 @@ struct LeoDrag {
         dxdt[2] = z_dot;
     }
 
-    // M and G = ∂f/∂x − (∂M/∂x) u̇, with u̇ = acc, both row-major.
+    // M⁻¹G, G = ∂f/∂x − (∂M/∂x) u̇ with u̇ = acc, row-major n_velocities × n_state.
     template <class S>
-    static void mass_matrix_and_jacobian_terms_(S t, const S* x, const S* acc, S* out_M, S* out_G, const Parameters& p) {
+    static void velocity_jacobian_(S t, const S* x, const S* acc, S* out, const Parameters& p) {
         (void)t;
         (void)acc;
         using std::exp;
@@ -297,33 +281,24 @@ struct LeoDrag {
         const S w36 = S(1)/(w4*w4*w4);
         const S w37 = S(2)*w3*w36 - w30;
         const S w38 = z*z*z;
-        out_M[0] = S(1);
-        out_M[1] = S(0);
-        out_M[2] = S(0);
-        out_M[3] = S(0);
-        out_M[4] = S(1);
-        out_M[5] = S(0);
-        out_M[6] = S(0);
-        out_M[7] = S(0);
-        out_M[8] = S(1);
-        out_G[0] = S(3)*mu*w1*w5 + S(500)*w25 - S(30)*J2*mu*w0*w1*w13*w3 + S(500)*CdA_m*rho0*w14*w15*w16*w17*w23*x_ + S(3)/S(2)*w8 + S(3)*w12 - w10 - S(15)/S(2)*J2*mu*w0*w1*w11*w7;
-        out_G[1] = -S(30)*w28 + S(3)*w27 + S(500)*CdA_m*rho0*w14*w15*w16*w17*w23*y - S(500)*CdA_m*omega*rho0*w17*w19*w24 - S(15)/S(2)*w29 - S(500)*w26;
-        out_G[2] = S(1)/S(2)*z*(-S(42)*J2*mu*w0*w13*w3*x_ + S(12)*J2*mu*w0*w11*x_ + S(6)*mu*w5*x_ - S(15)*J2*mu*w0*w11*w7*x_ + S(1000)*CdA_m*rho0*w14*w15*w16*w17*w23 + S(18)*J2*mu*w0*w32*w5*x_);
-        out_G[3] = -S(500)*CdA_m*rho0*w17*(w23 + w19*w24);
-        out_G[4] = -S(500)*w33;
-        out_G[5] = -S(500)*w34;
-        out_G[6] = -S(30)*w28 + S(3)*w27 + S(500)*CdA_m*omega*rho0*w17*w21*w24 + S(500)*CdA_m*rho0*w14*w16*w17*w20*w23*x_ - S(15)/S(2)*w29 + S(500)*w26;
-        out_G[7] = -S(30)*J2*mu*w0*w13*w2*w3 + S(500)*CdA_m*rho0*w14*w16*w17*w20*w23*y - S(15)/S(2)*J2*mu*w0*w11*w2*w7 + S(3)*mu*w2*w5 + S(3)/S(2)*w8 + S(3)*w12 - w10 - S(500)*w25;
-        out_G[8] = S(1)/S(2)*z*(S(6)*mu*w5*y - S(15)*J2*mu*w0*w11*w7*y - S(42)*J2*mu*w0*w13*w3*y + S(12)*J2*mu*w0*w11*y + S(1000)*CdA_m*rho0*w14*w16*w17*w20*w23 + S(18)*J2*mu*w0*w32*w5*y);
-        out_G[9] = -S(500)*w33;
-        out_G[10] = -S(500)*CdA_m*rho0*w17*(w23 + w21*w24);
-        out_G[11] = -S(500)*w35;
-        out_G[12] = -S(9)*J2*mu*w0*w13*w38*x_ + S(500)*CdA_m*rho0*w14*w16*w17*w23*x_*z_dot - S(15)/S(2)*J2*mu*w0*w11*w7*x_*z + S(9)*J2*mu*w0*w32*w5*x_*z + S(3)*mu*w5*x_*z + S(500)*CdA_m*omega*rho0*w17*w20*w24*z_dot - S(6)*J2*mu*w0*w37*w9*x_*z;
-        out_G[13] = -S(15)/S(2)*J2*mu*w0*w11*w7*y*z - S(9)*J2*mu*w0*w13*w38*y + S(3)*mu*w5*y*z + S(500)*CdA_m*rho0*w14*w16*w17*w23*y*z_dot + S(9)*J2*mu*w0*w32*w5*y*z - S(500)*CdA_m*omega*rho0*w15*w17*w24*z_dot - S(6)*J2*mu*w0*w37*w9*y*z;
-        out_G[14] = S(18)*J2*mu*w0*w3*w32*w5 + S(3)*J2*mu*w0*w9*(-w6 + S(5)*w31 - S(4)*w36*z*z*z*z) + S(3)/S(2)*w8 + S(3)*mu*w3*w5 - S(15)/S(2)*J2*mu*w0*w11*w3*w7 - w10 + S(500)*CdA_m*rho0*w14*w16*w17*w23*z*z_dot;
-        out_G[15] = -S(500)*w34;
-        out_G[16] = -S(500)*w35;
-        out_G[17] = -S(500)*CdA_m*rho0*w17*(w23 + w18*w24);
+        out[0] = S(3)*mu*w1*w5 + S(500)*w25 - S(30)*J2*mu*w0*w1*w13*w3 + S(500)*CdA_m*rho0*w14*w15*w16*w17*w23*x_ + S(3)/S(2)*w8 + S(3)*w12 - w10 - S(15)/S(2)*J2*mu*w0*w1*w11*w7;
+        out[1] = -S(30)*w28 + S(3)*w27 + S(500)*CdA_m*rho0*w14*w15*w16*w17*w23*y - S(500)*CdA_m*omega*rho0*w17*w19*w24 - S(15)/S(2)*w29 - S(500)*w26;
+        out[2] = S(1)/S(2)*z*(-S(42)*J2*mu*w0*w13*w3*x_ + S(12)*J2*mu*w0*w11*x_ + S(6)*mu*w5*x_ - S(15)*J2*mu*w0*w11*w7*x_ + S(1000)*CdA_m*rho0*w14*w15*w16*w17*w23 + S(18)*J2*mu*w0*w32*w5*x_);
+        out[3] = -S(500)*CdA_m*rho0*w17*(w23 + w19*w24);
+        out[4] = -S(500)*w33;
+        out[5] = -S(500)*w34;
+        out[6] = -S(30)*w28 + S(3)*w27 + S(500)*CdA_m*omega*rho0*w17*w21*w24 + S(500)*CdA_m*rho0*w14*w16*w17*w20*w23*x_ - S(15)/S(2)*w29 + S(500)*w26;
+        out[7] = -S(30)*J2*mu*w0*w13*w2*w3 + S(500)*CdA_m*rho0*w14*w16*w17*w20*w23*y - S(15)/S(2)*J2*mu*w0*w11*w2*w7 + S(3)*mu*w2*w5 + S(3)/S(2)*w8 + S(3)*w12 - w10 - S(500)*w25;
+        out[8] = S(1)/S(2)*z*(S(6)*mu*w5*y - S(15)*J2*mu*w0*w11*w7*y - S(42)*J2*mu*w0*w13*w3*y + S(12)*J2*mu*w0*w11*y + S(1000)*CdA_m*rho0*w14*w16*w17*w20*w23 + S(18)*J2*mu*w0*w32*w5*y);
+        out[9] = -S(500)*w33;
+        out[10] = -S(500)*CdA_m*rho0*w17*(w23 + w21*w24);
+        out[11] = -S(500)*w35;
+        out[12] = -S(9)*J2*mu*w0*w13*w38*x_ + S(500)*CdA_m*rho0*w14*w16*w17*w23*x_*z_dot - S(15)/S(2)*J2*mu*w0*w11*w7*x_*z + S(9)*J2*mu*w0*w32*w5*x_*z + S(3)*mu*w5*x_*z + S(500)*CdA_m*omega*rho0*w17*w20*w24*z_dot - S(6)*J2*mu*w0*w37*w9*x_*z;
+        out[13] = -S(15)/S(2)*J2*mu*w0*w11*w7*y*z - S(9)*J2*mu*w0*w13*w38*y + S(3)*mu*w5*y*z + S(500)*CdA_m*rho0*w14*w16*w17*w23*y*z_dot + S(9)*J2*mu*w0*w32*w5*y*z - S(500)*CdA_m*omega*rho0*w15*w17*w24*z_dot - S(6)*J2*mu*w0*w37*w9*y*z;
+        out[14] = S(18)*J2*mu*w0*w3*w32*w5 + S(3)*J2*mu*w0*w9*(-w6 + S(5)*w31 - S(4)*w36*z*z*z*z) + S(3)/S(2)*w8 + S(3)*mu*w3*w5 - S(15)/S(2)*J2*mu*w0*w11*w3*w7 - w10 + S(500)*CdA_m*rho0*w14*w16*w17*w23*z*z_dot;
+        out[15] = -S(500)*w34;
+        out[16] = -S(500)*w35;
+        out[17] = -S(500)*CdA_m*rho0*w17*(w23 + w18*w24);
     }
 
     // The rows of ∂ẋ/∂x of the closed-form rates.

@@ -2,13 +2,16 @@
 // A low Earth orbit under the Earth's oblateness J2 (Cowell: Cartesian equations)
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 3 coordinates, as the first-order system x =
-// (q, q̇), ẋ = (q̇, M⁻¹f). M u̇ = f is solved at run time (Eigen LDLT).
+// (q, q̇), ẋ = (q̇, M⁻¹f). Solve of M u̇ = f: identity (M = I, u̇ = f; no solve at
+// run time).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
 //   forcing                         150 ->      44 (8 temporaries)
 //   mass_matrix + forcing           150 ->      44 (8 temporaries)
 //   explicit rates                    0 ->       0 (0 temporaries)
+//   M u̇ = f solved                 150 ->      44 (8 temporaries)
 //   mass_matrix + jacobian terms      796 ->     162 (25 temporaries)
+//   M⁻¹ (jacobian terms)            796 ->     162 (25 temporaries)
 //   explicit rates jacobian           0 ->       0 (0 temporaries)
 //   invariants                       42 ->      31 (2 temporaries)
 //   events                            7 ->       7 (0 temporaries)
@@ -16,8 +19,6 @@
 
 #include <array>
 #include <cmath>
-#include <Eigen/Core>
-#include <Eigen/Cholesky>
 
 #if __has_include(<eomc/runtime/version.hpp>)
 #include <eomc/runtime/version.hpp>
@@ -96,27 +97,18 @@ struct LeoJ2 {
     // ẋ = F(t, x).
     template <class S>
     static void rhs(S t, const S* x, S* dxdt, const Parameters& p) {
-        Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;
-        Eigen::Matrix<S, n_velocities, 1> f;
-        mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);
         explicit_rates_(t, x, dxdt, p);
-        Eigen::Map<Eigen::Matrix<S, n_velocities, 1>>(dxdt + velocity_offset) = M.ldlt().solve(f);
+        velocity_rates_(t, x, dxdt + velocity_offset, p);
     }
 
     // ∂ẋ/∂x, row-major n_state×n_state.
     template <class S>
     static void jacobian(S t, const S* x, S* out, const Parameters& p) {
-        Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;
-        Eigen::Matrix<S, n_velocities, 1> f;
-        mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);
-        const Eigen::Matrix<S, n_velocities, 1> acc = M.ldlt().solve(f);
-        Eigen::Matrix<S, n_velocities, n_state, Eigen::RowMajor> G;
-        mass_matrix_and_jacobian_terms_(t, x, acc.data(), M.data(), G.data(), p);
+        std::array<S, n_velocities> acc;
+        velocity_rates_(t, x, acc.data(), p);
         explicit_rates_jacobian_(t, x, out, p);
-        // d(M⁻¹f)/dx = M⁻¹ (∂f/∂x − (∂M/∂x) u̇)
-        const Eigen::Matrix<S, n_velocities, n_state, Eigen::RowMajor> lower = M.ldlt().solve(G);
-        for (int i = 0; i < n_velocities; ++i)
-            for (int j = 0; j < n_state; ++j) out[(velocity_offset + i) * n_state + j] = lower(i, j);
+        // d(M⁻¹f)/dx = M⁻¹ (∂f/∂x − (∂M/∂x) u̇): the velocity block's rows
+        velocity_jacobian_(t, x, acc.data(), out + velocity_offset * n_state, p);
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.
@@ -192,9 +184,10 @@ struct LeoJ2 {
 
 
  private:
-    // M and f together: they share most of their subexpressions.
+    // u̇ = M⁻¹f to out[0 .. n_velocities): M and f together (they share most of their
+    // subexpressions), then the solve the banner names.
     template <class S>
-    static void mass_matrix_and_forcing_(S t, const S* x, S* out_M, S* out_f, const Parameters& p) {
+    static void velocity_rates_(S t, const S* x, S* out, const Parameters& p) {
         (void)t;
         using std::pow;
         using std::sqrt;
@@ -212,18 +205,9 @@ struct LeoJ2 {
         const S w5 = S(1)/w1;
         const S w6 = J2*w4*(S(-1) + S(3)*w0*w5)/(pow(w1, S(5)/S(2)));
         const S w7 = w3 + S(3)*w6 + S(6)*J2*w0*w4/(pow(w1, S(7)/S(2)));
-        out_M[0] = S(1);
-        out_M[1] = S(0);
-        out_M[2] = S(0);
-        out_M[3] = S(0);
-        out_M[4] = S(1);
-        out_M[5] = S(0);
-        out_M[6] = S(0);
-        out_M[7] = S(0);
-        out_M[8] = S(1);
-        out_f[0] = S(1)/S(2)*mu*w7*x_;
-        out_f[1] = S(1)/S(2)*mu*w7*y;
-        out_f[2] = S(1)/S(2)*mu*z*(w3 + S(3)*w6 + S(6)*J2*w2*w4*(w0/(w1*w1) - w5));
+        out[0] = S(1)/S(2)*mu*w7*x_;
+        out[1] = S(1)/S(2)*mu*w7*y;
+        out[2] = S(1)/S(2)*mu*z*(w3 + S(3)*w6 + S(6)*J2*w2*w4*(w0/(w1*w1) - w5));
     }
 
     // The rates given in closed form (everything outside the velocity block).
@@ -239,9 +223,9 @@ struct LeoJ2 {
         dxdt[2] = z_dot;
     }
 
-    // M and G = ∂f/∂x − (∂M/∂x) u̇, with u̇ = acc, both row-major.
+    // M⁻¹G, G = ∂f/∂x − (∂M/∂x) u̇ with u̇ = acc, row-major n_velocities × n_state.
     template <class S>
-    static void mass_matrix_and_jacobian_terms_(S t, const S* x, const S* acc, S* out_M, S* out_G, const Parameters& p) {
+    static void velocity_jacobian_(S t, const S* x, const S* acc, S* out, const Parameters& p) {
         (void)t;
         (void)acc;
         using std::pow;
@@ -277,33 +261,24 @@ struct LeoJ2 {
         const S w22 = -S(2)*w4;
         const S w23 = S(1)/(w3*w3*w3);
         const S w24 = w14 + S(6)*w15 + S(6)*w20 + S(4)*J2*w4*w5*(S(2)*w2*w23 - w17) + S(5)*w13;
-        out_M[0] = S(1);
-        out_M[1] = S(0);
-        out_M[2] = S(0);
-        out_M[3] = S(0);
-        out_M[4] = S(1);
-        out_M[5] = S(0);
-        out_M[6] = S(0);
-        out_M[7] = S(0);
-        out_M[8] = S(1);
-        out_G[0] = -S(1)/S(2)*mu*(-S(3)*w10 + S(2)*w4 - S(6)*w0*w9 + S(15)*J2*w0*w5*w6*w8 + S(60)*J2*w0*w12*w2*w5 - S(6)*w11);
-        out_G[1] = -S(3)/S(2)*w16;
-        out_G[2] = -S(3)/S(2)*mu*w21*x_*z;
-        out_G[3] = S(0);
-        out_G[4] = S(0);
-        out_G[5] = S(0);
-        out_G[6] = -S(3)/S(2)*w16;
-        out_G[7] = -S(1)/S(2)*mu*(-S(3)*w10 + S(60)*J2*w1*w12*w2*w5 - S(6)*w1*w9 + S(15)*J2*w1*w5*w6*w8 - w22 - S(6)*w11);
-        out_G[8] = -S(3)/S(2)*mu*w21*y*z;
-        out_G[9] = S(0);
-        out_G[10] = S(0);
-        out_G[11] = S(0);
-        out_G[12] = -S(3)/S(2)*mu*w24*x_*z;
-        out_G[13] = -S(3)/S(2)*mu*w24*y*z;
-        out_G[14] = S(1)/S(2)*mu*(w22 + S(6)*w2*w9 + S(6)*J2*w4*w5*(-S(4)*w23*z*z*z*z + S(5)*w18 - w7) - S(15)*J2*w2*w5*w6*w8 - S(36)*J2*w19*w2*w5*w9 + S(3)*w10);
-        out_G[15] = S(0);
-        out_G[16] = S(0);
-        out_G[17] = S(0);
+        out[0] = -S(1)/S(2)*mu*(-S(3)*w10 + S(2)*w4 - S(6)*w0*w9 + S(15)*J2*w0*w5*w6*w8 + S(60)*J2*w0*w12*w2*w5 - S(6)*w11);
+        out[1] = -S(3)/S(2)*w16;
+        out[2] = -S(3)/S(2)*mu*w21*x_*z;
+        out[3] = S(0);
+        out[4] = S(0);
+        out[5] = S(0);
+        out[6] = -S(3)/S(2)*w16;
+        out[7] = -S(1)/S(2)*mu*(-S(3)*w10 + S(60)*J2*w1*w12*w2*w5 - S(6)*w1*w9 + S(15)*J2*w1*w5*w6*w8 - w22 - S(6)*w11);
+        out[8] = -S(3)/S(2)*mu*w21*y*z;
+        out[9] = S(0);
+        out[10] = S(0);
+        out[11] = S(0);
+        out[12] = -S(3)/S(2)*mu*w24*x_*z;
+        out[13] = -S(3)/S(2)*mu*w24*y*z;
+        out[14] = S(1)/S(2)*mu*(w22 + S(6)*w2*w9 + S(6)*J2*w4*w5*(-S(4)*w23*z*z*z*z + S(5)*w18 - w7) - S(15)*J2*w2*w5*w6*w8 - S(36)*J2*w19*w2*w5*w9 + S(3)*w10);
+        out[15] = S(0);
+        out[16] = S(0);
+        out[17] = S(0);
     }
 
     // The rows of ∂ẋ/∂x of the closed-form rates.

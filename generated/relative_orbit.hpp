@@ -2,13 +2,16 @@
 // Nonlinear relative motion near a circular orbit (carrier: the orbiting frame)
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 3 coordinates, as the first-order system x =
-// (q, q̇), ẋ = (q̇, M⁻¹f). M u̇ = f is solved at run time (Eigen LDLT).
+// (q, q̇), ẋ = (q̇, M⁻¹f). Solve of M u̇ = f: diagonal (u̇_k = f_k / M_kk). M is
+// constant (parameters only).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
 //   forcing                          69 ->      38 (4 temporaries)
 //   mass_matrix + forcing            69 ->      38 (4 temporaries)
 //   explicit rates                    0 ->       0 (0 temporaries)
+//   M u̇ = f solved                  75 ->      44 (7 temporaries)
 //   mass_matrix + jacobian terms      159 ->      51 (12 temporaries)
+//   M⁻¹ (jacobian terms)            173 ->      65 (26 temporaries)
 //   explicit rates jacobian           0 ->       0 (0 temporaries)
 //   invariants                       82 ->      49 (7 temporaries)
 //   outputs                         184 ->      79 (6 temporaries)
@@ -16,8 +19,6 @@
 
 #include <array>
 #include <cmath>
-#include <Eigen/Core>
-#include <Eigen/Cholesky>
 
 #if __has_include(<eomc/runtime/version.hpp>)
 #include <eomc/runtime/version.hpp>
@@ -93,27 +94,18 @@ struct RelativeOrbit {
     // ẋ = F(t, x).
     template <class S>
     static void rhs(S t, const S* x, S* dxdt, const Parameters& p) {
-        Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;
-        Eigen::Matrix<S, n_velocities, 1> f;
-        mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);
         explicit_rates_(t, x, dxdt, p);
-        Eigen::Map<Eigen::Matrix<S, n_velocities, 1>>(dxdt + velocity_offset) = M.ldlt().solve(f);
+        velocity_rates_(t, x, dxdt + velocity_offset, p);
     }
 
     // ∂ẋ/∂x, row-major n_state×n_state.
     template <class S>
     static void jacobian(S t, const S* x, S* out, const Parameters& p) {
-        Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;
-        Eigen::Matrix<S, n_velocities, 1> f;
-        mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);
-        const Eigen::Matrix<S, n_velocities, 1> acc = M.ldlt().solve(f);
-        Eigen::Matrix<S, n_velocities, n_state, Eigen::RowMajor> G;
-        mass_matrix_and_jacobian_terms_(t, x, acc.data(), M.data(), G.data(), p);
+        std::array<S, n_velocities> acc;
+        velocity_rates_(t, x, acc.data(), p);
         explicit_rates_jacobian_(t, x, out, p);
-        // d(M⁻¹f)/dx = M⁻¹ (∂f/∂x − (∂M/∂x) u̇)
-        const Eigen::Matrix<S, n_velocities, n_state, Eigen::RowMajor> lower = M.ldlt().solve(G);
-        for (int i = 0; i < n_velocities; ++i)
-            for (int j = 0; j < n_state; ++j) out[(velocity_offset + i) * n_state + j] = lower(i, j);
+        // d(M⁻¹f)/dx = M⁻¹ (∂f/∂x − (∂M/∂x) u̇): the velocity block's rows
+        velocity_jacobian_(t, x, acc.data(), out + velocity_offset * n_state, p);
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.
@@ -169,7 +161,7 @@ struct RelativeOrbit {
         out[0] = m*(x_ddot - w0*w3 - w0*y_dot);
         out[1] = m*(y_ddot + w0*x_dot - w0*w5);
         out[2] = m*z_ddot;
-        out[3] = -m*(-y_dot*z_dot + w0*(-w0*y*z + x_dot*z - x_*z_dot) + w0*x_dot*z + w3*z_dot - y*z_ddot + y_ddot*z - w1*z_dot);
+        out[3] = m*(y_dot*z_dot + y*z_ddot - w0*(-w0*y*z + x_dot*z - x_*z_dot) + w1*z_dot - w0*x_dot*z - y_ddot*z - w3*z_dot);
         out[4] = -m*(w5*z_dot + w0*(z*(w1 + w2) - y*z_dot + y_dot*z) + w0*y_dot*z - x_ddot*z + x_*z_ddot + x_dot*z_dot);
         out[5] = m*(x_dot*(w1 + y_dot + S(2)*w2) + y_dot*(S(2)*w4 - x_dot) + w1*w5 - x_ddot*y + x_*y_ddot);
     }
@@ -183,9 +175,10 @@ struct RelativeOrbit {
 
 
  private:
-    // M and f together: they share most of their subexpressions.
+    // u̇ = M⁻¹f to out[0 .. n_velocities): M and f together (they share most of their
+    // subexpressions), then the solve the banner names.
     template <class S>
-    static void mass_matrix_and_forcing_(S t, const S* x, S* out_M, S* out_f, const Parameters& p) {
+    static void velocity_rates_(S t, const S* x, S* out, const Parameters& p) {
         (void)t;
         using std::sqrt;
         const S x_ = x[0];
@@ -200,18 +193,12 @@ struct RelativeOrbit {
         const S w1 = S(1)/((w0*w0 + y*y + z*z)*sqrt(w0*w0 + y*y + z*z));
         const S w2 = S(1)/(a*a*a);
         const S w3 = sqrt(mu*w2);
-        out_M[0] = m;
-        out_M[1] = S(0);
-        out_M[2] = S(0);
-        out_M[3] = S(0);
-        out_M[4] = m;
-        out_M[5] = S(0);
-        out_M[6] = S(0);
-        out_M[7] = S(0);
-        out_M[8] = m;
-        out_f[0] = m*(-mu*w0*w1 + S(2)*w3*y_dot + w3*sqrt(mu/a) + mu*w2*x_);
-        out_f[1] = -m*(mu*w1*y - mu*w2*y + S(2)*w3*x_dot);
-        out_f[2] = -m*mu*w1*z;
+        const S w4 = m*(-mu*w0*w1 + S(2)*w3*y_dot + w3*sqrt(mu/a) + mu*w2*x_);
+        const S w5 = -m*(mu*w1*y - mu*w2*y + S(2)*w3*x_dot);
+        const S w6 = -m*mu*w1*z;
+        out[0] = w4/m;
+        out[1] = w5/m;
+        out[2] = w6/m;
     }
 
     // The rates given in closed form (everything outside the velocity block).
@@ -227,9 +214,9 @@ struct RelativeOrbit {
         dxdt[2] = z_dot;
     }
 
-    // M and G = ∂f/∂x − (∂M/∂x) u̇, with u̇ = acc, both row-major.
+    // M⁻¹G, G = ∂f/∂x − (∂M/∂x) u̇ with u̇ = acc, row-major n_velocities × n_state.
     template <class S>
-    static void mass_matrix_and_jacobian_terms_(S t, const S* x, const S* acc, S* out_M, S* out_G, const Parameters& p) {
+    static void velocity_jacobian_(S t, const S* x, const S* acc, S* out, const Parameters& p) {
         (void)t;
         (void)acc;
         using std::pow;
@@ -252,33 +239,38 @@ struct RelativeOrbit {
         const S w9 = m*mu*w1*w6*z;
         const S w10 = m*sqrt(mu*w0);
         const S w11 = m*mu*w6*y*z;
-        out_M[0] = m;
-        out_M[1] = S(0);
-        out_M[2] = S(0);
-        out_M[3] = S(0);
-        out_M[4] = m;
-        out_M[5] = S(0);
-        out_M[6] = S(0);
-        out_M[7] = S(0);
-        out_M[8] = m;
-        out_G[0] = -m*mu*(w7 - S(3)*w2*w6 - w0);
-        out_G[1] = S(3)*w8;
-        out_G[2] = S(3)*w9;
-        out_G[3] = S(0);
-        out_G[4] = S(2)*w10;
-        out_G[5] = S(0);
-        out_G[6] = S(3)*w8;
-        out_G[7] = -m*mu*(w7 - S(3)*w3*w6 - w0);
-        out_G[8] = S(3)*w11;
-        out_G[9] = -S(2)*w10;
-        out_G[10] = S(0);
-        out_G[11] = S(0);
-        out_G[12] = S(3)*w9;
-        out_G[13] = S(3)*w11;
-        out_G[14] = -m*mu*(w7 - S(3)*w4*w6);
-        out_G[15] = S(0);
-        out_G[16] = S(0);
-        out_G[17] = S(0);
+        const S w12 = -m*mu*(w7 - S(3)*w2*w6 - w0);
+        const S w13 = S(3)*w8;
+        const S w14 = S(3)*w9;
+        const S w15 = S(2)*w10;
+        const S w16 = S(3)*w8;
+        const S w17 = -m*mu*(w7 - S(3)*w3*w6 - w0);
+        const S w18 = S(3)*w11;
+        const S w19 = -S(2)*w10;
+        const S w20 = S(3)*w9;
+        const S w21 = S(3)*w11;
+        const S w22 = -m*mu*(w7 - S(3)*w4*w6);
+        const S w23 = S(1)/m;
+        const S w24 = S(1)/m;
+        const S w25 = S(1)/m;
+        out[0] = w12*w23;
+        out[1] = w13*w23;
+        out[2] = w14*w23;
+        out[3] = S(0);
+        out[4] = w15*w23;
+        out[5] = S(0);
+        out[6] = w16*w24;
+        out[7] = w17*w24;
+        out[8] = w18*w24;
+        out[9] = w19*w24;
+        out[10] = S(0);
+        out[11] = S(0);
+        out[12] = w20*w25;
+        out[13] = w21*w25;
+        out[14] = w22*w25;
+        out[15] = S(0);
+        out[16] = S(0);
+        out[17] = S(0);
     }
 
     // The rows of ∂ẋ/∂x of the closed-form rates.
