@@ -269,7 +269,7 @@ std::string describe(const SolvePlan& plan, std::size_t n_velocities) {
                                    return largest;
                                }(),
                                unrolled_limit) +
-                   constant;
+                   (plan.constant ? " M is constant, factored at run time all the same." : "");
     }
     return "";
 }

@@ -22,7 +22,7 @@
 namespace eomc::codegen {
 
 // The largest block solved in straight-line code (bench/RESULTS.md, "The solve of M u̇ = f").
-inline constexpr std::size_t unrolled_limit = 12;
+inline constexpr std::size_t unrolled_limit = 16;
 
 // The plan for the symmetric matrix M; `varying` are the symbols that make M non-constant (t
 // and the state). Throws EmitError when M is not symmetric or when a block of a numeric M has a
