@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "codegen/cpp_text.hpp"
+#include "codegen/solve_plan.hpp"
 #include "codegen/templates.hpp"
 #include "model/functions.hpp"
 #include "model/kepler_function.hpp"
@@ -537,6 +538,50 @@ Rates emit_controlled_rates(const KernelIR& ir, const LocalNames& names) {
     return r;
 }
 
+// rhs() and jacobian() with M u̇ = f solved in straight-line code (codegen/solve_plan.hpp): M, f
+// and the solve in one function, with no Eigen and no arrays for M.
+Rates emit_straight_line_rates(const KernelIR& ir, const LocalNames& names) {
+    const std::size_t N = ir.state.size(), nu = ir.n_velocities;
+    Rates r;
+    r.rhs = "explicit_rates_(t, x, dxdt, p);\n"
+            "velocity_rates_(t, x, dxdt + velocity_offset, p);";
+    r.jacobian = "std::array<S, n_velocities> acc;\n"
+                 "velocity_rates_(t, x, acc.data(), p);\n"
+                 "explicit_rates_jacobian_(t, x, out, p);\n"
+                 "// d(M⁻¹f)/dx = M⁻¹ (∂f/∂x − (∂M/∂x) u̇): the velocity block's rows\n"
+                 "velocity_jacobian_(t, x, acc.data(), out + velocity_offset * n_state, p);";
+    r.table = table_row("mass_matrix + forcing", ir.mass_and_forcing) + table_row("explicit rates", ir.explicit_rates) +
+              table_row("M u̇ = f solved", ir.solved_rates) +
+              table_row("mass_matrix + jacobian terms", ir.mass_and_jacobian_terms) +
+              table_row("M⁻¹ (jacobian terms)", ir.solved_jacobian_terms) +
+              table_row("explicit rates jacobian", ir.explicit_rates_jacobian);
+    std::vector<std::string> rates, rate_rows;
+    for (std::size_t i : ir.explicit_index) {
+        rates.push_back(fmt::format("dxdt[{}]", i));
+        for (std::size_t j = 0; j < N; ++j) rate_rows.push_back(fmt::format("out[{}]", i * N + j));
+    }
+    r.private_part = fmt::format(
+        "\n private:\n"
+        "    // u̇ = M⁻¹f to out[0 .. n_velocities): M and f together (they share most of their\n"
+        "    // subexpressions), then the solve the banner names.\n"
+        "    template <class S>\n"
+        "    static void velocity_rates_(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n\n"
+        "    // The rates given in closed form (everything outside the velocity block).\n"
+        "    template <class S>\n"
+        "    static void explicit_rates_(S t, const S* x, S* dxdt, const Parameters& p) {{\n{}\n    }}\n\n"
+        "    // M⁻¹G, G = ∂f/∂x − (∂M/∂x) u̇ with u̇ = acc, row-major n_velocities × n_state.\n"
+        "    template <class S>\n"
+        "    static void velocity_jacobian_(S t, const S* x, const S* acc, S* out, const Parameters& p) {{\n{}\n    }}\n\n"
+        "    // The rows of ∂ẋ/∂x of the closed-form rates.\n"
+        "    template <class S>\n"
+        "    static void explicit_rates_jacobian_(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n",
+        indent(function_body(ir, names, ir.solved_rates, indexed("out", nu)), 8),
+        indent(function_body(ir, names, ir.explicit_rates, rates), 8),
+        indent(function_body(ir, names, ir.solved_jacobian_terms, indexed("out", nu * N), {true}), 8),
+        indent(function_body(ir, names, ir.explicit_rates_jacobian, rate_rows), 8));
+    return r;
+}
+
 Rates emit_rates(const KernelIR& ir, const LocalNames& names) {
     const std::size_t N = ir.state.size(), nu = ir.n_velocities;
     Rates r;
@@ -549,7 +594,9 @@ Rates emit_rates(const KernelIR& ir, const LocalNames& names) {
                   (ir.has_jacobian ? table_row("jacobian", ir.jacobian_explicit) : std::string());
         return r;
     }
-    r.includes = "#include <Eigen/Core>\n#include <Eigen/Cholesky>\n";  // LDLT only: Dense would double the compile time
+    if (ir.solve_plan.method != SolvePlan::Method::eigen_llt) return emit_straight_line_rates(ir, names);
+    // Past unrolled_limit velocities in one block: Eigen's LLT (M is symmetric positive definite).
+    r.includes = "#include <limits>\n#include <Eigen/Core>\n#include <Eigen/Cholesky>\n";  // not Dense: twice the compile time
     // Fixed sizes keep small kernels off the heap; past 4096 entries in G a scalar of 16
     // bytes (float128) would near Eigen's 128 KiB limit on fixed-size objects, which is a
     // static assertion, so large systems use dynamic sizes.
@@ -562,18 +609,30 @@ Rates emit_rates(const KernelIR& ir, const LocalNames& names) {
     const std::string wide_type = fixed ? "Eigen::Matrix<S, n_velocities, n_state, Eigen::RowMajor>"
                                         : "Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>";
     const std::string wide_size = fixed ? "" : "(n_velocities, n_state)";
+    // A failed factorization (M not positive definite: singular where the coordinates fail) gives
+    // NaN, which the runtime's checker stops on, never a finite guess.
+    const std::string not_definite = "if (llt.info() != Eigen::Success) {\n"
+                                     "    for (int k = 0; k < n_velocities; ++k) dxdt[velocity_offset + k] = std::numeric_limits<S>::quiet_NaN();\n"
+                                     "    return;\n"
+                                     "}\n";
     r.rhs = square + column +
             "mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);\n"
             "explicit_rates_(t, x, dxdt, p);\n"
-            "Eigen::Map<" + vector_type + ">(dxdt + velocity_offset" + (fixed ? "" : ", n_velocities") + ") = M.ldlt().solve(f);";
+            "const auto llt = M.llt();\n" + not_definite +
+            "Eigen::Map<" + vector_type + ">(dxdt + velocity_offset" + (fixed ? "" : ", n_velocities") + ") = llt.solve(f);";
     r.jacobian = square + column +
                  "mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);\n"
-                 "const " + vector_type + " acc = M.ldlt().solve(f);\n" +
+                 "const auto llt = M.llt();\n"
+                 "if (llt.info() != Eigen::Success) {\n"
+                 "    for (int k = 0; k < n_state * n_state; ++k) out[k] = std::numeric_limits<S>::quiet_NaN();\n"
+                 "    return;\n"
+                 "}\n"
+                 "const " + vector_type + " acc = llt.solve(f);\n" +
                  wide_type + " G" + wide_size + ";\n"
                  "mass_matrix_and_jacobian_terms_(t, x, acc.data(), M.data(), G.data(), p);\n"
                  "explicit_rates_jacobian_(t, x, out, p);\n"
                  "// d(M⁻¹f)/dx = M⁻¹ (∂f/∂x − (∂M/∂x) u̇)\n"
-                 "const " + wide_type + " lower = M.ldlt().solve(G);\n"
+                 "const " + wide_type + " lower = llt.solve(G);\n"
                  "for (int i = 0; i < n_velocities; ++i)\n"
                  "    for (int j = 0; j < n_state; ++j) out[(velocity_offset + i) * n_state + j] = lower(i, j);";
     r.table = table_row("mass_matrix + forcing", ir.mass_and_forcing) + table_row("explicit rates", ir.explicit_rates);
@@ -1015,7 +1074,7 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
                                    : !ir.program_names.empty()
                                        ? "M u̇ = f + D λ, Ā u̇ = c is solved at run time (runtime/program/control.hpp)."
                                    : ir.explicit_solution ? "u̇ is solved in closed form (n_velocities ≤ 2)."
-                                                        : "M u̇ = f is solved at run time (Eigen LDLT).";
+                                                        : describe(ir.solve_plan, nu);
     const std::string jacobian_note = ir.has_jacobian ? "jacobian() gives ∂ẋ/∂x."
                                                       : "No jacobian() (eomc generate --jacobian adds it).";
     const std::vector<std::pair<std::string, std::string>> fields{

@@ -46,6 +46,23 @@ struct RectificationIR {
     Block reference;  // 7 outputs: ρ (3), ρ̇ (3), μ
 };
 
+// How rhs() and jacobian() solve M u̇ = f, decided at generation time from M's structure
+// (codegen/solve_plan.hpp).
+struct SolvePlan {
+    enum class Method {
+        none,            // nothing to solve here: no velocity block, closed form, or the runtime's solvers
+        identity,        // M = I: u̇ = f
+        diagonal,        // u̇_k = f_k / M_kk
+        block_diagonal,  // M decouples into blocks, each an unrolled LDLᵀ (or a division)
+        unrolled_ldlt,   // one dense block: LDLᵀ unrolled into straight-line code
+        eigen_llt,       // past unrolled_limit velocities: Eigen's LLT at run time
+    };
+    Method method = Method::none;
+    bool constant = false;  // M depends on numbers and parameters only (not on t or the state)
+    bool numeric = false;   // M's entries are numbers: the factors are computed at generation time
+    std::vector<std::vector<std::size_t>> blocks;  // the velocities each block couples, ascending
+};
+
 struct KernelIR {
     std::string scene_name, struct_name, summary, source;
     std::string description;                 // what the state and the equations are (banner)
@@ -75,6 +92,9 @@ struct KernelIR {
     Block explicit_rates;            // otherwise: those rates
     Block explicit_rates_jacobian;   // otherwise: their rows of ∂ẋ/∂x, |explicit_index| × n_state
     Block mass_and_jacobian_terms;   // otherwise: M, then G = ∂f/∂x − (∂M/∂x)·u̇, n_velocities × n_state
+    SolvePlan solve_plan;            // otherwise: how M u̇ = f is solved
+    Block solved_rates;              // straight-line plans: mass_and_forcing, then u̇ = M⁻¹f (n_velocities outputs)
+    Block solved_jacobian_terms;     // straight-line plans: mass_and_jacobian_terms, then M⁻¹G (n_velocities × n_state)
     Block invariants;                // one output per invariant
     Block outputs;                   // one per output, functions of (t, x, u̇)
 

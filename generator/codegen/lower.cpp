@@ -9,6 +9,8 @@
 
 #include "codegen/cpp_text.hpp"
 #include "codegen/kernel_ir.hpp"
+#include "codegen/solve_plan.hpp"
+#include "symbolic/differentiation.hpp"
 #include "symbolic/gradient.hpp"
 
 namespace eomc::codegen {
@@ -43,6 +45,19 @@ std::vector<ex> solve_explicitly(const GiNaC::matrix& M, const std::vector<ex>& 
 }
 
 const GiNaC::symbol& as_symbol(const ex& e) { return GiNaC::ex_to<GiNaC::symbol>(e); }
+
+// How rhs and jacobian solve M u̇ = f, from M's structure (codegen/solve_plan.hpp), and the
+// straight-line solve appended to the blocks they evaluate (M and f; M and G).
+void lower_solve(KernelIR& ir, const GiNaC::matrix& M, const std::string& prefix) {
+    std::vector<ex> varying{ir.t};
+    for (const auto& s : ir.state) varying.push_back(s.symbol);
+    ir.solve_plan = plan_solve(M, varying);
+    if (ir.solve_plan.method == SolvePlan::Method::eigen_llt) return;
+    ir.solved_rates = solve_block(ir.mass_and_forcing, ir.solve_plan, ir.n_velocities, 1, prefix);
+    if (!ir.mass_and_jacobian_terms.outputs.empty())
+        ir.solved_jacobian_terms =
+            solve_block(ir.mass_and_jacobian_terms, ir.solve_plan, ir.n_velocities, ir.state.size(), prefix);
+}
 
 // The constraint rows' blocks: M, f, W and r = −bias − stabilisation CSE'd together (what rhs
 // evaluates), the residuals f and φ, and W alone (what project() evaluates). Baumgarte's
@@ -282,6 +297,8 @@ KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form,
         }
         ir.mass_and_jacobian_terms = eliminate_common_subexpressions(terms, prefix);
     }
+    if (!ir.explicit_solution && form.constraints.empty() && form.programs.empty() && nu > 0)
+        lower_solve(ir, form.mass_matrix, prefix);
     t.jacobian = lap();
 
     std::vector<ex> invariants;

@@ -1,7 +1,7 @@
 // The generated `jacobian` of every bundled kernel (n ≤ 2: q̈ solved in closed form) and of a
-// 4-link pendulum generated at build time (n > 2: M q̈ = f solved with Eigen's LDLT at run time,
-// J from G = ∂f/∂x − (∂M/∂x)·q̈) against central finite differences of the generated `rhs`, at
-// random states.
+// 4-link pendulum generated at build time (n > 2: M q̈ = f solved by the unrolled LDLᵀ of
+// codegen/solve_plan.hpp, J from G = ∂f/∂x − (∂M/∂x)·q̈) against central finite differences of
+// the generated `rhs`, at random states.
 //
 // Bound. Everything is evaluated in long double (the kernels are templated on the scalar), so
 // round-off is ~1e-19 relative and the truncation error of the central difference dominates:

@@ -1,0 +1,38 @@
+#!/bin/sh
+# The solve of M u̇ = f before and after codegen/solve_plan: for each checked-in kernel whose
+# solve changed, the header as committed at BASE (git show) against generated/ now, side by side
+# in one process (bench/solve_timing.cpp: rates checked to agree, then rhs per call, paired), and
+# the g++ -O2 CPU time of a translation unit that includes the kernel and calls rhs (what a
+# kernel costs `eomc simulate` to compile, less the adapter), before and after.
+#
+# usage: bench/run_solve_bench.sh BASE [OUT_DIR]      (run from the repository root)
+# Prints a markdown table; the headers and binaries stay in OUT_DIR (default /tmp/eomc_solve_bench).
+set -eu
+base=$1
+out=${2:-/tmp/eomc_solve_bench}
+mkdir -p "$out/before" "$out/after"
+flags="-O2 -std=c++20 -ffp-contract=off -Iruntime/include -I/usr/include/eigen3"
+echo "| kernel | solve now | rhs before, median (min) ns | rhs after, median (min) ns | before / after (paired median) | max rel. diff of rates | compile CPU before (s) | compile CPU after (s) |"
+echo "|---|---|---:|---:|---:|---:|---:|---:|"
+# kernel:struct:the solve its banner names now
+for entry in leo_j2:LeoJ2:identity leo_drag:LeoDrag:identity damped_particle:DampedParticle:diagonal \
+             free_disk_tube_ball:FreeDiskTubeBall:diagonal static_imbalance_gyroscope:StaticImbalanceGyroscope:block-diagonal; do
+    name=$(echo "$entry" | cut -d: -f1)
+    struct=$(echo "$entry" | cut -d: -f2)
+    path=$(echo "$entry" | cut -d: -f3)
+    # The banner as one line (the emitter wraps it).
+    sed -n '/^#pragma once/q; s|^// *||p' "generated/$name.hpp" | tr '\n' ' ' | grep -q "Solve of M u̇ = f: $path" || { echo "generated/$name.hpp: the banner does not say $path" >&2; exit 1; }
+    git show "$base:generated/$name.hpp" > "$out/before/$name.hpp"
+    cp "generated/$name.hpp" "$out/after/$name.hpp"
+    g++ $flags -I"$out" -DBEFORE_HEADER="\"before/$name.hpp\"" -DAFTER_HEADER="\"after/$name.hpp\"" -DMODEL="$struct" \
+        bench/solve_timing.cpp -o "$out/solve_timing_$name"
+    "$out/solve_timing_$name" > "$out/$name.txt"
+    value() { sed -n "s/^$1 //p" "$out/$name.txt"; }
+    for side in before after; do
+        printf '#include "%s.hpp"\ndouble call_rhs(const double* x, double* dx) {\n    eomc::models::%s::rhs(0.0, x, dx, eomc::models::%s::Parameters{});\n    return dx[0];\n}\n' \
+            "$name" "$struct" "$struct" > "$out/$side/tu_$name.cpp"
+        /usr/bin/time -f "%U %S" -o "$out/$side/time_$name" g++ $flags -I"$out/$side" -c "$out/$side/tu_$name.cpp" -o /dev/null
+    done
+    cpu() { awk '{printf "%.2f", $1 + $2}' "$out/$1/time_$name"; }
+    echo "| $name | $path | $(value before_rhs_ns) ($(value before_rhs_min_ns)) | $(value after_rhs_ns) ($(value after_rhs_min_ns)) | $(value paired_ratio)× | $(value rel_diff_rates) | $(cpu before) | $(cpu after) |"
+done

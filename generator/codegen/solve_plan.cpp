@@ -1,0 +1,277 @@
+#include "codegen/solve_plan.hpp"
+
+#include <algorithm>
+#include <map>
+#include <numeric>
+#include <set>
+
+#include <fmt/format.h>
+
+#include "codegen/cpp_text.hpp"
+
+namespace eomc::codegen {
+
+using GiNaC::ex;
+
+namespace {
+
+bool depends_on(const ex& e, const std::vector<ex>& symbols) {
+    return std::any_of(symbols.begin(), symbols.end(), [&](const ex& s) { return e.has(s); });
+}
+
+// The velocities coupled through nonzero entries of M: connected components of its graph,
+// each ascending, ordered by their first velocity.
+std::vector<std::vector<std::size_t>> coupled_blocks(const GiNaC::matrix& M) {
+    const std::size_t n = M.rows();
+    std::vector<std::size_t> root(n);
+    std::iota(root.begin(), root.end(), 0);
+    const auto find = [&](std::size_t i) {
+        while (root[i] != i) i = root[i] = root[root[i]];
+        return i;
+    };
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = 0; j < i; ++j)
+            if (!M(unsigned(i), unsigned(j)).is_zero()) root[find(i)] = find(j);
+    std::map<std::size_t, std::vector<std::size_t>> by_root;
+    for (std::size_t i = 0; i < n; ++i) by_root[find(i)].push_back(i);
+    std::vector<std::vector<std::size_t>> blocks;
+    for (auto& [r, members] : by_root) blocks.push_back(std::move(members));
+    std::sort(blocks.begin(), blocks.end());
+    return blocks;
+}
+
+// Straight-line code under construction: the temporaries of a block, extended one value at a time.
+class StraightLine {
+public:
+    StraightLine(Block block, const std::string& prefix) : block_(std::move(block)), prefix_(prefix) {}
+
+    // A number or a symbol as it is; anything else becomes the next temporary.
+    ex name(const ex& value) {
+        if (GiNaC::is_a<GiNaC::numeric>(value) || GiNaC::is_a<GiNaC::symbol>(value)) return value;
+        GiNaC::symbol w(prefix_ + std::to_string(block_.temporaries.size()));
+        block_.temporaries.push_back({w, value});
+        return w;
+    }
+    std::size_t size() const { return block_.temporaries.size(); }
+    Block& block() { return block_; }
+
+private:
+    Block block_;
+    std::string prefix_;
+};
+
+void collect_symbols(const ex& e, std::set<ex, GiNaC::ex_is_less>& out) {
+    if (GiNaC::is_a<GiNaC::symbol>(e)) {
+        out.insert(e);
+        return;
+    }
+    for (std::size_t i = 0; i < e.nops(); ++i) collect_symbols(e.op(i), out);
+}
+
+// Drops the temporaries no output reaches (M's, when the solve needs none of M: identity), which
+// would otherwise be unused variables in the emitted code.
+void prune(Block& block) {
+    std::set<ex, GiNaC::ex_is_less> needed;
+    for (const ex& o : block.outputs) collect_symbols(o, needed);
+    std::vector<Temporary> kept;
+    for (auto it = block.temporaries.rbegin(); it != block.temporaries.rend(); ++it) {
+        if (!needed.count(it->symbol)) continue;
+        collect_symbols(it->value, needed);
+        kept.push_back(*it);
+    }
+    block.temporaries.assign(kept.rbegin(), kept.rend());
+}
+
+// X = A⁻¹B for one block A = M[idx, idx] of size s ≥ 2, by A = L D Lᵀ (L unit lower triangular):
+// with E_ij = L_ij d_j, for j = 0 … s−1
+//     d_j  = a_jj − Σ_{k<j} E_jk L_jk,    E_ij = a_ij − Σ_{k<j} E_ik L_jk,    L_ij = E_ij / d_j  (i > j),
+// then L y = b, z = D⁻¹ y, Lᵀ x = z per column (Golub, Van Loan, Matrix Computations, 4th ed.,
+// Alg. 4.1.2, with the products E = L D kept so that each multiplies once). Without pivoting: A is
+// positive definite, so every d_j > 0 and the factorization is backward stable (Higham, Accuracy
+// and Stability of Numerical Algorithms, 2nd ed., Thm. 10.3 for Cholesky; LDLᵀ is the same
+// arithmetic with the square roots moved into D). A zero d_j at run time (M singular) divides by
+// zero: the rates become inf or NaN, which the runtime's checker stops on, never a finite guess.
+void solve_dense(StraightLine& code, const std::vector<std::size_t>& idx, const std::vector<std::vector<ex>>& a,
+                 const std::vector<std::vector<ex>>& b, std::vector<std::vector<ex>>& x) {
+    const std::size_t s = idx.size(), columns = b.empty() ? 0 : b[0].size();
+    std::vector<std::vector<ex>> E(s, std::vector<ex>(s, 0)), L(s, std::vector<ex>(s, 0));
+    std::vector<ex> inverse_d(s);
+    for (std::size_t j = 0; j < s; ++j) {
+        ex d = a[j][j];
+        for (std::size_t k = 0; k < j; ++k) d -= E[j][k] * L[j][k];
+        if (d.is_zero())
+            throw EmitError(fmt::format("the mass matrix has a zero pivot at velocity {} (it is singular, or indefinite "
+                                        "so that LDLᵀ needs pivoting): M must be positive definite",
+                                        idx[j]));
+        inverse_d[j] = code.name(GiNaC::pow(code.name(d), -1));
+        for (std::size_t i = j + 1; i < s; ++i) {
+            ex e = a[i][j];
+            for (std::size_t k = 0; k < j; ++k) e -= E[i][k] * L[j][k];
+            E[i][j] = code.name(e);
+            L[i][j] = code.name(E[i][j] * inverse_d[j]);
+        }
+    }
+    for (std::size_t c = 0; c < columns; ++c) {
+        std::vector<ex> y(s);
+        for (std::size_t i = 0; i < s; ++i) {
+            ex v = b[i][c];
+            for (std::size_t k = 0; k < i; ++k) v -= L[i][k] * y[k];
+            y[i] = code.name(v);
+        }
+        for (std::size_t i = s; i-- > 0;) {
+            ex v = y[i] * inverse_d[i];
+            for (std::size_t k = i + 1; k < s; ++k) v -= L[k][i] * x[idx[k]][c];
+            x[idx[i]][c] = i > 0 ? code.name(v) : v;  // x of the block's first velocity is read by no other
+        }
+    }
+}
+
+}  // namespace
+
+SolvePlan plan_solve(const GiNaC::matrix& M, const std::vector<ex>& varying) {
+    const std::size_t n = M.rows();
+    SolvePlan plan;
+    if (n == 0) return plan;
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = 0; j < i; ++j) {
+            const ex& lower = M(unsigned(i), unsigned(j));
+            const ex& upper = M(unsigned(j), unsigned(i));
+            if (!lower.is_equal(upper) && !(lower - upper).expand().is_zero())
+                throw EmitError(fmt::format("the mass matrix is not symmetric (entries ({0}, {1}) and ({1}, {0}) differ): "
+                                            "M u̇ = f needs the symmetric M of a kinetic energy",
+                                            i, j));
+        }
+    plan.constant = true;
+    plan.numeric = true;
+    bool identity = true;
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = 0; j < n; ++j) {
+            const ex& e = M(unsigned(i), unsigned(j));
+            plan.constant = plan.constant && !depends_on(e, varying);
+            plan.numeric = plan.numeric && GiNaC::is_a<GiNaC::numeric>(e);
+            identity = identity && e.is_equal(i == j ? ex(1) : ex(0));
+        }
+    plan.blocks = coupled_blocks(M);
+    std::size_t largest = 0;
+    for (const auto& b : plan.blocks) largest = std::max(largest, b.size());
+    using Method = SolvePlan::Method;
+    plan.method = identity                         ? Method::identity
+                  : largest == 1                   ? Method::diagonal
+                  : largest > unrolled_limit       ? Method::eigen_llt
+                  : plan.blocks.size() > 1         ? Method::block_diagonal
+                                                   : Method::unrolled_ldlt;
+    // A numeric M is factored here: a zero pivot is known now.
+    if (plan.numeric && plan.method != Method::eigen_llt) {
+        Block probe;
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t j = 0; j < n; ++j) probe.outputs.push_back(M(unsigned(i), unsigned(j)));
+        for (std::size_t i = 0; i < n; ++i) probe.outputs.push_back(0);
+        solve_block(probe, plan, n, 1, "probe");
+    }
+    return plan;
+}
+
+Block solve_block(const Block& system, const SolvePlan& plan, std::size_t n, std::size_t columns,
+                  const std::string& prefix) {
+    using Method = SolvePlan::Method;
+    if (plan.method == Method::none || plan.method == Method::eigen_llt)
+        throw std::logic_error("solve_block: no straight-line solve for this plan");
+    if (system.outputs.size() != n * n + n * columns)
+        throw std::logic_error("solve_block: the system has " + std::to_string(system.outputs.size()) +
+                               " outputs for M and " + std::to_string(columns) + " right-hand sides of size " +
+                               std::to_string(n));
+    Block bare = system;
+    bare.outputs.clear();
+    StraightLine code(std::move(bare), prefix);
+    const auto m = [&](std::size_t i, std::size_t j) { return system.outputs[i * n + j]; };
+    const auto rhs = [&](std::size_t i, std::size_t c) { return system.outputs[n * n + i * columns + c]; };
+    std::vector<std::vector<ex>> x(n, std::vector<ex>(columns));
+
+    std::size_t solve_ops = 0;
+    if (plan.method == Method::identity) {
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t c = 0; c < columns; ++c) x[i][c] = rhs(i, c);
+    } else {
+        // What the solve reads becomes a temporary first, so that its operations stay M's and B's.
+        std::vector<std::vector<ex>> a(n, std::vector<ex>(n)), b(n, std::vector<ex>(columns));
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t c = 0; c < columns; ++c) b[i][c] = code.name(rhs(i, c));
+        for (const auto& block : plan.blocks)
+            for (std::size_t r = 0; r < block.size(); ++r)
+                for (std::size_t s = 0; s <= r; ++s) a[block[r]][block[s]] = code.name(m(block[r], block[s]));
+        const std::size_t first = code.size();
+        for (const auto& block : plan.blocks) {
+            if (block.size() == 1) {
+                const std::size_t i = block[0];
+                if (a[i][i].is_zero())
+                    throw EmitError(fmt::format("the mass matrix is singular: its diagonal entry {0} is zero and row {0} "
+                                                "has no other entry",
+                                                i));
+                // One division per entry; several right-hand sides share one reciprocal.
+                const ex scale = columns > 1 ? code.name(GiNaC::pow(a[i][i], -1)) : GiNaC::pow(a[i][i], -1);
+                for (std::size_t c = 0; c < columns; ++c) x[i][c] = b[i][c] * scale;
+                continue;
+            }
+            std::vector<std::vector<ex>> ab(block.size(), std::vector<ex>(block.size())), bb;
+            for (std::size_t r = 0; r < block.size(); ++r) {
+                for (std::size_t s = 0; s <= r; ++s) ab[r][s] = a[block[r]][block[s]];
+                bb.push_back(b[block[r]]);
+            }
+            solve_dense(code, block, ab, bb, x);
+        }
+        for (std::size_t k = first; k < code.size(); ++k) solve_ops += count_operations(code.block().temporaries[k].value);
+    }
+    Block& out = code.block();
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t c = 0; c < columns; ++c) {
+            out.outputs.push_back(x[i][c]);
+            if (plan.method != Method::identity) solve_ops += count_operations(x[i][c]);
+        }
+    prune(out);
+    out.ops_before = system.ops_before + solve_ops;
+    out.ops_after = 0;
+    for (const auto& t : out.temporaries) out.ops_after += count_operations(t.value);
+    for (const ex& e : out.outputs) out.ops_after += count_operations(e);
+    return std::move(out);
+}
+
+std::string describe(const SolvePlan& plan, std::size_t n_velocities) {
+    using Method = SolvePlan::Method;
+    std::string blocks;
+    for (const auto& b : plan.blocks) {
+        if (b.size() < 2) continue;
+        std::string members;
+        for (std::size_t i : b) members += (members.empty() ? "" : ", ") + std::to_string(i);
+        blocks += (blocks.empty() ? "" : ", ") + ("{" + members + "}");
+    }
+    const std::string constant = plan.numeric    ? " M is constant (numbers only): its factors were computed at generation time."
+                                 : plan.constant ? " M is constant (parameters only)."
+                                                 : "";
+    switch (plan.method) {
+        case Method::none:
+            return "";
+        case Method::identity:
+            return "Solve of M u̇ = f: identity (M = I, u̇ = f; no solve at run time).";
+        case Method::diagonal:
+            return "Solve of M u̇ = f: diagonal (u̇_k = f_k / M_kk)." + constant;
+        case Method::block_diagonal:
+            return "Solve of M u̇ = f: block-diagonal (blocks " + blocks +
+                   " by unrolled LDLᵀ in straight-line code, the other velocities by division)." + constant;
+        case Method::unrolled_ldlt:
+            return fmt::format("Solve of M u̇ = f: unrolled LDLᵀ in straight-line code (n_velocities = {} ≤ {}).",
+                               n_velocities, unrolled_limit) +
+                   constant;
+        case Method::eigen_llt:
+            return fmt::format("Solve of M u̇ = f: Eigen LLT at run time (a block of {} velocities > {}).",
+                               [&] {
+                                   std::size_t largest = 0;
+                                   for (const auto& b : plan.blocks) largest = std::max(largest, b.size());
+                                   return largest;
+                               }(),
+                               unrolled_limit) +
+                   (plan.constant ? " M is constant, factored at run time all the same." : "");
+    }
+    return "";
+}
+
+}  // namespace eomc::codegen

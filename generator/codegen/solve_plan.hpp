@@ -1,0 +1,42 @@
+// The solve of M u̇ = f, chosen at generation time from M's symbolic structure.
+//
+// M is symmetric positive definite (a kinetic energy's Hessian), often sparse and often
+// constant: Cowell's orbit has M = I, a system of particles a constant diagonal M. Instead of
+// factoring M with Eigen at every call, the plan splits M into the blocks it couples and
+// solves each where it can in straight-line code over the kernel's scalar:
+//   identity         u̇ = f, no solve;
+//   one velocity     u̇_k = f_k / M_kk;
+//   a dense block    LDLᵀ without pivoting, unrolled (exact arithmetic folds numbers, so a
+//                    numeric M is factored at generation time);
+//   past unrolled_limit velocities in one block: Eigen's LLT at run time.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include <ginac/ginac.h>
+
+#include "codegen/kernel_ir.hpp"
+
+namespace eomc::codegen {
+
+// The largest block solved in straight-line code (bench/RESULTS.md, "The solve of M u̇ = f").
+inline constexpr std::size_t unrolled_limit = 16;
+
+// The plan for the symmetric matrix M; `varying` are the symbols that make M non-constant (t
+// and the state). Throws EmitError when M is not symmetric or when a block of a numeric M has a
+// zero pivot (M singular, or indefinite so that LDLᵀ needs pivoting).
+SolvePlan plan_solve(const GiNaC::matrix& M, const std::vector<GiNaC::ex>& varying);
+
+// `system` computes M (n × n, row-major) then the right-hand sides B (n × columns, row-major) as
+// its outputs; the result computes X = M⁻¹B (n × columns, row-major) in straight-line code: the
+// system's temporaries (those the solve reads), then the factors' and the substitutions'. For
+// every method but eigen_llt. Temporaries continue system's numbering with `prefix`.
+Block solve_block(const Block& system, const SolvePlan& plan, std::size_t n, std::size_t columns,
+                  const std::string& prefix);
+
+// The plan in words, for the kernel's banner ("M u̇ = f is solved …").
+std::string describe(const SolvePlan& plan, std::size_t n_velocities);
+
+}  // namespace eomc::codegen

@@ -1,0 +1,323 @@
+// The solve of M u̇ = f planned from M's structure (codegen/solve_plan.hpp): which path each
+// structure gets, what the banner calls it, and the straight-line solve's values.
+//
+// Exact: with rational entries GiNaC's arithmetic is exact, so the straight-line solve of a
+// random symmetric positive definite M must give M⁻¹B exactly (GiNaC's matrix inverse as the
+// reference).
+//
+// Double: the same straight-line code evaluated in IEEE double (GiNaC's double-floats: every
+// operation rounded to double) against Eigen's LLT on the same double M and B. Both are backward
+// stable: the computed x̂ solves (M + ΔM) x̂ = b with ‖ΔM‖₂ ≤ n γ_{3n+1} ‖M‖₂, γ_k = k u/(1 − k u)
+// (Higham, Accuracy and Stability of Numerical Algorithms, 2nd ed., Thm. 10.4 with
+// ‖|Rᵀ||R|‖₂ ≤ n ‖M‖₂; LDLᵀ is the same arithmetic with the square roots moved into D). Each
+// is then within κ₂ ε/(1 − κ₂ ε) ≤ 2 κ₂ ε of the exact solution when ε = n γ_{3n+1} and
+// κ₂ ε ≤ 1/2, so the two differ by at most 4 κ₂ n γ_{3n+1} relative to ‖x‖₂, column by column.
+#define BOOST_TEST_MODULE codegen_solve_plan
+#include <boost/test/unit_test.hpp>
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <Eigen/Eigenvalues>
+
+#include "codegen/cpp_text.hpp"
+#include "codegen/kernel_ir.hpp"
+#include "codegen/solve_plan.hpp"
+
+using namespace eomc;
+using GiNaC::ex;
+using Method = codegen::SolvePlan::Method;
+
+namespace {
+
+// A symmetric positive definite matrix with the given blocks (velocity index sets): within a
+// block M = G Gᵀ + I over random integers G in [1, 3] (so that every entry of a block is
+// nonzero: the block is coupled), zero between blocks.
+GiNaC::matrix random_spd(std::size_t n, const std::vector<std::vector<std::size_t>>& blocks, std::mt19937& gen) {
+    std::uniform_int_distribution<int> entry(1, 3);
+    GiNaC::matrix M{unsigned(n), unsigned(n)};
+    for (const auto& b : blocks) {
+        const std::size_t s = b.size();
+        std::vector<std::vector<int>> G(s, std::vector<int>(s));
+        for (auto& row : G)
+            for (int& v : row) v = entry(gen);
+        for (std::size_t i = 0; i < s; ++i)
+            for (std::size_t j = 0; j < s; ++j) {
+                int v = i == j ? 1 : 0;
+                for (std::size_t k = 0; k < s; ++k) v += G[i][k] * G[j][k];
+                M(unsigned(b[i]), unsigned(b[j])) = v;
+            }
+    }
+    return M;
+}
+
+std::vector<std::vector<std::size_t>> one_block(std::size_t n) {
+    std::vector<std::size_t> all(n);
+    for (std::size_t i = 0; i < n; ++i) all[i] = i;
+    return {all};
+}
+
+// The system block of the solve: M's entries as symbols m_i_j (the same symbol for (i, j) and
+// (j, i): M is symmetric), zero where M is, then B's as symbols b_i_c.
+struct SymbolicSystem {
+    codegen::Block block;
+    GiNaC::matrix M;  // over the m symbols
+    std::vector<std::vector<GiNaC::symbol>> m, b;
+};
+
+SymbolicSystem symbolic_system(const GiNaC::matrix& pattern, std::size_t columns) {
+    const std::size_t n = pattern.rows();
+    SymbolicSystem s{{}, GiNaC::matrix(unsigned(n), unsigned(n)), {}, {}};
+    s.m.assign(n, std::vector<GiNaC::symbol>(n));
+    s.b.assign(n, std::vector<GiNaC::symbol>(columns));
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = 0; j <= i; ++j) {
+            s.m[i][j] = s.m[j][i] = GiNaC::symbol("m_" + std::to_string(i) + "_" + std::to_string(j));
+            const ex entry = pattern(unsigned(i), unsigned(j)).is_zero() ? ex(0) : ex(s.m[i][j]);
+            s.M(unsigned(i), unsigned(j)) = s.M(unsigned(j), unsigned(i)) = entry;
+        }
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = 0; j < n; ++j) s.block.outputs.push_back(s.M(unsigned(i), unsigned(j)));
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t c = 0; c < columns; ++c) {
+            s.b[i][c] = GiNaC::symbol("b_" + std::to_string(i) + "_" + std::to_string(c));
+            s.block.outputs.push_back(s.b[i][c]);
+        }
+    return s;
+}
+
+// The plan of a matrix over the m symbols when every one of them varies (a state-dependent M).
+codegen::SolvePlan varying_plan(const SymbolicSystem& s) {
+    std::vector<ex> varying;
+    for (const auto& row : s.m)
+        for (const auto& v : row) varying.push_back(v);
+    return codegen::plan_solve(s.M, varying);
+}
+
+// The outputs of a block with its input symbols bound to numbers: each temporary once, in order.
+std::vector<GiNaC::numeric> evaluate(const codegen::Block& block, GiNaC::exmap values) {
+    for (const auto& t : block.temporaries) {
+        const ex v = t.value.subs(values);
+        BOOST_TEST_REQUIRE(GiNaC::is_a<GiNaC::numeric>(v), "temporary " << t.symbol << " = " << v << " is not a number");
+        values[t.symbol] = v;
+    }
+    std::vector<GiNaC::numeric> out;
+    for (const ex& o : block.outputs) {
+        const ex v = o.subs(values);
+        BOOST_TEST_REQUIRE(GiNaC::is_a<GiNaC::numeric>(v), "output " << o << " = " << v << " is not a number");
+        out.push_back(GiNaC::ex_to<GiNaC::numeric>(v));
+    }
+    return out;
+}
+
+// X = M⁻¹B from the straight-line solve, with M and B bound to exact integers, against GiNaC's
+// exact inverse.
+void check_exact(const GiNaC::matrix& M_values, std::size_t columns, std::mt19937& gen) {
+    const std::size_t n = M_values.rows();
+    const SymbolicSystem s = symbolic_system(M_values, columns);
+    const codegen::SolvePlan plan = varying_plan(s);
+    const codegen::Block solved = codegen::solve_block(s.block, plan, n, columns, "w");
+    std::uniform_int_distribution<int> entry(-9, 9);
+    GiNaC::exmap values;
+    GiNaC::matrix B{unsigned(n), unsigned(columns)};
+    for (std::size_t i = 0; i < n; ++i) {
+        for (std::size_t j = 0; j <= i; ++j) values[s.m[i][j]] = M_values(unsigned(i), unsigned(j));
+        for (std::size_t c = 0; c < columns; ++c) values[s.b[i][c]] = B(unsigned(i), unsigned(c)) = entry(gen);
+    }
+    const GiNaC::matrix X = M_values.inverse().mul(B);
+    const std::vector<GiNaC::numeric> x = evaluate(solved, values);
+    BOOST_TEST_REQUIRE(x.size() == n * columns);
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t c = 0; c < columns; ++c)
+            BOOST_TEST((x[i * columns + c] - X(unsigned(i), unsigned(c))).is_zero(),
+                       "x(" << i << ", " << c << ") = " << x[i * columns + c] << ", exactly " << X(unsigned(i), unsigned(c)));
+}
+
+double gamma(std::size_t k) {
+    const double u = std::numeric_limits<double>::epsilon() / 2;
+    return double(k) * u / (1 - double(k) * u);
+}
+
+// The straight-line solve evaluated in double against Eigen's LLT on the same double M and B, within
+// 4 κ₂ n γ_{3n+1} (the header's bound). Returns the largest ratio of difference to bound.
+double check_double(const std::vector<std::vector<std::size_t>>& blocks, std::size_t n, std::size_t columns,
+                    std::mt19937& gen) {
+    std::normal_distribution<double> normal;
+    Eigen::MatrixXd M = Eigen::MatrixXd::Zero(Eigen::Index(n), Eigen::Index(n));
+    for (const auto& b : blocks) {
+        const auto s = Eigen::Index(b.size());
+        Eigen::MatrixXd G(s, s);
+        for (Eigen::Index i = 0; i < s; ++i)
+            for (Eigen::Index j = 0; j < s; ++j) G(i, j) = normal(gen);
+        // Eigenvalues from 0.1 to O(s): κ₂ of a few hundred, enough to see an unstable solve.
+        const Eigen::MatrixXd A = G * G.transpose() + 0.1 * Eigen::MatrixXd::Identity(s, s);
+        for (Eigen::Index i = 0; i < s; ++i)
+            for (Eigen::Index j = 0; j < s; ++j) M(Eigen::Index(b[std::size_t(i)]), Eigen::Index(b[std::size_t(j)])) = A(i, j);
+    }
+    Eigen::MatrixXd B{Eigen::Index(n), Eigen::Index(columns)};
+    for (Eigen::Index i = 0; i < B.rows(); ++i)
+        for (Eigen::Index c = 0; c < B.cols(); ++c) B(i, c) = normal(gen);
+
+    GiNaC::matrix pattern{unsigned(n), unsigned(n)};
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = 0; j < n; ++j) pattern(unsigned(i), unsigned(j)) = M(Eigen::Index(i), Eigen::Index(j)) != 0 ? 1 : 0;
+    const SymbolicSystem s = symbolic_system(pattern, columns);
+    const codegen::Block solved = codegen::solve_block(s.block, varying_plan(s), n, columns, "w");
+    GiNaC::exmap values;
+    for (std::size_t i = 0; i < n; ++i) {
+        for (std::size_t j = 0; j <= i; ++j) values[s.m[i][j]] = GiNaC::numeric(M(Eigen::Index(i), Eigen::Index(j)));
+        for (std::size_t c = 0; c < columns; ++c) values[s.b[i][c]] = GiNaC::numeric(B(Eigen::Index(i), Eigen::Index(c)));
+    }
+    const std::vector<GiNaC::numeric> x = evaluate(solved, values);
+    const Eigen::LLT<Eigen::MatrixXd> llt(M);
+    BOOST_TEST_REQUIRE(llt.info() == Eigen::Success);
+    const Eigen::MatrixXd reference = llt.solve(B);
+    const Eigen::VectorXd lambda = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(M).eigenvalues();
+    const double kappa = lambda.maxCoeff() / lambda.minCoeff(), eps = double(n) * gamma(3 * n + 1);
+    BOOST_TEST_REQUIRE(kappa * eps <= 0.5);
+    const double bound = 4 * kappa * eps;
+    double worst = 0;
+    for (std::size_t c = 0; c < columns; ++c) {
+        Eigen::VectorXd diff{Eigen::Index(n)};
+        for (std::size_t i = 0; i < n; ++i)
+            diff(Eigen::Index(i)) = x[i * columns + c].to_double() - reference(Eigen::Index(i), Eigen::Index(c));
+        const double relative = diff.norm() / reference.col(Eigen::Index(c)).norm();
+        BOOST_TEST(relative <= bound, "n = " << n << ", column " << c << ": relative difference " << relative
+                                             << " > 4 κ₂ n γ_{3n+1} = " << bound << " (κ₂ = " << kappa << ")");
+        worst = std::max(worst, relative / bound);
+    }
+    return worst;
+}
+
+std::size_t divisions(const codegen::Block& block) {
+    std::size_t count = 0;
+    const auto visit = [&](const ex& e, const auto& self) -> void {
+        if (GiNaC::is_a<GiNaC::power>(e) && GiNaC::is_a<GiNaC::numeric>(e.op(1)) &&
+            GiNaC::ex_to<GiNaC::numeric>(e.op(1)).is_negative())
+            ++count;
+        for (std::size_t i = 0; i < e.nops(); ++i) self(e.op(i), self);
+    };
+    for (const auto& t : block.temporaries) visit(t.value, visit);
+    for (const ex& o : block.outputs) visit(o, visit);
+    return count;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(each_structure_gets_its_path_and_the_banner_names_it) {
+    std::mt19937 gen(19);
+    {
+        const GiNaC::matrix I = GiNaC::ex_to<GiNaC::matrix>(GiNaC::unit_matrix(4));
+        const auto plan = codegen::plan_solve(I, {});
+        BOOST_TEST(int(plan.method) == int(Method::identity));
+        BOOST_TEST(plan.constant);
+        BOOST_TEST(plan.numeric);
+        BOOST_TEST(codegen::describe(plan, 4) == "Solve of M u̇ = f: identity (M = I, u̇ = f; no solve at run time).");
+    }
+    {
+        const SymbolicSystem s = symbolic_system(random_spd(5, {{0}, {1}, {2}, {3}, {4}}, gen), 1);
+        const auto plan = varying_plan(s);
+        BOOST_TEST(int(plan.method) == int(Method::diagonal));
+        BOOST_TEST(!plan.constant);
+        BOOST_TEST(codegen::describe(plan, 5) == "Solve of M u̇ = f: diagonal (u̇_k = f_k / M_kk).");
+    }
+    {
+        // Blocks of permuted velocities: {0, 3, 5}, {1, 6}, {2}, {4}.
+        const SymbolicSystem s = symbolic_system(random_spd(7, {{0, 3, 5}, {1, 6}, {2}, {4}}, gen), 1);
+        const auto plan = varying_plan(s);
+        BOOST_TEST(int(plan.method) == int(Method::block_diagonal));
+        const std::vector<std::vector<std::size_t>> expected{{0, 3, 5}, {1, 6}, {2}, {4}};
+        BOOST_TEST((plan.blocks == expected));
+        BOOST_TEST(codegen::describe(plan, 7) ==
+                   "Solve of M u̇ = f: block-diagonal (blocks {0, 3, 5}, {1, 6} by unrolled LDLᵀ in straight-line code, "
+                   "the other velocities by division).");
+    }
+    for (std::size_t n : {std::size_t(2), std::size_t(8), codegen::unrolled_limit}) {
+        const auto plan = varying_plan(symbolic_system(random_spd(n, one_block(n), gen), 1));
+        BOOST_TEST(int(plan.method) == int(Method::unrolled_ldlt));
+        BOOST_TEST(codegen::describe(plan, n).find("Solve of M u̇ = f: unrolled LDLᵀ in straight-line code") == 0);
+    }
+    {
+        // One block past the limit: Eigen, and no straight-line solve.
+        const std::size_t n = codegen::unrolled_limit + 1;
+        const SymbolicSystem s = symbolic_system(random_spd(n + 1, {one_block(n)[0], {n}}, gen), 1);
+        const auto plan = varying_plan(s);
+        BOOST_TEST(int(plan.method) == int(Method::eigen_llt));
+        BOOST_TEST(codegen::describe(plan, n + 1).find("Solve of M u̇ = f: Eigen LLT at run time (a block of " +
+                                                       std::to_string(n) + " velocities") == 0);
+        BOOST_CHECK_THROW(codegen::solve_block(s.block, plan, n + 1, 1, "w"), std::logic_error);
+    }
+}
+
+BOOST_AUTO_TEST_CASE(constant_matrices_are_recognised_and_a_numeric_one_is_factored_at_generation_time) {
+    // M over parameters (m1, m2) and numbers: constant; over a state q as well: not.
+    const GiNaC::symbol m1("m1"), m2("m2"), q("q");
+    // T of three masses in relative coordinates (x1, x2 − x1, x3 − x2)
+    GiNaC::matrix relative{{m1 + m2 + 2, m2 + 2, 2}, {m2 + 2, m2 + 2, 2}, {2, 2, 2}};
+    auto plan = codegen::plan_solve(relative, {q});
+    BOOST_TEST(plan.constant);
+    BOOST_TEST(!plan.numeric);
+    BOOST_TEST(int(plan.method) == int(Method::unrolled_ldlt));
+    BOOST_TEST(codegen::describe(plan, 3).find("M is constant (parameters only).") != std::string::npos);
+    relative(0, 0) = m1 + m2 + 2 + GiNaC::cos(q);
+    BOOST_TEST(!codegen::plan_solve(relative, {q}).constant);
+
+    // Numbers only: the factors are numbers, so the solve is u̇ = (a constant matrix) f with no
+    // division left for run time, and exact.
+    const GiNaC::matrix numeric{{6, 4, 2}, {4, 4, 2}, {2, 2, 2}};
+    plan = codegen::plan_solve(numeric, {q});
+    BOOST_TEST(plan.numeric);
+    BOOST_TEST(codegen::describe(plan, 3).find("its factors were computed at generation time") != std::string::npos);
+    codegen::Block system;
+    GiNaC::symbol f0("f0"), f1("f1"), f2("f2");
+    for (unsigned i = 0; i < 3; ++i)
+        for (unsigned j = 0; j < 3; ++j) system.outputs.push_back(numeric(i, j));
+    system.outputs.insert(system.outputs.end(), {f0 * q, f1, f2});
+    const codegen::Block solved = codegen::solve_block(system, plan, 3, 1, "w");
+    BOOST_TEST(divisions(solved) == 0u);
+    const GiNaC::matrix exact = numeric.inverse().mul(GiNaC::matrix{{f0 * q}, {f1}, {f2}});
+    GiNaC::exmap temporaries;
+    for (const auto& t : solved.temporaries) temporaries[t.symbol] = t.value.subs(temporaries);
+    for (unsigned i = 0; i < 3; ++i)
+        BOOST_TEST((solved.outputs[i].subs(temporaries) - exact(i, 0)).expand().is_zero(), "u̇_" << i);
+}
+
+BOOST_AUTO_TEST_CASE(the_straight_line_solve_is_exact_in_exact_arithmetic) {
+    std::mt19937 gen(20261126);
+    for (std::size_t n = 1; n <= codegen::unrolled_limit; ++n)
+        for (std::size_t columns : {std::size_t(1), 2 * n}) check_exact(random_spd(n, one_block(n), gen), columns, gen);
+    check_exact(random_spd(7, {{0, 3, 5}, {1, 6}, {2}, {4}}, gen), 1, gen);
+    check_exact(random_spd(7, {{0, 3, 5}, {1, 6}, {2}, {4}}, gen), 14, gen);
+    check_exact(random_spd(4, {{0}, {1}, {2}, {3}}, gen), 8, gen);
+    check_exact(GiNaC::ex_to<GiNaC::matrix>(GiNaC::unit_matrix(3)), 2, gen);
+}
+
+BOOST_AUTO_TEST_CASE(the_straight_line_solve_agrees_with_eigen_to_round_off_in_double) {
+    std::mt19937 gen(1126);
+    double worst = 0;
+    for (int repeat = 0; repeat < 3; ++repeat) {
+        for (std::size_t n = 1; n <= codegen::unrolled_limit; ++n)
+            worst = std::max(worst, check_double(one_block(n), n, repeat == 0 ? 1 : n, gen));
+        worst = std::max(worst, check_double({{0, 3, 5}, {1, 6}, {2}, {4}}, 7, 2, gen));
+        worst = std::max(worst, check_double({{0}, {1}, {2}}, 3, 1, gen));
+    }
+    BOOST_TEST_MESSAGE("largest difference / bound: " << worst);
+}
+
+BOOST_AUTO_TEST_CASE(matrices_it_cannot_solve_are_refused_at_generation_time) {
+    const GiNaC::symbol a("a"), b("b"), q("q");
+    // Not symmetric.
+    BOOST_CHECK_THROW(codegen::plan_solve(GiNaC::matrix{{1, a}, {b, 1}}, {q}), codegen::EmitError);
+    // Numeric and singular: a zero pivot, found while factoring at generation time.
+    BOOST_CHECK_THROW(codegen::plan_solve(GiNaC::matrix{{1, 1, 0}, {1, 1, 0}, {0, 0, 1}}, {q}), codegen::EmitError);
+    // A velocity with no inertia at all.
+    BOOST_CHECK_THROW(codegen::plan_solve(GiNaC::matrix{{1, 0, 0}, {0, 0, 0}, {0, 0, 1}}, {q}), codegen::EmitError);
+    // Symmetric once expanded is symmetric.
+    const auto plan = codegen::plan_solve(GiNaC::matrix{{2, a * (q + 1)}, {a * q + a, 2}}, {q});
+    BOOST_TEST(int(plan.method) == int(Method::unrolled_ldlt));
+}
