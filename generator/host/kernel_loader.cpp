@@ -21,11 +21,12 @@ namespace {
 
 // Bumped whenever the C interface below changes; the loader refuses a library that reports
 // another value (a cache written by an older eomc).
-constexpr int adapter_abi = 13;  // 3: acceleration and events; 4: project; 5: variational_rhs; 6: project(t, x, p);
+constexpr int adapter_abi = 14;  // 3: acceleration and events; 4: project; 5: variational_rhs; 6: project(t, x, p);
                                  // 7: eomc_kernel_identity; 8: constraint rows; 9: singular sets;
                                  // 10: the mechanical form (sizes, M, f) and unilateral rows; 11: programs;
                                  // 12: bilateral rows beside unilateral ones (constraint_rows);
-                                 // 13: contact_time_rates (moving gaps; zeros for a kernel without it)
+                                 // 13: contact_time_rates (moving gaps; zeros for a kernel without it);
+                                 // 14: jacobian (∂ẋ/∂x for radau5; eomc_has_jacobian 0 for a kernel without it)
 
 // The adapter: C functions over double, so that the host needs no knowledge of the kernel's
 // C++ types. Parameters travel by position in parameter_names order, never by member name
@@ -63,6 +64,11 @@ template <class M>
 void variational_rhs(double t, const double* y, double* dydt, const void* p) {
     if constexpr (rt::VariationalKernel<M>) M::template variational_rhs<double>(t, y, dydt, *static_cast<const typename M::Parameters*>(p));
     else (void)t, (void)y, (void)dydt, (void)p;
+}
+template <class M>
+void jacobian(double t, const double* x, double* out, const void* p) {
+    if constexpr (rt::KernelWithJacobian<M>) M::template jacobian<double>(t, x, out, *static_cast<const typename M::Parameters*>(p));
+    else (void)t, (void)x, (void)out, (void)p;
 }
 template <class M>
 void project(double t, double* x, const void* p) {
@@ -273,6 +279,8 @@ EOMC_EXPORT void eomc_variational_rhs(double t, const double* y, double* dydt, c
     variational_rhs<K>(t, y, dydt, p);
 }
 EOMC_EXPORT void eomc_project(double t, double* x, const void* p) { project<K>(t, x, p); }
+EOMC_EXPORT int eomc_has_jacobian() { return rt::KernelWithJacobian<K> ? 1 : 0; }
+EOMC_EXPORT void eomc_jacobian(double t, const double* x, double* out, const void* p) { jacobian<K>(t, x, out, p); }
 EOMC_EXPORT void eomc_acceleration(double t, const double* q, double* a, const void* p) { acceleration<K>(t, q, a, p); }
 EOMC_EXPORT int eomc_n_events() { return n_events<K>(); }
 EOMC_EXPORT const char* eomc_event_name(int i) { return event_name<K>(i); }
@@ -477,6 +485,8 @@ KernelLibrary KernelLibrary::load(const std::string& header_text, const std::str
     lib.n_velocities_ = symbol<int (*)()>(h, "eomc_n_velocities", p)();
     lib.mass_matrix_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_mass_matrix", p);
     lib.forcing_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_forcing", p);
+    lib.has_jacobian_ = symbol<int (*)()>(h, "eomc_has_jacobian", p)() != 0;
+    lib.jacobian_ = symbol<void (*)(double, const double*, double*, const void*)>(h, "eomc_jacobian", p);
     const int n_contacts = symbol<int (*)()>(h, "eomc_n_contacts", p)();
     const auto contact_name = symbol<const char* (*)(int)>(h, "eomc_contact_name", p);
     const auto contact_kinematic = symbol<int (*)(int)>(h, "eomc_contact_kinematic", p);
@@ -557,6 +567,8 @@ KernelLibrary& KernelLibrary::operator=(KernelLibrary&& other) noexcept {
         contact_bias_ = other.contact_bias_;
         moving_contacts_ = other.moving_contacts_;
         contact_time_rates_ = other.contact_time_rates_;
+        has_jacobian_ = other.has_jacobian_;
+        jacobian_ = other.jacobian_;
     }
     return *this;
 }

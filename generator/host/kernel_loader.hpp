@@ -61,6 +61,11 @@ public:
         variational_rhs_(t, y, dydt, p.get());
     }
 
+    // ∂ẋ/∂x at (t, x), row-major n_state × n_state (the implicit radau5's Newton iteration); only
+    // when has_jacobian(): a kernel generated without its Jacobian has none.
+    bool has_jacobian() const { return has_jacobian_; }
+    void jacobian(double t, const double* x, double* out, const Parameters& p) const { jacobian_(t, x, out, p.get()); }
+
     // After an accepted step at time t, in place: kernels whose state holds a unit quaternion (a
     // free carrier's attitude) put it back on |e| = 1, encke kernels rectify their reference
     // orbit when the deviation has grown; project() does nothing for the others.
@@ -195,6 +200,8 @@ private:
     void (*contact_bias_)(double, const double*, double*, const void*) = nullptr;
     bool moving_contacts_ = false;
     void (*contact_time_rates_)(double, const double*, double*, const void*) = nullptr;
+    bool has_jacobian_ = false;
+    void (*jacobian_)(double, const double*, double*, const void*) = nullptr;
 };
 
 // Exposed for tests: the adapter source for a struct and its header (it exports the kernel's
