@@ -1195,11 +1195,10 @@ SimulationResult simulate_loaded(const SimulationRequest& request, const KernelL
     const bool compensated = request.compensated.value_or(scene::compensated_by_default(request.integrator));
     result.integrator = describe_method(request, compensated);
     if (const runtime::IntegratorInfo* info = runtime::find_integrator(request.integrator); info && info->uses_jacobian)
-        result.integrator += symbolic_jacobian(request, lib)
-                                 ? ", the kernel's symbolic Jacobian"
-                                 : request.variational
-                                       ? ", finite-difference Jacobian (the variational state has no kernel Jacobian)"
-                                       : ", finite-difference Jacobian (the kernel was generated without its Jacobian)";
+        result.integrator.insert(result.integrator.size() - 1,  // inside describe_method's parentheses
+                                 symbolic_jacobian(request, lib) ? ", the kernel's symbolic Jacobian"
+                                 : request.variational ? ", finite-difference Jacobian: the variational state has none"
+                                                       : ", finite-difference Jacobian: the kernel was generated without one");
     result.compensated = compensated;
     result.compile_s = lib.seconds();
     result.cache_hit = lib.cache_hit();
