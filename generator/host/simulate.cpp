@@ -329,14 +329,15 @@ bool symbolic_jacobian(const SimulationRequest& request, const KernelLibrary& li
 // decaying eigenvalue λ of ∂ẋ/∂x, step after step (the test of Hairer's dopri5.f and dop853.f,
 // after Shampine; [HW] E. Hairer, G. Wanner, Solving ODEs II, Sect. IV.2). Here λ comes from the
 // kernel's Jacobian, sampled every few accepted steps; 15 samples at 70 % of the boundary or more
-// make the hint, as 15 detections do in those codes.
+// make the hint, as 15 detections do in those codes, when they are at least half of the samples
+// (a run stability-limited for most of its length).
 class StiffnessWatch {
 public:
     StiffnessWatch(const SimulationRequest& request, const KernelLibrary& lib, const KernelLibrary::Parameters& p)
         : lib_(lib), parameters_(p), boundary_(stability_boundary(request.integrator)) {
         if (!lib.has_jacobian() || request.variational) boundary_ = 0.0;
         const std::size_t n = lib.state_names().size();
-        every_ = std::max<std::size_t>(1, n / 4);
+        every_ = std::max<std::size_t>(1, n * n / 16);  // the O(n³) eigenvalues cost about what n² / 16 steps do
         buffer_.resize(n * n);
     }
 
@@ -362,7 +363,7 @@ public:
 
     // "" unless the run was stability-limited.
     std::string hint(const std::string& integrator) const {
-        if (at_boundary_ < 15) return "";
+        if (at_boundary_ < 15 || 2 * at_boundary_ < samples_) return "";
         return fmt::format("{} of {} sampled steps sit at {}'s stability boundary (h |λ| up to {:.3g}, boundary {:.3g}): "
                            "the system is stiff and the step is limited by stability, not accuracy; try --integrator "
                            "radau5",
