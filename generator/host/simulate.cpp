@@ -319,9 +319,18 @@ struct KernelJacobianSystem : KernelSystem {
     }
 };
 
-// Whether radau5 gets the kernel's symbolic Jacobian (else forward differences, n calls each).
+// Whether radau5 gets the kernel's symbolic Jacobian (else forward differences, n calls each):
+// not for the variational state, nor for the contact phases (their rates carry the multipliers).
 bool symbolic_jacobian(const SimulationRequest& request, const KernelLibrary& lib) {
-    return lib.has_jacobian() && !request.variational;
+    return lib.has_jacobian() && !request.variational && lib.contact_names().empty();
+}
+
+// Which Jacobian radau5 runs on, for the summary.
+std::string jacobian_source(const SimulationRequest& request, const KernelLibrary& lib) {
+    if (symbolic_jacobian(request, lib)) return "the kernel's symbolic Jacobian";
+    if (request.variational) return "finite-difference Jacobian: the variational state has none";
+    if (!lib.contact_names().empty()) return "finite-difference Jacobian: the contact phases' rates have none";
+    return "finite-difference Jacobian: the kernel was generated without one";
 }
 
 // The stiffness hint for the explicit adaptive methods: a run is stability-limited when its
@@ -1196,10 +1205,7 @@ SimulationResult simulate_loaded(const SimulationRequest& request, const KernelL
     const bool compensated = request.compensated.value_or(scene::compensated_by_default(request.integrator));
     result.integrator = describe_method(request, compensated);
     if (const runtime::IntegratorInfo* info = runtime::find_integrator(request.integrator); info && info->uses_jacobian)
-        result.integrator.insert(result.integrator.size() - 1,  // inside describe_method's parentheses
-                                 symbolic_jacobian(request, lib) ? ", the kernel's symbolic Jacobian"
-                                 : request.variational ? ", finite-difference Jacobian: the variational state has none"
-                                                       : ", finite-difference Jacobian: the kernel was generated without one");
+        result.integrator.insert(result.integrator.size() - 1, ", " + jacobian_source(request, lib));  // inside the parentheses
     result.compensated = compensated;
     result.compile_s = lib.seconds();
     result.cache_hit = lib.cache_hit();
