@@ -23,7 +23,7 @@ namespace rt = eomc::runtime;
 namespace {
 
 // y' = -lambda (y - cos t) - sin t, y(0) = 0: y = cos t - exp(-lambda t) (a fast transient onto the
-// slow solution cos t; [HW] Sect. IV.1's prototype of stiffness).
+// slow solution cos t; Curtiss and Hirschfelder's example of stiffness, [HW] Sect. IV.1).
 struct Prothero {
   double lambda = 1000.0;
   void operator()(double t, const rt::State<double>& x, rt::State<double>& dxdt) const {
@@ -161,7 +161,7 @@ BOOST_AUTO_TEST_CASE(stiff_linear_system_symbolic_and_finite_difference_jacobian
 }
 
 // Fixed steps on the logistic problem: the error at t = 1 falls as h^5 (Radau IIA, s = 3: classical
-// order 2s - 1 = 5, [HW] Sect. IV.5, Theorem 5.3). Log-log slope over h = 1/4 .. 1/32 within 5 +- 0.3.
+// order 2s - 1 = 5, [HW] Sect. IV.5). Log-log slope over h = 1/4 .. 1/32 within 5 +- 0.3.
 BOOST_AUTO_TEST_CASE_TEMPLATE(fixed_step_order_is_five, S, Scalars) {
   using std::exp;
   using std::log;
@@ -184,8 +184,8 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(fixed_step_order_is_five, S, Scalars) {
 // Van der Pol at mu = 1000 from (2, 0) over [0, 3000]: the period between two downward zero
 // crossings of x (located on the dense output) against the asymptotic period
 // T = (3 - 2 ln 2) mu + 3 a mu^{-1/3} + O(mu^{-1} ln mu), a = 2.338107 the first zero of -Ai
-// (Dorodnitsyn 1947; [HW] Sect. IV.10 and J. Grasman, Asymptotic Methods for Relaxation
-// Oscillations, 1987, Sect. 3.3). The neglected -(2/3) mu^{-1} ln mu and O(1/mu) terms are about
+// (Dorodnitsyn 1947; J. Grasman, Asymptotic Methods for Relaxation Oscillations and
+// Applications, Springer 1987). The neglected -(2/3) mu^{-1} ln mu and O(1/mu) terms are about
 // 0.01 at mu = 1000. The runs at rtol = atol = 1e-6 and 1e-8 agree with one at 1e-10 to the
 // looser one's accuracy: a relative error rtol' per unit time accumulates to rtol' T over a period.
 BOOST_AUTO_TEST_CASE(van_der_pol_mu_1000_period) {

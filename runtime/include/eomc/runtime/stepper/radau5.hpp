@@ -3,12 +3,13 @@
 // Radau IIA of order 5 (3 stages, stage order 3, L-stable) with step-size control: the RADAU5
 // algorithm of Hairer and Wanner for stiff systems. References:
 //   [HW] E. Hairer, G. Wanner, Solving Ordinary Differential Equations II, 2nd ed., Springer 1996:
-//     Sect. IV.5 (Table 5.6, the tableau), Sect. IV.8 (the implementation: (8.16)-(8.18) the
-//     transformed simplified Newton iteration, (8.19)-(8.21) its convergence test, (8.22)-(8.23)
-//     starting values, (8.24)-(8.25) Gustafsson's predictive controller, the error estimate
+//     Sect. IV.5 (Table 5.6, the tableau), Sect. IV.8 (the implementation: the simplified Newton
+//     iteration in the transformed variables, its stopping criterion on the contraction rate
+//     theta, starting values from the last collocation polynomial, the error estimate
 //     err = (I - h gamma0 J)^{-1} (gamma0 h f(x0) + e1 Z1 + e2 Z2 + e3 Z3) and its second,
-//     filtered form after a rejected or first step); the control constants and the transformation
-//     matrices T, T^{-1} are those of Hairer's Fortran code radau5.f (version of 1996/2002).
+//     filtered form after a rejected or first step, and step size selection with Gustafsson's
+//     predictive controller); the control constants and the transformation matrices T, T^{-1} are
+//     those of Hairer's Fortran code radau5.f (version of 1996/2002).
 //
 // The tableau in closed form (c3 = 1, so x_{n+1} = x_n + Z3):
 //   c1 = (4 - sqrt 6)/10, c2 = (4 + sqrt 6)/10,
@@ -17,7 +18,7 @@
 //       [(16 - sqrt 6)/36         (16 + sqrt 6)/36         1/9                 ].
 // A^{-1} has one real eigenvalue gamma = 30 / (6 + 81^{1/3} - 9^{1/3}) and a complex pair
 // alpha -+ i beta with alpha + i beta = 1 / ((12 - 81^{1/3} + 9^{1/3})/60 + i (81^{1/3} + 9^{1/3})
-// sqrt 3 / 60) [HW (8.17)]; T^{-1} A^{-1} T = [[gamma, 0, 0], [0, alpha, -beta], [0, beta, alpha]]
+// sqrt 3 / 60) (the roots of A's characteristic polynomial; radau5.f's U1, ALPH, BETA); T^{-1} A^{-1} T = [[gamma, 0, 0], [0, alpha, -beta], [0, beta, alpha]]
 // (checked in tests/runtime/stepper/radau5.cpp). With W = (T^{-1} (x) I) Z, each simplified Newton
 // iteration solves one real n x n system with gamma/h I - J and one complex one with
 // (alpha + i beta)/h I - J, each LU-factored once per (h, J) (Eigen PartialPivLU).
@@ -91,7 +92,7 @@ struct Radau5Tableau {
     t.a[2][0] = (S(16) - s6) / S(36);
     t.a[2][1] = (S(16) + s6) / S(36);
     t.a[2][2] = S(1) / S(9);
-    // [HW (8.17)]: the eigenvalues of A from the roots of its characteristic polynomial.
+    // The eigenvalues of A from the roots of its characteristic polynomial (radau5.f's U1, ALPH, BETA).
     t.gamma = S(30) / (S(6) + c81 - c9);
     const S ar = (S(12) - c81 + c9) / S(60), ai = (c81 + c9) * sqrt(S(3)) / S(60), norm = ar * ar + ai * ai;
     t.alpha = ar / norm;
@@ -125,7 +126,7 @@ struct Radau5Settings {
   double jacobian_theta = 0.001; // THET: a new J only when the Newton contraction was slower
   double keep_h_low = 1.0;       // QUOT1, QUOT2: a proposal within [low, high] times h keeps h (and the LU)
   double keep_h_high = 1.2;
-  bool predictive = true;        // Gustafsson's controller [HW (8.25)]
+  bool predictive = true;        // Gustafsson's predictive controller ([HW] Sect. IV.8)
 };
 
 template <class S>
@@ -210,7 +211,7 @@ class Radau5 {
     err = std::max(err, S(1e-10));
     last_error_ = err;
 
-    // Step size [HW (8.24)], with the Newton iterations' count in the safety factor.
+    // Step size selection ([HW] Sect. IV.8), the Newton iterations' count in the safety factor.
     const int nit = opt_.max_newton;
     const S cfac = S(opt_.safety) * S(1 + 2 * nit);
     const S fac = std::min(S(opt_.safety), cfac / S(newt + 2 * nit));
@@ -219,7 +220,7 @@ class Radau5 {
     S hnew = h / quot;
 
     if (err < S(1)) {
-      // Gustafsson's predictive controller [HW (8.25)].
+      // Gustafsson's predictive controller ([HW] Sect. IV.8, radau5.f's PRED).
       if (opt_.predictive) {
         if (accepted_ > 0) {
           S facgus = (h_acc_ / h) * pow(err * err / err_acc_, S(0.25)) / S(opt_.safety);
@@ -374,8 +375,8 @@ class Radau5 {
     return e.size() ? sqrt(sum / S(e.size())) : S(0);
   }
 
-  // Starting values [HW (8.23)] (the last step's collocation polynomial extrapolated, or zero) and
-  // the simplified Newton iteration [HW (8.16)-(8.21)] until faccon |dW| <= fnewt. Returns 0 when
+  // Starting values (the last step's collocation polynomial extrapolated, or zero) and the
+  // simplified Newton iteration ([HW] Sect. IV.8) until faccon |dW| <= fnewt. Returns 0 when
   // converged (newt: the iterations used), else the factor for h: 1/2 on divergence, a non-finite
   // derivative or nit exhausted, radau5.f's prediction when the contraction is too slow.
   template <class Sys>
@@ -431,7 +432,7 @@ class Radau5 {
       }
       dyno = sqrt(dyno / S(3 * n));
       if (!(dyno <= std::numeric_limits<S>::max())) return S(0.5);  // NaN or infinite: a singular E
-      // Contraction rate theta and the predicted error after the remaining iterations [HW (8.19)-(8.21)].
+      // Contraction rate theta and the predicted error after the remaining iterations ([HW] Sect. IV.8).
       if (newt > 1 && newt < nit) {
         const S thq = dyno / dynold;
         theta_ = newt == 2 ? thq : sqrt(thq * thqold);
