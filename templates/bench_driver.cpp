@@ -280,6 +280,21 @@ struct CountedRhsT {
 };
 using CountedRhs = CountedRhsT<>;
 
+// The same with the kernel's Jacobian for the implicit methods (runtime::HasJacobian); a kernel
+// generated without one leaves them to finite differences.
+template <class M = K>
+struct CountedJacobianRhsT : CountedRhsT<M> {
+  void jacobian(double t, const State& x, Eigen::MatrixXd& J) const
+    requires rt::KernelWithJacobian<M>
+  {
+    std::array<double, std::size_t(M::n_state) * std::size_t(M::n_state)> out{};
+    M::jacobian(t, x.data(), out.data(), parameters);
+    for (int i = 0; i < M::n_state; ++i)
+      for (int j = 0; j < M::n_state; ++j) J(i, j) = out[std::size_t(i * M::n_state + j)];
+  }
+};
+using CountedJacobianRhs = CountedJacobianRhsT<>;
+
 template <class OState>
 struct OdeintRhs {
   std::size_t* count;
@@ -299,12 +314,12 @@ Stepper make_adaptive() {
     return Stepper();
 }
 
-template <class Stepper>
+template <class Stepper, class Sys = CountedRhs>
 Outcome ours_adaptive(double t_end, double tol, bool observe) {
   Outcome o;
   o.x = initial_state();
   Stepper stepper = make_adaptive<Stepper>();
-  CountedRhs sys{&o.evals};
+  Sys sys{{&o.evals}};
   DriftMeter drift;
   const rt::Tolerances tolerances{tol, tol};
   const rt::Stats s =
@@ -495,7 +510,9 @@ void add_ours(std::vector<Method>& m) {
     rt::visit_integrator<double>(info.name, [&](auto tag) {
       using Tag = decltype(tag);
       using Stepper = typename Tag::type;
-      if constexpr (Tag::info.kind == rt::IntegratorKind::adaptive)
+      if constexpr (Tag::info.uses_jacobian)
+        m.push_back({Tag::info.name.data(), "eomc", Kind::adaptive, false, ours_adaptive<Stepper, CountedJacobianRhs>});
+      else if constexpr (Tag::info.kind == rt::IntegratorKind::adaptive)
         m.push_back({Tag::info.name.data(), "eomc", Kind::adaptive, false, ours_adaptive<Stepper>});
       else if constexpr (Tag::info.needs_separable)
         m.push_back({Tag::info.name.data(), "eomc", Kind::fixed, true, ours_splitting<Stepper>});

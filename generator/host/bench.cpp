@@ -21,6 +21,7 @@
 #include "codegen/cpp_text.hpp"
 #include "codegen/templates.hpp"
 #include "host/gnuplot.hpp"
+#include "eomc/runtime/registry.hpp"
 #include "host/toolchain.hpp"
 #include "support/diagnostic.hpp"
 #include "support/output_file.hpp"
@@ -491,6 +492,34 @@ std::string bench_config_source(const BenchRequest& request) {
         indent(has_reference ? request.reference_body : "(void)t;\n(void)out;\n(void)p;", 4));
 }
 
+// The stiffness hint: an explicit adaptive method whose step count does not fall as the tolerance
+// loosens is limited by stability, not accuracy (an accuracy-limited method of order p takes
+// tol^(-1/(p+1)) steps: over three decades at least 2x fewer for p <= 8). Implicit methods are left out.
+namespace {
+
+std::vector<std::string> stiffness_notes(const std::vector<BenchRow>& rows) {
+    std::vector<std::string> notes, seen;
+    for (const BenchRow& r : rows) {
+        if (r.kind != "tolerance" || std::find(seen.begin(), seen.end(), r.method) != seen.end()) continue;
+        seen.push_back(r.method);
+        if (const runtime::IntegratorInfo* info = runtime::find_integrator(r.method); info && info->uses_jacobian) continue;
+        const BenchRow *tight = nullptr, *loose = nullptr;
+        for (const BenchRow& q : rows)
+            if (q.method == r.method && q.library == r.library && q.kind == "tolerance") {
+                if (!tight || q.setting < tight->setting) tight = &q;
+                if (!loose || q.setting > loose->setting) loose = &q;
+            }
+        if (loose->setting < 1e3 * tight->setting || tight->steps == 0) continue;
+        if (2 * loose->steps > tight->steps)
+            notes.push_back(fmt::format("{} ({}) takes {} steps at tolerance {:.0e} and {} at {:.0e}: its step is limited "
+                                        "by stability, not accuracy; the system is stiff, try radau5",
+                                        r.method, r.library, loose->steps, loose->setting, tight->steps, tight->setting));
+    }
+    return notes;
+}
+
+}  // namespace
+
 BenchResult bench(const BenchRequest& request) {
     validate(request);
     if (!request.formulations.empty()) return formulation_bench(request);
@@ -501,6 +530,7 @@ BenchResult bench(const BenchRequest& request) {
     for (std::string& a : sweep_arguments(request, request.methods, request.steps)) argv.push_back(std::move(a));
     std::string csv = std::string(bench_csv_header) + "\n";
     collect(run_driver(argv), "", "", result, csv);
+    for (std::string& n : stiffness_notes(result.rows)) result.notes.push_back(std::move(n));
     write_outputs(request, result, csv, [&](const std::string& terminal, const fs::path& output) {
         return gnuplot_script(request, result, terminal, output);
     });

@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include <eomc/runtime/registry.hpp>
+
 #include "codegen/cpp_emitter.hpp"
 #include "mechanics/derive.hpp"
 #include "mechanics/orbit/formulation.hpp"
@@ -131,7 +133,10 @@ std::string kernel_header(const Pipeline& p, StageClock* clock, codegen::KernelI
     return header;
 }
 
-bool method_needs_jacobian(std::string_view integrator) { return integrator == "radau5"; }
+bool method_needs_jacobian(std::string_view integrator) {
+    const runtime::IntegratorInfo* info = runtime::find_integrator(integrator);
+    return info != nullptr && info->uses_jacobian;
+}
 
 bool depends_on_time(const Pipeline& p) {
     for (const auto& f : p.equations.forcing)

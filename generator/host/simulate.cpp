@@ -306,6 +306,94 @@ struct KernelSystem {
     }
 };
 
+// The kernel with its Jacobian ∂ẋ/∂x, for the implicit radau5 (runtime::HasJacobian); only
+// over the plain state (a variational run's Φ block has no kernel Jacobian: differenced there).
+struct KernelJacobianSystem : KernelSystem {
+    mutable std::vector<double> buffer;
+    void jacobian(double t, const State<double>& xs, Eigen::MatrixXd& J) const {
+        const Eigen::Index n = J.rows();
+        buffer.resize(std::size_t(n * n));
+        lib.jacobian(t, xs.data(), buffer.data(), parameters);
+        for (Eigen::Index i = 0; i < n; ++i)
+            for (Eigen::Index j = 0; j < n; ++j) J(i, j) = buffer[std::size_t(i * n + j)];
+    }
+};
+
+// Whether radau5 gets the kernel's symbolic Jacobian (else forward differences, n calls each):
+// not for the variational state, nor for the contact phases (their rates carry the multipliers).
+bool symbolic_jacobian(const SimulationRequest& request, const KernelLibrary& lib) {
+    return lib.has_jacobian() && !request.variational && lib.contact_names().empty();
+}
+
+// Which Jacobian radau5 runs on, for the summary.
+std::string jacobian_source(const SimulationRequest& request, const KernelLibrary& lib) {
+    if (symbolic_jacobian(request, lib)) return "the kernel's symbolic Jacobian";
+    if (request.variational) return "finite-difference Jacobian: the variational state has none";
+    if (!lib.contact_names().empty()) return "finite-difference Jacobian: the contact phases' rates have none";
+    return "finite-difference Jacobian: the kernel was generated without one";
+}
+
+// The stiffness hint for the explicit adaptive methods: a run is stability-limited when its
+// accepted steps sit at the method's stability boundary, h |λ| ≈ the boundary for the fastest
+// decaying eigenvalue λ of ∂ẋ/∂x, step after step (the test of Hairer's dopri5.f and dop853.f,
+// after Shampine; [HW] E. Hairer, G. Wanner, Solving ODEs II, Sect. IV.2). Here λ comes from the
+// kernel's Jacobian, sampled every few accepted steps; 15 samples at 70 % of the boundary or more
+// make the hint, as 15 detections do in those codes, when they are at least half of the samples
+// (a run stability-limited for most of its length).
+class StiffnessWatch {
+public:
+    StiffnessWatch(const SimulationRequest& request, const KernelLibrary& lib, const KernelLibrary::Parameters& p)
+        : lib_(lib), parameters_(p), boundary_(stability_boundary(request.integrator)) {
+        if (!lib.has_jacobian() || request.variational) boundary_ = 0.0;
+        const std::size_t n = lib.state_names().size();
+        every_ = std::max<std::size_t>(1, n * n / 16);  // the O(n³) eigenvalues cost about what n² / 16 steps do
+        buffer_.resize(n * n);
+    }
+
+    // After each accepted step from t_old to t.
+    void step(double t_old, double t, const State<double>& xs) {
+        if (boundary_ <= 0.0 || ++steps_ % every_ != 0) return;
+        const Eigen::Index n = Eigen::Index(xs.size());
+        lib_.jacobian(t, xs.data(), buffer_.data(), parameters_);
+        const Eigen::MatrixXd J = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+            buffer_.data(), n, n);
+        if (!J.allFinite()) return;
+        const Eigen::EigenSolver<Eigen::MatrixXd> eig(J, false);
+        double rho = 0.0;  // the largest |λ| with Re λ < 0
+        for (Eigen::Index i = 0; i < n; ++i)
+            if (eig.eigenvalues()[i].real() < 0.0) rho = std::max(rho, std::abs(eig.eigenvalues()[i]));
+        ++samples_;
+        const double hl = std::abs(t - t_old) * rho;
+        if (hl >= 0.7 * boundary_) {
+            ++at_boundary_;
+            max_hl_ = std::max(max_hl_, hl);
+        }
+    }
+
+    // "" unless the run was stability-limited.
+    std::string hint(const std::string& integrator) const {
+        if (at_boundary_ < 15 || 2 * at_boundary_ < samples_) return "";
+        return fmt::format("{} of {} sampled steps sit at {}'s stability boundary (h |λ| up to {:.3g}, boundary {:.3g}): "
+                           "the system is stiff and the step is limited by stability, not accuracy; try --integrator "
+                           "radau5",
+                           at_boundary_, samples_, integrator, max_hl_, boundary_);
+    }
+
+private:
+    // Where the real axis leaves the stability region, as dopri5.f (3.25) and dop853.f (6.1) test it.
+    static double stability_boundary(const std::string& name) {
+        if (name == "dopri5") return 3.25;
+        if (name == "dop853") return 6.1;
+        return 0.0;
+    }
+    const KernelLibrary& lib_;
+    const KernelLibrary::Parameters& parameters_;
+    double boundary_;
+    std::size_t every_ = 1, steps_ = 0, samples_ = 0, at_boundary_ = 0;
+    double max_hl_ = 0.0;
+    std::vector<double> buffer_;
+};
+
 // The request's method over [0, t_end] from x (advanced in place), with the kernel's events.
 template <class Observer, class OnEvent>
 runtime::EventOutcome<double> integrate(const SimulationRequest& request, bool compensated, const KernelSystem& system,
@@ -346,7 +434,19 @@ runtime::EventOutcome<double> integrate(const SimulationRequest& request, bool c
     return runtime::visit_integrator<double>(request.integrator, [&](auto tag) {
         using Tag = decltype(tag);
         using Stepper = typename Tag::type;
-        if constexpr (Tag::info.kind == runtime::IntegratorKind::adaptive) {
+        if constexpr (Tag::info.uses_jacobian) {
+            if (symbolic_jacobian(request, lib)) {
+                KernelJacobianSystem jsys{sys, {}};
+                runtime::Limits limits;
+                if (request.max_steps) limits.max_steps = *request.max_steps;
+                Stepper stepper;
+                stepper.set_compensated(compensated);
+                return runtime::integrate_adaptive_events(stepper, jsys, x, 0.0, request.t_end, 0.0,
+                                                          runtime::Tolerances{request.rtol, request.atol}, locator,
+                                                          event_functions, observer, on_event, limits);
+            }
+            return adaptive(Stepper{});
+        } else if constexpr (Tag::info.kind == runtime::IntegratorKind::adaptive) {
             return adaptive(Stepper{});
         } else if constexpr (Tag::info.needs_separable) {
             return fixed_step(Stepper{splitting}, acceleration);
@@ -1111,6 +1211,8 @@ SimulationResult simulate_loaded(const SimulationRequest& request, const KernelL
     result.scene_name = lib.scene_name();
     const bool compensated = request.compensated.value_or(scene::compensated_by_default(request.integrator));
     result.integrator = describe_method(request, compensated);
+    if (const runtime::IntegratorInfo* info = runtime::find_integrator(request.integrator); info && info->uses_jacobian)
+        result.integrator.insert(result.integrator.size() - 1, ", " + jacobian_source(request, lib));  // inside the parentheses
     result.compensated = compensated;
     result.compile_s = lib.seconds();
     result.cache_hit = lib.cache_hit();
@@ -1170,7 +1272,11 @@ SimulationResult simulate_loaded(const SimulationRequest& request, const KernelL
         x_last = xs;
         progress.update(t);
     };
-    auto observer = [&](double t, const State<double>& xs) { record(t, xs, nullptr); };
+    StiffnessWatch stiffness(request, lib, parameters);
+    auto observer = [&](double t, const State<double>& xs) {
+        if (!first) stiffness.step(t_last, t, xs);
+        record(t, xs, nullptr);
+    };
     auto on_event = [&](const runtime::EventHit<double>& hit) {
         const std::string& name = lib.event_names()[hit.index];
         record(hit.t, hit.x, &name);
@@ -1220,6 +1326,7 @@ SimulationResult simulate_loaded(const SimulationRequest& request, const KernelL
     result.steps = outcome.stats.accepted;
     result.rejected = outcome.stats.rejected;
     result.rhs_evals = outcome.stats.rhs_evals;
+    result.hint = stiffness.hint(request.integrator);
     if (!request.csv_path.empty()) {
         result.csv_path = request.csv_path;
         result.csv_rows = csv.rows();
@@ -1310,6 +1417,7 @@ void print_summary(const SimulationResult& r, const std::string& format, std::os
             }
             s += "]}";
         }
+        if (!r.hint.empty()) s += fmt::format(", \"hint\": {}", json_string(r.hint));  // only stability-limited runs
         s += fmt::format(", \"stopped_by\": {}, \"compensated\": {}",
                          r.stopped_by.empty() ? "null" : json_string(r.stopped_by), r.compensated ? "true" : "false");
         s += fmt::format(", \"steps\": {}, \"rejected\": {}, \"rhs_evals\": {}, \"wall_s\": {}, \"compile_s\": {}, "
@@ -1332,6 +1440,7 @@ void print_summary(const SimulationResult& r, const std::string& format, std::os
 
     std::string s = fmt::format("{}: {} to t = {}{}\n", r.scene_name, r.integrator, number(r.t),
                                 r.stopped_by.empty() ? "" : fmt::format(", stopped by the terminal event '{}'", r.stopped_by));
+    if (!r.hint.empty()) s += fmt::format("hint: {}\n", r.hint);
     s += "final state\n";
     for (const auto& [n, v] : r.state) s += fmt::format("  {:<{}}  {:>24}\n", n, width, number(v));
     if (!r.outputs.empty()) s += "outputs\n";

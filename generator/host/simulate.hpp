@@ -144,6 +144,9 @@ struct SimulationResult {
     std::vector<ContactEventReport> contact_events;
     std::string stopped_by;                               // the terminal event that ended the run, "" if none
     std::size_t steps = 0, rejected = 0, rhs_evals = 0;   // accepted steps, rejected attempts, system calls
+    // An explicit adaptive run whose steps sat at the method's stability boundary: the hint to use
+    // radau5 ("" otherwise).
+    std::string hint;
     double wall_s = 0.0;     // integration, including the observer (invariants, CSV)
     double compile_s = 0.0;  // compiling or finding the kernel in the cache, and loading it
     bool cache_hit = false;

@@ -162,7 +162,7 @@ BOOST_AUTO_TEST_CASE(driver_runs_every_method) {
     BOOST_TEST_REQUIRE(r.status == 0, r.err);
     BOOST_TEST(r.out.find("# reference: closed form (tests/bench/driver/bench_config.hpp)") != std::string::npos);
     const auto rows = by_method(parse_csv(r.out));
-    const std::set<std::string> expected{"rk4", "dopri5", "dop853", "gl4", "gl6", "gl8", "verlet", "yoshida6", "kahanli8",
+    const std::set<std::string> expected{"rk4", "dopri5", "dop853", "radau5", "gl4", "gl6", "gl8", "verlet", "yoshida6", "kahanli8",
                                          "runge_kutta_dopri5", "runge_kutta_fehlberg78", "bulirsch_stoer",
                                          "symplectic_rkn_sb3a_mclachlan"};
     for (const auto& m : expected) BOOST_TEST(rows.count(m) == 1u, "no rows for " << m);

@@ -52,6 +52,15 @@ void exercise() {
   BOOST_TEST(adaptive.stopped);
   BOOST_TEST(adaptive.t > S(0.693));
   BOOST_TEST(adaptive.t < S(0.694));  // ln 2
+  // The implicit Radau IIA on the same decay, differencing its Jacobian; the event on its dense output.
+  rt::Radau5<S> radau;
+  y = {S(1)};
+  const rt::EventOutcome<S> implicit =
+      rt::integrate_adaptive_events(radau, sys, y, 0, 1, 0, rt::Tolerances{}, loc, g, obs, on_event);
+  BOOST_TEST(implicit.stopped);
+  BOOST_TEST(implicit.t > S(0.693));
+  BOOST_TEST(implicit.t < S(0.694));  // ln 2
+  BOOST_TEST((radau.jacobian_source() == rt::Radau5<S>::JacobianSource::finite_difference));
   static_assert(rt::System<Decay, S>);
   static_assert(rt::FixedStepper<rt::Rk4<S>, Decay, S>);
   static_assert(rt::FixedStepper<rt::Dopri5<S>, Decay, S>);
@@ -63,6 +72,8 @@ template class eomc::runtime::Rk4<double>;
 template class eomc::runtime::Rk4<long double>;
 template class eomc::runtime::Dopri5<double>;
 template class eomc::runtime::Dopri5<long double>;
+template class eomc::runtime::Radau5<double>;
+template class eomc::runtime::Radau5<long double>;
 template class eomc::runtime::StepAdjuster<double>;
 template class eomc::runtime::StepAdjuster<long double>;
 template class eomc::runtime::ErrorChecker<double>;

@@ -624,7 +624,7 @@ BOOST_AUTO_TEST_CASE(non_positive_simulation_settings) {
 BOOST_AUTO_TEST_CASE(unknown_integrator) {
     const std::string head = "[scene]\nname = \"x\"\n[coordinates]\nq = {}\n[lagrangian]\nT = \"q_dot^2\"\n[simulate]\n";
     expect_error(head + "integrator = \"dopri\"\n", 8, 14, "unknown integrator 'dopri'; did you mean 'dopri5'?");
-    expect_error(head + "integrator = \"euler\"\n", 8, 14, "unknown integrator 'euler'; expected one of rk4, dopri5, dop853, gl4, gl6, gl8");
+    expect_error(head + "integrator = \"euler\"\n", 8, 14, "unknown integrator 'euler'; expected one of rk4, dopri5, dop853, radau5, gl4, gl6, gl8");
 }
 
 BOOST_AUTO_TEST_CASE(unknown_carrier_motion) {

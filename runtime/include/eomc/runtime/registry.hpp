@@ -19,6 +19,7 @@
 #include "eomc/runtime/stepper/dop853.hpp"
 #include "eomc/runtime/stepper/dopri5.hpp"
 #include "eomc/runtime/stepper/gauss_legendre.hpp"
+#include "eomc/runtime/stepper/radau5.hpp"
 #include "eomc/runtime/stepper/rk4.hpp"
 #include "eomc/runtime/stepper/splitting.hpp"
 
@@ -40,6 +41,9 @@ struct IntegratorInfo {
   bool symplectic;              // preserves the symplectic form (long-run energy behaviour)
   bool compensated_by_default;  // compensated summation of the update on unless the scene says
   std::string_view description;
+  // Implicit, with a Newton iteration on the system's Jacobian (sys.jacobian(t, x, J) where the
+  // system has one, finite differences otherwise): drivers hand it a system with the kernel's Jacobian.
+  bool uses_jacobian = false;
 
   // Takes a step size (fixed-step methods) rather than tolerances.
   constexpr bool fixed_step() const { return kind != IntegratorKind::adaptive; }
@@ -68,6 +72,14 @@ struct dop853 {
   static constexpr IntegratorInfo info{
       "dop853", IntegratorKind::adaptive, 8, false, true, false, false,
       "Dormand-Prince 8(5,3), adaptive, dense output (Prince & Dormand 1981, Hairer's DOP853)"};
+};
+struct radau5 {
+  template <class S>
+  using stepper = Radau5<S>;
+  static constexpr IntegratorInfo info{
+      "radau5", IntegratorKind::adaptive, 5, false, true, false, false,
+      "Radau IIA, 3 stages, order 5, implicit, L-stable, adaptive, dense output, for stiff systems (Hairer-Wanner RADAU5)",
+      true};
 };
 struct gl4 {
   template <class S>
@@ -130,7 +142,8 @@ struct IntegratorList {
 };
 
 // The catalogue, in the order listings show it.
-using Integrators = IntegratorList<integrators::rk4, integrators::dopri5, integrators::dop853, integrators::gl4,
+using Integrators = IntegratorList<integrators::rk4, integrators::dopri5, integrators::dop853, integrators::radau5,
+                                   integrators::gl4,
                                    integrators::gl6, integrators::gl8, integrators::verlet, integrators::yoshida6,
                                    integrators::kahanli8>;
 

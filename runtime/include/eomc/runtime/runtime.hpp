@@ -26,6 +26,8 @@
 #include "eomc/runtime/stepper/dop853.hpp"
 #include "eomc/runtime/stepper/dopri5.hpp"
 #include "eomc/runtime/stepper/gauss_legendre.hpp"
+#include "eomc/runtime/stepper/jacobian.hpp"
+#include "eomc/runtime/stepper/radau5.hpp"
 #include "eomc/runtime/stepper/rk4.hpp"
 #include "eomc/runtime/stepper/splitting.hpp"
 #include "eomc/runtime/variational.hpp"

@@ -52,6 +52,7 @@
 
 #include "eomc/runtime/errors.hpp"
 #include "eomc/runtime/state.hpp"
+#include "eomc/runtime/stepper/jacobian.hpp"
 
 namespace eomc::runtime {
 
@@ -66,13 +67,6 @@ class StageIterationError : public IntegrationError {
                              format(h) + " (" + std::to_string(iterations) + " iterations, last increment " +
                              format(last_increment) + "); reduce the step") {}
 };
-
-// A system that can also write its Jacobian df/dx at (t, x) into J (presized n x n and zeroed).
-template <class Sys, class S>
-concept HasJacobian =
-    System<Sys, S> && requires(Sys& sys, S t, const State<S>& x, Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>& J) {
-      sys.jacobian(t, x, J);
-    };
 
 struct GaussLegendreOptions {
   enum class Solver { automatic, fixed_point, newton };
