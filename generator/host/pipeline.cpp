@@ -5,9 +5,8 @@
 
 #include <fmt/format.h>
 
-#include <eomc/runtime/registry.hpp>
-
 #include "codegen/cpp_emitter.hpp"
+#include "eomc/runtime/registry.hpp"
 #include "mechanics/derive.hpp"
 #include "mechanics/orbit/formulation.hpp"
 #include "mechanics/rigid/formulation.hpp"
