@@ -3,7 +3,8 @@
 //
 // Euler's equations with the attitude quaternion e (body to space): x = (ω, e), I ω̇ = (Iω
 // + k) × ω + P γ × r_c, ė = ½ e ⊗ (0, ω), γ = R(e)ᵀ e_Z/|e|²; project() keeps |e|
-// = 1. M u̇ = f + D λ, Ā u̇ = c is solved at run time (runtime/program/control.hpp).
+// = 1. M u̇ = f + D λ, Ā u̇ = c is solved at run time (runtime/program/control.hpp). No
+// jacobian() (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
 //   forcing                           5 ->       5 (0 temporaries)
@@ -28,7 +29,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct AttitudeSlew {
+// PT is the parameters' scalar: double for the kernel AttitudeSlew below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicAttitudeSlew {
     static constexpr int n_coordinates = 7;
     static constexpr int n_state = 7;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -39,16 +43,22 @@ struct AttitudeSlew {
     static constexpr int n_outputs = 12;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = false;
+    // True when jacobian() (∂ẋ/∂x) was generated: `eomc generate --jacobian`, [kernel] jacobian,
+    // --variational, or a method that needs it.
+    static constexpr bool has_jacobian = false;
     static constexpr const char* scene_name = "attitude_slew";
     static constexpr std::array<const char*, n_state> state_names{ "p", "q", "r", "e0", "e1", "e2", "e3" };
     static constexpr std::array<const char*, n_parameters> parameter_names{ "slew" };
     static constexpr std::array<const char*, n_invariants> invariant_names{  };
     static constexpr std::array<const char*, n_outputs> output_names{ "gamma1", "gamma2", "gamma3", "program_err1", "program_err2", "program_err3", "lambda_err1", "lambda_err2", "lambda_err3", "Qc_p", "Qc_q", "Qc_r" };
     static constexpr std::array<double, n_state> initial_state{ 0, 0, 0, 0.955336489125606, 0.29552020666133955, 0, 0 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = false;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double slew = 1;
+        PT slew = 1;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -85,14 +95,6 @@ struct AttitudeSlew {
     template <class S>
     static void rhs(S t, const S* x, S* dxdt, const Parameters& p) {
         controlled_rates_(t, x, dxdt, static_cast<S*>(nullptr), static_cast<S*>(nullptr), p);
-    }
-
-    // ∂ẋ/∂x, row-major n_state×n_state.
-    template <class S>
-    static void jacobian(S t, const S* x, S* out, const Parameters& p) {
-        // The rates go through the control solve: differenced, not derived.
-        eomc::runtime::central_difference_jacobian(t, x, out, n_state,
-                                                   [&p](S tau, const S* y, S* dydt) { rhs(tau, y, dydt, p); });
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.
@@ -319,5 +321,7 @@ struct AttitudeSlew {
         out[5] = -S(1)/S(2)*e2*p_*w1 + S(1)/S(2)*e2*q*w2 + S(1)/S(2)*e0*r*w1 + S(1)/S(2)*e1*p_*w2 + S(1)/S(2)*e3*r*w2 + S(1)/S(2)*e1*q*w1;
     }
 };
+
+using AttitudeSlew = BasicAttitudeSlew<double>;
 
 }  // namespace eomc::models

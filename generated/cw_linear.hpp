@@ -2,22 +2,22 @@
 // Clohessy–Wiltshire relative motion on a circular orbit (linearised)
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 3 coordinates, as the first-order system x =
-// (q, q̇), ẋ = (q̇, M⁻¹f). M u̇ = f is solved at run time (Eigen LDLT). jacobian()
-// gives ∂ẋ/∂x.
+// (q, q̇), ẋ = (q̇, M⁻¹f). Solve of M u̇ = f: identity (M = I, u̇ = f; no solve at
+// run time). jacobian() gives ∂ẋ/∂x.
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
 //   forcing                           9 ->       9 (0 temporaries)
 //   mass_matrix + forcing             9 ->       9 (0 temporaries)
 //   explicit rates                    0 ->       0 (0 temporaries)
+//   M u̇ = f solved                   9 ->       9 (0 temporaries)
 //   mass_matrix + jacobian terms        5 ->       4 (1 temporaries)
+//   M⁻¹ (jacobian terms)              5 ->       4 (1 temporaries)
 //   explicit rates jacobian           0 ->       0 (0 temporaries)
 //   invariants                        0 ->       0 (0 temporaries)
 #pragma once
 
 #include <array>
 #include <cmath>
-#include <Eigen/Core>
-#include <Eigen/Cholesky>
 
 #if __has_include(<eomc/runtime/version.hpp>)
 #include <eomc/runtime/version.hpp>
@@ -92,27 +92,18 @@ struct BasicCwLinear {
     // ẋ = F(t, x).
     template <class S>
     static void rhs(S t, const S* x, S* dxdt, const Parameters& p) {
-        Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;
-        Eigen::Matrix<S, n_velocities, 1> f;
-        mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);
         explicit_rates_(t, x, dxdt, p);
-        Eigen::Map<Eigen::Matrix<S, n_velocities, 1>>(dxdt + velocity_offset) = M.ldlt().solve(f);
+        velocity_rates_(t, x, dxdt + velocity_offset, p);
     }
 
     // ∂ẋ/∂x, row-major n_state×n_state.
     template <class S>
     static void jacobian(S t, const S* x, S* out, const Parameters& p) {
-        Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;
-        Eigen::Matrix<S, n_velocities, 1> f;
-        mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);
-        const Eigen::Matrix<S, n_velocities, 1> acc = M.ldlt().solve(f);
-        Eigen::Matrix<S, n_velocities, n_state, Eigen::RowMajor> G;
-        mass_matrix_and_jacobian_terms_(t, x, acc.data(), M.data(), G.data(), p);
+        std::array<S, n_velocities> acc;
+        velocity_rates_(t, x, acc.data(), p);
         explicit_rates_jacobian_(t, x, out, p);
-        // d(M⁻¹f)/dx = M⁻¹ (∂f/∂x − (∂M/∂x) u̇)
-        const Eigen::Matrix<S, n_velocities, n_state, Eigen::RowMajor> lower = M.ldlt().solve(G);
-        for (int i = 0; i < n_velocities; ++i)
-            for (int j = 0; j < n_state; ++j) out[(velocity_offset + i) * n_state + j] = lower(i, j);
+        // d(M⁻¹f)/dx = M⁻¹ (∂f/∂x − (∂M/∂x) u̇): the velocity block's rows
+        velocity_jacobian_(t, x, acc.data(), out + velocity_offset * n_state, p);
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.
@@ -178,27 +169,19 @@ struct BasicCwLinear {
 
 
  private:
-    // M and f together: they share most of their subexpressions.
+    // u̇ = M⁻¹f to out[0 .. n_velocities): M and f together (they share most of their
+    // subexpressions), then the solve the banner names.
     template <class S>
-    static void mass_matrix_and_forcing_(S t, const S* x, S* out_M, S* out_f, const Parameters& p) {
+    static void velocity_rates_(S t, const S* x, S* out, const Parameters& p) {
         (void)t;
         const S x_ = x[0];
         const S z = x[2];
         const S x_dot = x[3];
         const S y_dot = x[4];
         const S n = S(p.n);
-        out_M[0] = S(1);
-        out_M[1] = S(0);
-        out_M[2] = S(0);
-        out_M[3] = S(0);
-        out_M[4] = S(1);
-        out_M[5] = S(0);
-        out_M[6] = S(0);
-        out_M[7] = S(0);
-        out_M[8] = S(1);
-        out_f[0] = n*(S(2)*y_dot + S(3)*n*x_);
-        out_f[1] = -S(2)*n*x_dot;
-        out_f[2] = -z*n*n;
+        out[0] = n*(S(2)*y_dot + S(3)*n*x_);
+        out[1] = -S(2)*n*x_dot;
+        out[2] = -z*n*n;
     }
 
     // The rates given in closed form (everything outside the velocity block).
@@ -214,41 +197,32 @@ struct BasicCwLinear {
         dxdt[2] = z_dot;
     }
 
-    // M and G = ∂f/∂x − (∂M/∂x) u̇, with u̇ = acc, both row-major.
+    // M⁻¹G, G = ∂f/∂x − (∂M/∂x) u̇ with u̇ = acc, row-major n_velocities × n_state.
     template <class S>
-    static void mass_matrix_and_jacobian_terms_(S t, const S* x, const S* acc, S* out_M, S* out_G, const Parameters& p) {
+    static void velocity_jacobian_(S t, const S* x, const S* acc, S* out, const Parameters& p) {
         (void)t;
         (void)x;
         (void)acc;
         const S n = S(p.n);
         const S w0 = n*n;
-        out_M[0] = S(1);
-        out_M[1] = S(0);
-        out_M[2] = S(0);
-        out_M[3] = S(0);
-        out_M[4] = S(1);
-        out_M[5] = S(0);
-        out_M[6] = S(0);
-        out_M[7] = S(0);
-        out_M[8] = S(1);
-        out_G[0] = S(3)*w0;
-        out_G[1] = S(0);
-        out_G[2] = S(0);
-        out_G[3] = S(0);
-        out_G[4] = S(2)*n;
-        out_G[5] = S(0);
-        out_G[6] = S(0);
-        out_G[7] = S(0);
-        out_G[8] = S(0);
-        out_G[9] = -S(2)*n;
-        out_G[10] = S(0);
-        out_G[11] = S(0);
-        out_G[12] = S(0);
-        out_G[13] = S(0);
-        out_G[14] = -w0;
-        out_G[15] = S(0);
-        out_G[16] = S(0);
-        out_G[17] = S(0);
+        out[0] = S(3)*w0;
+        out[1] = S(0);
+        out[2] = S(0);
+        out[3] = S(0);
+        out[4] = S(2)*n;
+        out[5] = S(0);
+        out[6] = S(0);
+        out[7] = S(0);
+        out[8] = S(0);
+        out[9] = -S(2)*n;
+        out[10] = S(0);
+        out[11] = S(0);
+        out[12] = S(0);
+        out[13] = S(0);
+        out[14] = -w0;
+        out[15] = S(0);
+        out[16] = S(0);
+        out[17] = S(0);
     }
 
     // The rows of ∂ẋ/∂x of the closed-form rates.

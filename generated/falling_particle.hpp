@@ -2,22 +2,22 @@
 // Particle falling on the rotating Earth: eastward deflection (Coriolis only)
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 3 coordinates, as the first-order system x =
-// (q, q̇), ẋ = (q̇, M⁻¹f). M u̇ = f is solved at run time (Eigen LDLT). jacobian()
-// gives ∂ẋ/∂x.
+// (q, q̇), ẋ = (q̇, M⁻¹f). Solve of M u̇ = f: diagonal (u̇_k = f_k / M_kk). M is
+// constant (parameters only). jacobian() gives ∂ẋ/∂x.
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
 //   forcing                          19 ->      17 (2 temporaries)
 //   mass_matrix + forcing            19 ->      17 (2 temporaries)
 //   explicit rates                    0 ->       0 (0 temporaries)
+//   M u̇ = f solved                  25 ->      23 (5 temporaries)
 //   mass_matrix + jacobian terms       16 ->      10 (2 temporaries)
+//   M⁻¹ (jacobian terms)             23 ->      17 (9 temporaries)
 //   explicit rates jacobian           0 ->       0 (0 temporaries)
 //   invariants                       10 ->      10 (0 temporaries)
 #pragma once
 
 #include <array>
 #include <cmath>
-#include <Eigen/Core>
-#include <Eigen/Cholesky>
 
 #if __has_include(<eomc/runtime/version.hpp>)
 #include <eomc/runtime/version.hpp>
@@ -101,27 +101,18 @@ struct BasicFallingParticle {
     // ẋ = F(t, x).
     template <class S>
     static void rhs(S t, const S* x, S* dxdt, const Parameters& p) {
-        Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;
-        Eigen::Matrix<S, n_velocities, 1> f;
-        mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);
         explicit_rates_(t, x, dxdt, p);
-        Eigen::Map<Eigen::Matrix<S, n_velocities, 1>>(dxdt + velocity_offset) = M.ldlt().solve(f);
+        velocity_rates_(t, x, dxdt + velocity_offset, p);
     }
 
     // ∂ẋ/∂x, row-major n_state×n_state.
     template <class S>
     static void jacobian(S t, const S* x, S* out, const Parameters& p) {
-        Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;
-        Eigen::Matrix<S, n_velocities, 1> f;
-        mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);
-        const Eigen::Matrix<S, n_velocities, 1> acc = M.ldlt().solve(f);
-        Eigen::Matrix<S, n_velocities, n_state, Eigen::RowMajor> G;
-        mass_matrix_and_jacobian_terms_(t, x, acc.data(), M.data(), G.data(), p);
+        std::array<S, n_velocities> acc;
+        velocity_rates_(t, x, acc.data(), p);
         explicit_rates_jacobian_(t, x, out, p);
-        // d(M⁻¹f)/dx = M⁻¹ (∂f/∂x − (∂M/∂x) u̇)
-        const Eigen::Matrix<S, n_velocities, n_state, Eigen::RowMajor> lower = M.ldlt().solve(G);
-        for (int i = 0; i < n_velocities; ++i)
-            for (int j = 0; j < n_state; ++j) out[(velocity_offset + i) * n_state + j] = lower(i, j);
+        // d(M⁻¹f)/dx = M⁻¹ (∂f/∂x − (∂M/∂x) u̇): the velocity block's rows
+        velocity_jacobian_(t, x, acc.data(), out + velocity_offset * n_state, p);
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.
@@ -155,9 +146,10 @@ struct BasicFallingParticle {
 
 
  private:
-    // M and f together: they share most of their subexpressions.
+    // u̇ = M⁻¹f to out[0 .. n_velocities): M and f together (they share most of their
+    // subexpressions), then the solve the banner names.
     template <class S>
-    static void mass_matrix_and_forcing_(S t, const S* x, S* out_M, S* out_f, const Parameters& p) {
+    static void velocity_rates_(S t, const S* x, S* out, const Parameters& p) {
         (void)t;
         using std::cos;
         using std::sin;
@@ -170,18 +162,12 @@ struct BasicFallingParticle {
         const S phi = S(p.phi);
         const S w0 = cos(phi);
         const S w1 = sin(phi);
-        out_M[0] = m;
-        out_M[1] = S(0);
-        out_M[2] = S(0);
-        out_M[3] = S(0);
-        out_M[4] = m;
-        out_M[5] = S(0);
-        out_M[6] = S(0);
-        out_M[7] = S(0);
-        out_M[8] = m;
-        out_f[0] = S(2)*Omega*m*(-w0*z_dot + w1*y_dot);
-        out_f[1] = -S(2)*Omega*m*w1*x_dot;
-        out_f[2] = m*(-g + S(2)*Omega*w0*x_dot);
+        const S w2 = S(2)*Omega*m*(-w0*z_dot + w1*y_dot);
+        const S w3 = -S(2)*Omega*m*w1*x_dot;
+        const S w4 = m*(-g + S(2)*Omega*w0*x_dot);
+        out[0] = w2/m;
+        out[1] = w3/m;
+        out[2] = w4/m;
     }
 
     // The rates given in closed form (everything outside the velocity block).
@@ -197,9 +183,9 @@ struct BasicFallingParticle {
         dxdt[2] = z_dot;
     }
 
-    // M and G = ∂f/∂x − (∂M/∂x) u̇, with u̇ = acc, both row-major.
+    // M⁻¹G, G = ∂f/∂x − (∂M/∂x) u̇ with u̇ = acc, row-major n_velocities × n_state.
     template <class S>
-    static void mass_matrix_and_jacobian_terms_(S t, const S* x, const S* acc, S* out_M, S* out_G, const Parameters& p) {
+    static void velocity_jacobian_(S t, const S* x, const S* acc, S* out, const Parameters& p) {
         (void)t;
         (void)x;
         (void)acc;
@@ -210,33 +196,31 @@ struct BasicFallingParticle {
         const S phi = S(p.phi);
         const S w0 = Omega*m*sin(phi);
         const S w1 = Omega*m*cos(phi);
-        out_M[0] = m;
-        out_M[1] = S(0);
-        out_M[2] = S(0);
-        out_M[3] = S(0);
-        out_M[4] = m;
-        out_M[5] = S(0);
-        out_M[6] = S(0);
-        out_M[7] = S(0);
-        out_M[8] = m;
-        out_G[0] = S(0);
-        out_G[1] = S(0);
-        out_G[2] = S(0);
-        out_G[3] = S(0);
-        out_G[4] = S(2)*w0;
-        out_G[5] = -S(2)*w1;
-        out_G[6] = S(0);
-        out_G[7] = S(0);
-        out_G[8] = S(0);
-        out_G[9] = -S(2)*w0;
-        out_G[10] = S(0);
-        out_G[11] = S(0);
-        out_G[12] = S(0);
-        out_G[13] = S(0);
-        out_G[14] = S(0);
-        out_G[15] = S(2)*w1;
-        out_G[16] = S(0);
-        out_G[17] = S(0);
+        const S w2 = S(2)*w0;
+        const S w3 = -S(2)*w1;
+        const S w4 = -S(2)*w0;
+        const S w5 = S(2)*w1;
+        const S w6 = S(1)/m;
+        const S w7 = S(1)/m;
+        const S w8 = S(1)/m;
+        out[0] = S(0);
+        out[1] = S(0);
+        out[2] = S(0);
+        out[3] = S(0);
+        out[4] = w2*w6;
+        out[5] = w3*w6;
+        out[6] = S(0);
+        out[7] = S(0);
+        out[8] = S(0);
+        out[9] = w4*w7;
+        out[10] = S(0);
+        out[11] = S(0);
+        out[12] = S(0);
+        out[13] = S(0);
+        out[14] = S(0);
+        out[15] = w5*w8;
+        out[16] = S(0);
+        out[17] = S(0);
     }
 
     // The rows of ∂ẋ/∂x of the closed-form rates.

@@ -3,21 +3,24 @@
 //
 // Lagrange's equations in the 1 coordinate and the free carrier's balance equations
 // (1.1.14)-(1.1.15) for its 2 quasi-velocities, M u̇ = f with u = (q̇, quasi-velocities);
-// the state adds the carrier's attitude quaternion e and the pole's inertial position. M u̇ =
-// f is solved at run time (Eigen LDLT). No jacobian() (eomc generate --jacobian adds it).
+// the state adds the carrier's attitude quaternion e and the pole's inertial position. Solve
+// of M u̇ = f: diagonal (u̇_k = f_k / M_kk). No jacobian() (eomc generate --jacobian adds
+// it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       7 ->       7 (0 temporaries)
 //   forcing                           7 ->       7 (0 temporaries)
 //   mass_matrix + forcing            14 ->      14 (0 temporaries)
 //   explicit rates                   53 ->      33 (5 temporaries)
+//   M u̇ = f solved                  18 ->      17 (3 temporaries)
+//   mass_matrix + jacobian terms        0 ->       0 (0 temporaries)
+//   M⁻¹ (jacobian terms)              0 ->       0 (0 temporaries)
+//   explicit rates jacobian           0 ->       0 (0 temporaries)
 //   invariants                       35 ->      29 (4 temporaries)
 //   outputs                          11 ->      11 (0 temporaries)
 #pragma once
 
 #include <array>
 #include <cmath>
-#include <Eigen/Core>
-#include <Eigen/Cholesky>
 
 #if __has_include(<eomc/runtime/version.hpp>)
 #include <eomc/runtime/version.hpp>
@@ -95,11 +98,8 @@ struct BasicFreeDiskTubeBall {
     // ẋ = F(t, x).
     template <class S>
     static void rhs(S t, const S* x, S* dxdt, const Parameters& p) {
-        Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;
-        Eigen::Matrix<S, n_velocities, 1> f;
-        mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);
         explicit_rates_(t, x, dxdt, p);
-        Eigen::Map<Eigen::Matrix<S, n_velocities, 1>>(dxdt + velocity_offset) = M.ldlt().solve(f);
+        velocity_rates_(t, x, dxdt + velocity_offset, p);
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.
@@ -162,9 +162,10 @@ struct BasicFreeDiskTubeBall {
 
 
  private:
-    // M and f together: they share most of their subexpressions.
+    // u̇ = M⁻¹f to out[0 .. n_velocities): M and f together (they share most of their
+    // subexpressions), then the solve the banner names.
     template <class S>
-    static void mass_matrix_and_forcing_(S t, const S* x, S* out_M, S* out_f, const Parameters& p) {
+    static void velocity_rates_(S t, const S* x, S* out, const Parameters& p) {
         (void)t;
         const S q = x[0];
         const S q_dot = x[1];
@@ -172,18 +173,12 @@ struct BasicFreeDiskTubeBall {
         const S M = S(p.M);
         const S m = S(p.m);
         const S r = S(p.r);
-        out_M[0] = m;
-        out_M[1] = S(0);
-        out_M[2] = S(0);
-        out_M[3] = S(0);
-        out_M[4] = M + m;
-        out_M[5] = S(0);
-        out_M[6] = S(0);
-        out_M[7] = S(0);
-        out_M[8] = S(1)/S(2)*M*r*r + m*q*q;
-        out_f[0] = m*q*w*w;
-        out_f[1] = S(0);
-        out_f[2] = -S(2)*m*q*q_dot*w;
+        const S w0 = m*q*w*w;
+        const S w1 = -S(2)*m*q*q_dot*w;
+        const S w3 = S(1)/S(2)*M*r*r + m*q*q;
+        out[0] = w0/m;
+        out[1] = S(0);
+        out[2] = w1/w3;
     }
 
     // The rates given in closed form (everything outside the velocity block).
@@ -211,6 +206,23 @@ struct BasicFreeDiskTubeBall {
         dxdt[8] = S(2)*v0*w4*(carrier_e1*carrier_e2 - carrier_e0*carrier_e3);
         dxdt[9] = v0*w4*(w0 + w2 - w1 - w3);
         dxdt[10] = S(2)*v0*w4*(carrier_e0*carrier_e1 + carrier_e2*carrier_e3);
+    }
+
+    // M⁻¹G, G = ∂f/∂x − (∂M/∂x) u̇ with u̇ = acc, row-major n_velocities × n_state.
+    template <class S>
+    static void velocity_jacobian_(S t, const S* x, const S* acc, S* out, const Parameters& p) {
+        (void)t;
+        (void)x;
+        (void)acc;
+        (void)p;
+    }
+
+    // The rows of ∂ẋ/∂x of the closed-form rates.
+    template <class S>
+    static void explicit_rates_jacobian_(S t, const S* x, S* out, const Parameters& p) {
+        (void)t;
+        (void)x;
+        (void)p;
     }
 };
 

@@ -2,21 +2,23 @@
 // A low Earth orbit decaying under drag in an exponential, co-rotating atmosphere, with J2
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 3 coordinates, as the first-order system x =
-// (q, q̇), ẋ = (q̇, M⁻¹f). M u̇ = f is solved at run time (Eigen LDLT). No jacobian()
-// (eomc generate --jacobian adds it).
+// (q, q̇), ẋ = (q̇, M⁻¹f). Solve of M u̇ = f: identity (M = I, u̇ = f; no solve at
+// run time). No jacobian() (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
 //   forcing                         241 ->      99 (12 temporaries)
 //   mass_matrix + forcing           241 ->      99 (12 temporaries)
 //   explicit rates                    0 ->       0 (0 temporaries)
+//   M u̇ = f solved                 241 ->      99 (12 temporaries)
+//   mass_matrix + jacobian terms        0 ->       0 (0 temporaries)
+//   M⁻¹ (jacobian terms)              0 ->       0 (0 temporaries)
+//   explicit rates jacobian           0 ->       0 (0 temporaries)
 //   invariants                        0 ->       0 (0 temporaries)
 //   events                            7 ->       7 (0 temporaries)
 #pragma once
 
 #include <array>
 #include <cmath>
-#include <Eigen/Core>
-#include <Eigen/Cholesky>
 
 #if __has_include(<eomc/runtime/version.hpp>)
 #include <eomc/runtime/version.hpp>
@@ -122,11 +124,8 @@ struct BasicLeoDrag {
     // ẋ = F(t, x).
     template <class S>
     static void rhs(S t, const S* x, S* dxdt, const Parameters& p) {
-        Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;
-        Eigen::Matrix<S, n_velocities, 1> f;
-        mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);
         explicit_rates_(t, x, dxdt, p);
-        Eigen::Map<Eigen::Matrix<S, n_velocities, 1>>(dxdt + velocity_offset) = M.ldlt().solve(f);
+        velocity_rates_(t, x, dxdt + velocity_offset, p);
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.
@@ -168,9 +167,10 @@ struct BasicLeoDrag {
 
 
  private:
-    // M and f together: they share most of their subexpressions.
+    // u̇ = M⁻¹f to out[0 .. n_velocities): M and f together (they share most of their
+    // subexpressions), then the solve the banner names.
     template <class S>
-    static void mass_matrix_and_forcing_(S t, const S* x, S* out_M, S* out_f, const Parameters& p) {
+    static void velocity_rates_(S t, const S* x, S* out, const Parameters& p) {
         (void)t;
         using std::exp;
         using std::pow;
@@ -201,18 +201,9 @@ struct BasicLeoDrag {
         const S w9 = S(1)/w2;
         const S w10 = S(-1) + S(3)*w1*w9;
         const S w11 = pow(w2, S(-7)/S(2));
-        out_M[0] = S(1);
-        out_M[1] = S(0);
-        out_M[2] = S(0);
-        out_M[3] = S(0);
-        out_M[4] = S(1);
-        out_M[5] = S(0);
-        out_M[6] = S(0);
-        out_M[7] = S(0);
-        out_M[8] = S(1);
-        out_f[0] = -mu*w6*x_ + S(3)*J2*mu*w1*w11*w7*x_ - S(500)*CdA_m*rho0*w0*w3*w5 + S(3)/S(2)*J2*mu*w10*w7*w8*x_;
-        out_f[1] = S(3)/S(2)*J2*mu*w10*w7*w8*y - S(500)*CdA_m*rho0*w3*w4*w5 + S(3)*J2*mu*w1*w11*w7*y - mu*w6*y;
-        out_f[2] = -S(3)*J2*mu*w6*w7*z*(w9 - w1/(w2*w2)) + S(3)/S(2)*J2*mu*w10*w7*w8*z - S(500)*CdA_m*rho0*w3*w5*z_dot - mu*w6*z;
+        out[0] = -mu*w6*x_ + S(3)*J2*mu*w1*w11*w7*x_ - S(500)*CdA_m*rho0*w0*w3*w5 + S(3)/S(2)*J2*mu*w10*w7*w8*x_;
+        out[1] = S(3)/S(2)*J2*mu*w10*w7*w8*y - S(500)*CdA_m*rho0*w3*w4*w5 + S(3)*J2*mu*w1*w11*w7*y - mu*w6*y;
+        out[2] = -S(3)*J2*mu*w6*w7*z*(w9 - w1/(w2*w2)) + S(3)/S(2)*J2*mu*w10*w7*w8*z - S(500)*CdA_m*rho0*w3*w5*z_dot - mu*w6*z;
     }
 
     // The rates given in closed form (everything outside the velocity block).
@@ -226,6 +217,23 @@ struct BasicLeoDrag {
         dxdt[0] = x_dot;
         dxdt[1] = y_dot;
         dxdt[2] = z_dot;
+    }
+
+    // M⁻¹G, G = ∂f/∂x − (∂M/∂x) u̇ with u̇ = acc, row-major n_velocities × n_state.
+    template <class S>
+    static void velocity_jacobian_(S t, const S* x, const S* acc, S* out, const Parameters& p) {
+        (void)t;
+        (void)x;
+        (void)acc;
+        (void)p;
+    }
+
+    // The rows of ∂ẋ/∂x of the closed-form rates.
+    template <class S>
+    static void explicit_rates_jacobian_(S t, const S* x, S* out, const Parameters& p) {
+        (void)t;
+        (void)x;
+        (void)p;
     }
 };
 

@@ -2,21 +2,23 @@
 // A low Earth orbit under the Earth's oblateness J2 (Cowell: Cartesian equations)
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 3 coordinates, as the first-order system x =
-// (q, q̇), ẋ = (q̇, M⁻¹f). M u̇ = f is solved at run time (Eigen LDLT). No jacobian()
-// (eomc generate --jacobian adds it).
+// (q, q̇), ẋ = (q̇, M⁻¹f). Solve of M u̇ = f: identity (M = I, u̇ = f; no solve at
+// run time). No jacobian() (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
 //   forcing                         150 ->      44 (8 temporaries)
 //   mass_matrix + forcing           150 ->      44 (8 temporaries)
 //   explicit rates                    0 ->       0 (0 temporaries)
+//   M u̇ = f solved                 150 ->      44 (8 temporaries)
+//   mass_matrix + jacobian terms        0 ->       0 (0 temporaries)
+//   M⁻¹ (jacobian terms)              0 ->       0 (0 temporaries)
+//   explicit rates jacobian           0 ->       0 (0 temporaries)
 //   invariants                       42 ->      31 (2 temporaries)
 //   events                            7 ->       7 (0 temporaries)
 #pragma once
 
 #include <array>
 #include <cmath>
-#include <Eigen/Core>
-#include <Eigen/Cholesky>
 
 #if __has_include(<eomc/runtime/version.hpp>)
 #include <eomc/runtime/version.hpp>
@@ -104,11 +106,8 @@ struct BasicLeoJ2 {
     // ẋ = F(t, x).
     template <class S>
     static void rhs(S t, const S* x, S* dxdt, const Parameters& p) {
-        Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;
-        Eigen::Matrix<S, n_velocities, 1> f;
-        mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);
         explicit_rates_(t, x, dxdt, p);
-        Eigen::Map<Eigen::Matrix<S, n_velocities, 1>>(dxdt + velocity_offset) = M.ldlt().solve(f);
+        velocity_rates_(t, x, dxdt + velocity_offset, p);
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.
@@ -184,9 +183,10 @@ struct BasicLeoJ2 {
 
 
  private:
-    // M and f together: they share most of their subexpressions.
+    // u̇ = M⁻¹f to out[0 .. n_velocities): M and f together (they share most of their
+    // subexpressions), then the solve the banner names.
     template <class S>
-    static void mass_matrix_and_forcing_(S t, const S* x, S* out_M, S* out_f, const Parameters& p) {
+    static void velocity_rates_(S t, const S* x, S* out, const Parameters& p) {
         (void)t;
         using std::pow;
         using std::sqrt;
@@ -204,18 +204,9 @@ struct BasicLeoJ2 {
         const S w5 = S(1)/w1;
         const S w6 = J2*w4*(S(-1) + S(3)*w0*w5)/(pow(w1, S(5)/S(2)));
         const S w7 = w3 + S(3)*w6 + S(6)*J2*w0*w4/(pow(w1, S(7)/S(2)));
-        out_M[0] = S(1);
-        out_M[1] = S(0);
-        out_M[2] = S(0);
-        out_M[3] = S(0);
-        out_M[4] = S(1);
-        out_M[5] = S(0);
-        out_M[6] = S(0);
-        out_M[7] = S(0);
-        out_M[8] = S(1);
-        out_f[0] = S(1)/S(2)*mu*w7*x_;
-        out_f[1] = S(1)/S(2)*mu*w7*y;
-        out_f[2] = S(1)/S(2)*mu*z*(w3 + S(3)*w6 + S(6)*J2*w2*w4*(w0/(w1*w1) - w5));
+        out[0] = S(1)/S(2)*mu*w7*x_;
+        out[1] = S(1)/S(2)*mu*w7*y;
+        out[2] = S(1)/S(2)*mu*z*(w3 + S(3)*w6 + S(6)*J2*w2*w4*(w0/(w1*w1) - w5));
     }
 
     // The rates given in closed form (everything outside the velocity block).
@@ -229,6 +220,23 @@ struct BasicLeoJ2 {
         dxdt[0] = x_dot;
         dxdt[1] = y_dot;
         dxdt[2] = z_dot;
+    }
+
+    // M⁻¹G, G = ∂f/∂x − (∂M/∂x) u̇ with u̇ = acc, row-major n_velocities × n_state.
+    template <class S>
+    static void velocity_jacobian_(S t, const S* x, const S* acc, S* out, const Parameters& p) {
+        (void)t;
+        (void)x;
+        (void)acc;
+        (void)p;
+    }
+
+    // The rows of ∂ẋ/∂x of the closed-form rates.
+    template <class S>
+    static void explicit_rates_jacobian_(S t, const S* x, S* out, const Parameters& p) {
+        (void)t;
+        (void)x;
+        (void)p;
     }
 };
 

@@ -2,14 +2,16 @@
 // Projectile on the rotating Earth: Coriolis, centrifugal and the pole's acceleration
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 3 coordinates, as the first-order system x =
-// (q, q̇), ẋ = (q̇, M⁻¹f). M u̇ = f is solved at run time (Eigen LDLT). jacobian()
-// gives ∂ẋ/∂x.
+// (q, q̇), ẋ = (q̇, M⁻¹f). Solve of M u̇ = f: diagonal (u̇_k = f_k / M_kk). M is
+// constant (parameters only). jacobian() gives ∂ẋ/∂x.
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
 //   forcing                          55 ->      39 (5 temporaries)
 //   mass_matrix + forcing            55 ->      39 (5 temporaries)
 //   explicit rates                    0 ->       0 (0 temporaries)
+//   M u̇ = f solved                  61 ->      45 (8 temporaries)
 //   mass_matrix + jacobian terms       46 ->      23 (8 temporaries)
+//   M⁻¹ (jacobian terms)             58 ->      35 (20 temporaries)
 //   explicit rates jacobian           0 ->       0 (0 temporaries)
 //   invariants                       81 ->      62 (4 temporaries)
 //   outputs                         237 ->     137 (14 temporaries)
@@ -17,8 +19,6 @@
 
 #include <array>
 #include <cmath>
-#include <Eigen/Core>
-#include <Eigen/Cholesky>
 
 #if __has_include(<eomc/runtime/version.hpp>)
 #include <eomc/runtime/version.hpp>
@@ -110,27 +110,18 @@ struct BasicProjectileRotatingEarth {
     // ẋ = F(t, x).
     template <class S>
     static void rhs(S t, const S* x, S* dxdt, const Parameters& p) {
-        Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;
-        Eigen::Matrix<S, n_velocities, 1> f;
-        mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);
         explicit_rates_(t, x, dxdt, p);
-        Eigen::Map<Eigen::Matrix<S, n_velocities, 1>>(dxdt + velocity_offset) = M.ldlt().solve(f);
+        velocity_rates_(t, x, dxdt + velocity_offset, p);
     }
 
     // ∂ẋ/∂x, row-major n_state×n_state.
     template <class S>
     static void jacobian(S t, const S* x, S* out, const Parameters& p) {
-        Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;
-        Eigen::Matrix<S, n_velocities, 1> f;
-        mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);
-        const Eigen::Matrix<S, n_velocities, 1> acc = M.ldlt().solve(f);
-        Eigen::Matrix<S, n_velocities, n_state, Eigen::RowMajor> G;
-        mass_matrix_and_jacobian_terms_(t, x, acc.data(), M.data(), G.data(), p);
+        std::array<S, n_velocities> acc;
+        velocity_rates_(t, x, acc.data(), p);
         explicit_rates_jacobian_(t, x, out, p);
-        // d(M⁻¹f)/dx = M⁻¹ (∂f/∂x − (∂M/∂x) u̇)
-        const Eigen::Matrix<S, n_velocities, n_state, Eigen::RowMajor> lower = M.ldlt().solve(G);
-        for (int i = 0; i < n_velocities; ++i)
-            for (int j = 0; j < n_state; ++j) out[(velocity_offset + i) * n_state + j] = lower(i, j);
+        // d(M⁻¹f)/dx = M⁻¹ (∂f/∂x − (∂M/∂x) u̇): the velocity block's rows
+        velocity_jacobian_(t, x, acc.data(), out + velocity_offset * n_state, p);
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.
@@ -154,7 +145,7 @@ struct BasicProjectileRotatingEarth {
         const S w1 = sin(phi);
         const S w2 = x_*x_;
         const S w3 = -Re*w0 - w0*z + w1*y;
-        out[0] = S(1)/S(2)*m*(-z_dot*z_dot + S(2)*z_dot*(z_dot - Omega*w0*x_) + S(2)*y_dot*(y_dot + Omega*w1*x_) + S(2)*x_dot*(x_dot + Omega*Re*w0 + Omega*w0*z - Omega*w1*y) + S(2)*g*z - S(2)*Omega*(-w0*x_*z_dot - w3*x_dot + w1*x_*y_dot) - x_dot*x_dot - y_dot*y_dot - Omega*Omega*(w3*w3 + w2*w1*w1 + w2*w0*w0));
+        out[0] = S(1)/S(2)*m*(-z_dot*z_dot + S(2)*y_dot*(y_dot + Omega*w1*x_) + S(2)*x_dot*(x_dot + Omega*Re*w0 + Omega*w0*z - Omega*w1*y) + S(2)*g*z + S(2)*Omega*(w0*x_*z_dot - w1*x_*y_dot + w3*x_dot) - S(2)*z_dot*(-z_dot + Omega*w0*x_) - x_dot*x_dot - y_dot*y_dot - Omega*Omega*(w3*w3 + w2*w1*w1 + w2*w0*w0));
     }
 
     // Quantities written beside the state (functions of t, x and u̇), in output_names order.
@@ -196,8 +187,8 @@ struct BasicProjectileRotatingEarth {
         out[0] = m*(x_ddot + Omega*w0*z_dot + Omega*w0*w2 - Omega*w3*w5 - Omega*w3*y_dot);
         out[1] = m*(y_ddot + Omega*w3*x_dot + Omega*w10*w3);
         out[2] = -m*(Omega*w0*x_dot + Omega*w0*w10 - z_ddot);
-        out[3] = -m*(w5*z_dot - Omega*w3*(-Omega*(-w9*z + w0*w12) - x_dot*z + x_*z_dot) - w2*y_dot - Omega*w0*(x_*y_dot - x_dot*y + Omega*(w12*w3 + w9*y)) - y*z_ddot + y_ddot*z + Omega*w11*x_dot);
-        out[4] = -m*(-z_dot*(x_dot + Omega*(w8 - w6 + S(2)*w7)) - Omega*w13*w3 + Omega*w3*y_dot*z + Omega*Re*w0*w2 - x_ddot*z - x_dot*(-z_dot + S(2)*w1) + x_*z_ddot);
+        out[3] = m*(-w5*z_dot - Omega*w11*x_dot + y*z_ddot + Omega*w0*(x_*y_dot - x_dot*y + Omega*(w12*w3 + w9*y)) + w2*y_dot - y_ddot*z + Omega*w3*(-Omega*(-w9*z + w0*w12) - x_dot*z + x_*z_dot));
+        out[4] = -m*(x_dot*(z_dot - S(2)*w1) - z_dot*(x_dot + Omega*(w8 - w6 + S(2)*w7)) - Omega*w13*w3 + Omega*w3*y_dot*z + Omega*Re*w0*w2 - x_ddot*z + x_*z_ddot);
         out[5] = -m*(-x_dot*(y_dot + S(2)*w4) + Omega*w0*w13 - x_*y_ddot - Omega*Re*w0*w5 + Omega*w0*y*z_dot + x_ddot*y + y_dot*(x_dot + Omega*(w7 + w8 - S(2)*w6)));
     }
 
@@ -210,9 +201,10 @@ struct BasicProjectileRotatingEarth {
 
 
  private:
-    // M and f together: they share most of their subexpressions.
+    // u̇ = M⁻¹f to out[0 .. n_velocities): M and f together (they share most of their
+    // subexpressions), then the solve the banner names.
     template <class S>
-    static void mass_matrix_and_forcing_(S t, const S* x, S* out_M, S* out_f, const Parameters& p) {
+    static void velocity_rates_(S t, const S* x, S* out, const Parameters& p) {
         (void)t;
         using std::cos;
         using std::sin;
@@ -232,18 +224,12 @@ struct BasicProjectileRotatingEarth {
         const S w2 = w0*w0;
         const S w3 = -w0*z + w1*y;
         const S w4 = Omega*Omega;
-        out_M[0] = m;
-        out_M[1] = S(0);
-        out_M[2] = S(0);
-        out_M[3] = S(0);
-        out_M[4] = m;
-        out_M[5] = S(0);
-        out_M[6] = S(0);
-        out_M[7] = S(0);
-        out_M[8] = m;
-        out_f[0] = -Omega*m*(-S(2)*w1*y_dot - Omega*x_*(w2 + w1*w1) + S(2)*w0*z_dot);
-        out_f[1] = Omega*m*w1*(Omega*w3 - Omega*Re*w0 - S(2)*x_dot);
-        out_f[2] = m*(-g + Re*w2*w4 - w0*w3*w4 + S(2)*Omega*w0*x_dot);
+        const S w5 = -Omega*m*(-S(2)*w1*y_dot - Omega*x_*(w2 + w1*w1) + S(2)*w0*z_dot);
+        const S w6 = Omega*m*w1*(Omega*w3 - Omega*Re*w0 - S(2)*x_dot);
+        const S w7 = m*(-g + Re*w2*w4 - w0*w3*w4 + S(2)*Omega*w0*x_dot);
+        out[0] = w5/m;
+        out[1] = w6/m;
+        out[2] = w7/m;
     }
 
     // The rates given in closed form (everything outside the velocity block).
@@ -259,9 +245,9 @@ struct BasicProjectileRotatingEarth {
         dxdt[2] = z_dot;
     }
 
-    // M and G = ∂f/∂x − (∂M/∂x) u̇, with u̇ = acc, both row-major.
+    // M⁻¹G, G = ∂f/∂x − (∂M/∂x) u̇ with u̇ = acc, row-major n_velocities × n_state.
     template <class S>
-    static void mass_matrix_and_jacobian_terms_(S t, const S* x, const S* acc, S* out_M, S* out_G, const Parameters& p) {
+    static void velocity_jacobian_(S t, const S* x, const S* acc, S* out, const Parameters& p) {
         (void)t;
         (void)x;
         (void)acc;
@@ -278,33 +264,36 @@ struct BasicProjectileRotatingEarth {
         const S w5 = Omega*m*w3;
         const S w6 = Omega*m*w1;
         const S w7 = m*w0*w1*w3;
-        out_M[0] = m;
-        out_M[1] = S(0);
-        out_M[2] = S(0);
-        out_M[3] = S(0);
-        out_M[4] = m;
-        out_M[5] = S(0);
-        out_M[6] = S(0);
-        out_M[7] = S(0);
-        out_M[8] = m;
-        out_G[0] = m*w0*(w2 + w4);
-        out_G[1] = S(0);
-        out_G[2] = S(0);
-        out_G[3] = S(0);
-        out_G[4] = S(2)*w5;
-        out_G[5] = -S(2)*w6;
-        out_G[6] = S(0);
-        out_G[7] = m*w0*w4;
-        out_G[8] = -w7;
-        out_G[9] = -S(2)*w5;
-        out_G[10] = S(0);
-        out_G[11] = S(0);
-        out_G[12] = S(0);
-        out_G[13] = -w7;
-        out_G[14] = m*w0*w2;
-        out_G[15] = S(2)*w6;
-        out_G[16] = S(0);
-        out_G[17] = S(0);
+        const S w8 = m*w0*(w2 + w4);
+        const S w9 = S(2)*w5;
+        const S w10 = -S(2)*w6;
+        const S w11 = m*w0*w4;
+        const S w12 = -w7;
+        const S w13 = -S(2)*w5;
+        const S w14 = -w7;
+        const S w15 = m*w0*w2;
+        const S w16 = S(2)*w6;
+        const S w17 = S(1)/m;
+        const S w18 = S(1)/m;
+        const S w19 = S(1)/m;
+        out[0] = w17*w8;
+        out[1] = S(0);
+        out[2] = S(0);
+        out[3] = S(0);
+        out[4] = w17*w9;
+        out[5] = w10*w17;
+        out[6] = S(0);
+        out[7] = w11*w18;
+        out[8] = w12*w18;
+        out[9] = w13*w18;
+        out[10] = S(0);
+        out[11] = S(0);
+        out[12] = S(0);
+        out[13] = w14*w19;
+        out[14] = w15*w19;
+        out[15] = w16*w19;
+        out[16] = S(0);
+        out[17] = S(0);
     }
 
     // The rows of ∂ẋ/∂x of the closed-form rates.

@@ -2,21 +2,23 @@
 // Nonlinear relative motion near a circular orbit (carrier: the orbiting frame)
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 3 coordinates, as the first-order system x =
-// (q, q̇), ẋ = (q̇, M⁻¹f). M u̇ = f is solved at run time (Eigen LDLT). No jacobian()
-// (eomc generate --jacobian adds it).
+// (q, q̇), ẋ = (q̇, M⁻¹f). Solve of M u̇ = f: diagonal (u̇_k = f_k / M_kk). M is
+// constant (parameters only). No jacobian() (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
 //   forcing                          69 ->      38 (4 temporaries)
 //   mass_matrix + forcing            69 ->      38 (4 temporaries)
 //   explicit rates                    0 ->       0 (0 temporaries)
+//   M u̇ = f solved                  75 ->      44 (7 temporaries)
+//   mass_matrix + jacobian terms        0 ->       0 (0 temporaries)
+//   M⁻¹ (jacobian terms)              0 ->       0 (0 temporaries)
+//   explicit rates jacobian           0 ->       0 (0 temporaries)
 //   invariants                       82 ->      49 (7 temporaries)
 //   outputs                         184 ->      79 (6 temporaries)
 #pragma once
 
 #include <array>
 #include <cmath>
-#include <Eigen/Core>
-#include <Eigen/Cholesky>
 
 #if __has_include(<eomc/runtime/version.hpp>)
 #include <eomc/runtime/version.hpp>
@@ -101,11 +103,8 @@ struct BasicRelativeOrbit {
     // ẋ = F(t, x).
     template <class S>
     static void rhs(S t, const S* x, S* dxdt, const Parameters& p) {
-        Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;
-        Eigen::Matrix<S, n_velocities, 1> f;
-        mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);
         explicit_rates_(t, x, dxdt, p);
-        Eigen::Map<Eigen::Matrix<S, n_velocities, 1>>(dxdt + velocity_offset) = M.ldlt().solve(f);
+        velocity_rates_(t, x, dxdt + velocity_offset, p);
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.
@@ -175,9 +174,10 @@ struct BasicRelativeOrbit {
 
 
  private:
-    // M and f together: they share most of their subexpressions.
+    // u̇ = M⁻¹f to out[0 .. n_velocities): M and f together (they share most of their
+    // subexpressions), then the solve the banner names.
     template <class S>
-    static void mass_matrix_and_forcing_(S t, const S* x, S* out_M, S* out_f, const Parameters& p) {
+    static void velocity_rates_(S t, const S* x, S* out, const Parameters& p) {
         (void)t;
         using std::sqrt;
         const S x_ = x[0];
@@ -192,18 +192,12 @@ struct BasicRelativeOrbit {
         const S w1 = S(1)/((w0*w0 + y*y + z*z)*sqrt(w0*w0 + y*y + z*z));
         const S w2 = S(1)/(a*a*a);
         const S w3 = sqrt(mu*w2);
-        out_M[0] = m;
-        out_M[1] = S(0);
-        out_M[2] = S(0);
-        out_M[3] = S(0);
-        out_M[4] = m;
-        out_M[5] = S(0);
-        out_M[6] = S(0);
-        out_M[7] = S(0);
-        out_M[8] = m;
-        out_f[0] = m*(-mu*w0*w1 + S(2)*w3*y_dot + w3*sqrt(mu/a) + mu*w2*x_);
-        out_f[1] = -m*(mu*w1*y - mu*w2*y + S(2)*w3*x_dot);
-        out_f[2] = -m*mu*w1*z;
+        const S w4 = m*(-mu*w0*w1 + S(2)*w3*y_dot + w3*sqrt(mu/a) + mu*w2*x_);
+        const S w5 = -m*(mu*w1*y - mu*w2*y + S(2)*w3*x_dot);
+        const S w6 = -m*mu*w1*z;
+        out[0] = w4/m;
+        out[1] = w5/m;
+        out[2] = w6/m;
     }
 
     // The rates given in closed form (everything outside the velocity block).
@@ -217,6 +211,23 @@ struct BasicRelativeOrbit {
         dxdt[0] = x_dot;
         dxdt[1] = y_dot;
         dxdt[2] = z_dot;
+    }
+
+    // M⁻¹G, G = ∂f/∂x − (∂M/∂x) u̇ with u̇ = acc, row-major n_velocities × n_state.
+    template <class S>
+    static void velocity_jacobian_(S t, const S* x, const S* acc, S* out, const Parameters& p) {
+        (void)t;
+        (void)x;
+        (void)acc;
+        (void)p;
+    }
+
+    // The rows of ∂ẋ/∂x of the closed-form rates.
+    template <class S>
+    static void explicit_rates_jacobian_(S t, const S* x, S* out, const Parameters& p) {
+        (void)t;
+        (void)x;
+        (void)p;
     }
 };
 

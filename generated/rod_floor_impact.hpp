@@ -2,13 +2,17 @@
 // A rod 2l = 1, m = 1 striking a floor with its end at 30 degrees, v = (0, -2), e = 0.5 (Mei ch. 6)
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 3 coordinates, as the first-order system x =
-// (q, q̇), ẋ = (q̇, M⁻¹f). M u̇ = f is solved at run time (Eigen LDLT). No jacobian()
-// (eomc generate --jacobian adds it).
+// (q, q̇), ẋ = (q̇, M⁻¹f). Solve of M u̇ = f: diagonal (u̇_k = f_k / M_kk). M is
+// constant (parameters only). No jacobian() (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       3 ->       3 (0 temporaries)
 //   forcing                           0 ->       0 (0 temporaries)
 //   mass_matrix + forcing             3 ->       3 (0 temporaries)
 //   explicit rates                    0 ->       0 (0 temporaries)
+//   M u̇ = f solved                   3 ->       0 (0 temporaries)
+//   mass_matrix + jacobian terms        0 ->       0 (0 temporaries)
+//   M⁻¹ (jacobian terms)              0 ->       0 (0 temporaries)
+//   explicit rates jacobian           0 ->       0 (0 temporaries)
 //   invariants                       12 ->      12 (0 temporaries)
 //   contact gaps                      3 ->       3 (0 temporaries)
 //   contact jacobian                  2 ->       2 (0 temporaries)
@@ -17,8 +21,6 @@
 
 #include <array>
 #include <cmath>
-#include <Eigen/Core>
-#include <Eigen/Cholesky>
 
 #if __has_include(<eomc/runtime/version.hpp>)
 #include <eomc/runtime/version.hpp>
@@ -93,11 +95,8 @@ struct BasicRodFloorImpact {
     // ẋ = F(t, x).
     template <class S>
     static void rhs(S t, const S* x, S* dxdt, const Parameters& p) {
-        Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;
-        Eigen::Matrix<S, n_velocities, 1> f;
-        mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);
         explicit_rates_(t, x, dxdt, p);
-        Eigen::Map<Eigen::Matrix<S, n_velocities, 1>>(dxdt + velocity_offset) = M.ldlt().solve(f);
+        velocity_rates_(t, x, dxdt + velocity_offset, p);
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.
@@ -196,25 +195,16 @@ struct BasicRodFloorImpact {
 
 
  private:
-    // M and f together: they share most of their subexpressions.
+    // u̇ = M⁻¹f to out[0 .. n_velocities): M and f together (they share most of their
+    // subexpressions), then the solve the banner names.
     template <class S>
-    static void mass_matrix_and_forcing_(S t, const S* x, S* out_M, S* out_f, const Parameters& p) {
+    static void velocity_rates_(S t, const S* x, S* out, const Parameters& p) {
         (void)t;
         (void)x;
-        const S m = S(p.m);
-        const S l = S(p.l);
-        out_M[0] = m;
-        out_M[1] = S(0);
-        out_M[2] = S(0);
-        out_M[3] = S(0);
-        out_M[4] = m;
-        out_M[5] = S(0);
-        out_M[6] = S(0);
-        out_M[7] = S(0);
-        out_M[8] = S(1)/S(3)*m*l*l;
-        out_f[0] = S(0);
-        out_f[1] = S(0);
-        out_f[2] = S(0);
+        (void)p;
+        out[0] = S(0);
+        out[1] = S(0);
+        out[2] = S(0);
     }
 
     // The rates given in closed form (everything outside the velocity block).
@@ -228,6 +218,23 @@ struct BasicRodFloorImpact {
         dxdt[0] = x_dot;
         dxdt[1] = y_dot;
         dxdt[2] = theta_dot;
+    }
+
+    // M⁻¹G, G = ∂f/∂x − (∂M/∂x) u̇ with u̇ = acc, row-major n_velocities × n_state.
+    template <class S>
+    static void velocity_jacobian_(S t, const S* x, const S* acc, S* out, const Parameters& p) {
+        (void)t;
+        (void)x;
+        (void)acc;
+        (void)p;
+    }
+
+    // The rows of ∂ẋ/∂x of the closed-form rates.
+    template <class S>
+    static void explicit_rates_jacobian_(S t, const S* x, S* out, const Parameters& p) {
+        (void)t;
+        (void)x;
+        (void)p;
     }
 };
 

@@ -3,13 +3,16 @@
 //
 // Lagrange's equations of the heavy rigid body in the ZXZ Euler angles (φ precession, θ
 // nutation, ψ spin), x = (φ, θ, ψ, φ̇, θ̇, ψ̇); M is singular at sin θ = 0 (gimbal
-// lock). M u̇ = f is solved at run time (Eigen LDLT). jacobian() gives ∂ẋ/∂x.
+// lock). Solve of M u̇ = f: block-diagonal (blocks {0, 2} by unrolled LDLᵀ in straight-line
+// code, the other velocities by division). jacobian() gives ∂ẋ/∂x.
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                      27 ->      18 (8 temporaries)
 //   forcing                         100 ->      60 (7 temporaries)
 //   mass_matrix + forcing           127 ->      72 (11 temporaries)
 //   explicit rates                    0 ->       0 (0 temporaries)
+//   M u̇ = f solved                 140 ->      85 (22 temporaries)
 //   mass_matrix + jacobian terms      332 ->     146 (22 temporaries)
+//   M⁻¹ (jacobian terms)            364 ->     178 (44 temporaries)
 //   explicit rates jacobian           0 ->       0 (0 temporaries)
 //   invariants                      129 ->      49 (8 temporaries)
 //   outputs                          24 ->      16 (4 temporaries)
@@ -18,8 +21,6 @@
 
 #include <array>
 #include <cmath>
-#include <Eigen/Core>
-#include <Eigen/Cholesky>
 
 #if __has_include(<eomc/runtime/version.hpp>)
 #include <eomc/runtime/version.hpp>
@@ -122,27 +123,18 @@ struct BasicStaticImbalanceGyroscope {
     // ẋ = F(t, x).
     template <class S>
     static void rhs(S t, const S* x, S* dxdt, const Parameters& p) {
-        Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;
-        Eigen::Matrix<S, n_velocities, 1> f;
-        mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);
         explicit_rates_(t, x, dxdt, p);
-        Eigen::Map<Eigen::Matrix<S, n_velocities, 1>>(dxdt + velocity_offset) = M.ldlt().solve(f);
+        velocity_rates_(t, x, dxdt + velocity_offset, p);
     }
 
     // ∂ẋ/∂x, row-major n_state×n_state.
     template <class S>
     static void jacobian(S t, const S* x, S* out, const Parameters& p) {
-        Eigen::Matrix<S, n_velocities, n_velocities, Eigen::RowMajor> M;
-        Eigen::Matrix<S, n_velocities, 1> f;
-        mass_matrix_and_forcing_(t, x, M.data(), f.data(), p);
-        const Eigen::Matrix<S, n_velocities, 1> acc = M.ldlt().solve(f);
-        Eigen::Matrix<S, n_velocities, n_state, Eigen::RowMajor> G;
-        mass_matrix_and_jacobian_terms_(t, x, acc.data(), M.data(), G.data(), p);
+        std::array<S, n_velocities> acc;
+        velocity_rates_(t, x, acc.data(), p);
         explicit_rates_jacobian_(t, x, out, p);
-        // d(M⁻¹f)/dx = M⁻¹ (∂f/∂x − (∂M/∂x) u̇)
-        const Eigen::Matrix<S, n_velocities, n_state, Eigen::RowMajor> lower = M.ldlt().solve(G);
-        for (int i = 0; i < n_velocities; ++i)
-            for (int j = 0; j < n_state; ++j) out[(velocity_offset + i) * n_state + j] = lower(i, j);
+        // d(M⁻¹f)/dx = M⁻¹ (∂f/∂x − (∂M/∂x) u̇): the velocity block's rows
+        velocity_jacobian_(t, x, acc.data(), out + velocity_offset * n_state, p);
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.
@@ -168,7 +160,7 @@ struct BasicStaticImbalanceGyroscope {
         const S w5 = phi_dot*w3*w4 - theta_dot*w2;
         const S w6 = phi_dot*w2*w3 + theta_dot*w4;
         const S w7 = C*w0*w1 + A*w2*w3*w6 + A*w3*w4*w5;
-        out[0] = -S(1)/S(2)*A*w5*w5 - S(1)/S(2)*A*w6*w6 + P*l*w0 + C*psi_dot*w1 - A*theta_dot*(-w4*w6 + w2*w5) + phi_dot*w7 - S(1)/S(2)*C*w1*w1;
+        out[0] = -S(1)/S(2)*A*w5*w5 - S(1)/S(2)*A*w6*w6 + P*l*w0 + C*psi_dot*w1 + A*theta_dot*(w4*w6 - w2*w5) + phi_dot*w7 - S(1)/S(2)*C*w1*w1;
         out[1] = w7;
         out[2] = w1;
     }
@@ -239,9 +231,10 @@ struct BasicStaticImbalanceGyroscope {
 
 
  private:
-    // M and f together: they share most of their subexpressions.
+    // u̇ = M⁻¹f to out[0 .. n_velocities): M and f together (they share most of their
+    // subexpressions), then the solve the banner names.
     template <class S>
-    static void mass_matrix_and_forcing_(S t, const S* x, S* out_M, S* out_f, const Parameters& p) {
+    static void velocity_rates_(S t, const S* x, S* out, const Parameters& p) {
         (void)t;
         using std::cos;
         using std::sin;
@@ -265,18 +258,20 @@ struct BasicStaticImbalanceGyroscope {
         const S w8 = psi_dot + phi_dot*w4;
         const S w9 = phi_dot*w0*w2 + theta_dot*w5;
         const S w10 = phi_dot*w0*w5 - theta_dot*w2;
-        out_M[0] = C*w4*w4 + A*w1*w6 + A*w1*w3;
-        out_M[1] = S(0);
-        out_M[2] = w7;
-        out_M[3] = S(0);
-        out_M[4] = A*(w3 + w6);
-        out_M[5] = S(0);
-        out_M[6] = w7;
-        out_M[7] = S(0);
-        out_M[8] = C;
-        out_f[0] = theta_dot*(-A*w2*w4*w9 + C*phi_dot*w0*w4 - A*phi_dot*w0*w4*w6 - A*w10*w4*w5 - A*phi_dot*w0*w3*w4 + C*w0*w8);
-        out_f[1] = A*phi_dot*w2*w4*w9 - C*phi_dot*w0*w8 + P*l*w0 + A*phi_dot*w10*w4*w5;
-        out_f[2] = C*phi_dot*theta_dot*w0;
+        const S w11 = theta_dot*(-A*w2*w4*w9 + C*phi_dot*w0*w4 - A*phi_dot*w0*w4*w6 - A*w10*w4*w5 - A*phi_dot*w0*w3*w4 + C*w0*w8);
+        const S w12 = A*phi_dot*w2*w4*w9 - C*phi_dot*w0*w8 + P*l*w0 + A*phi_dot*w10*w4*w5;
+        const S w13 = C*phi_dot*theta_dot*w0;
+        const S w14 = C*w4*w4 + A*w1*w6 + A*w1*w3;
+        const S w15 = A*(w3 + w6);
+        const S w16 = S(1)/w14;
+        const S w17 = w16*w7;
+        const S w18 = C - w17*w7;
+        const S w19 = S(1)/w18;
+        const S w20 = w13 - w11*w17;
+        const S w21 = w19*w20;
+        out[0] = -w17*w21 + w11*w16;
+        out[1] = w12/w15;
+        out[2] = w21;
     }
 
     // The rates given in closed form (everything outside the velocity block).
@@ -292,9 +287,9 @@ struct BasicStaticImbalanceGyroscope {
         dxdt[2] = psi_dot;
     }
 
-    // M and G = ∂f/∂x − (∂M/∂x) u̇, with u̇ = acc, both row-major.
+    // M⁻¹G, G = ∂f/∂x − (∂M/∂x) u̇ with u̇ = acc, row-major n_velocities × n_state.
     template <class S>
-    static void mass_matrix_and_jacobian_terms_(S t, const S* x, const S* acc, S* out_M, S* out_G, const Parameters& p) {
+    static void velocity_jacobian_(S t, const S* x, const S* acc, S* out, const Parameters& p) {
         (void)t;
         using std::cos;
         using std::sin;
@@ -331,33 +326,46 @@ struct BasicStaticImbalanceGyroscope {
         const S w19 = C*theta_dot*w0;
         const S w20 = phi_dot*phi_dot;
         const S w21 = C*phi_dot*w0;
-        out_M[0] = A*w1*w7 + C*w5 + A*w1*w3;
-        out_M[1] = S(0);
-        out_M[2] = w8;
-        out_M[3] = S(0);
-        out_M[4] = A*(w3 + w7);
-        out_M[5] = S(0);
-        out_M[6] = w8;
-        out_M[7] = S(0);
-        out_M[8] = C;
-        out_G[0] = S(0);
-        out_G[1] = C*psi_ddot*w0 + theta_dot*(A*phi_dot*w1*w7 + A*w0*w11*w2 + C*phi_dot*w5 - S(2)*C*phi_dot*w1 + C*w10*w4 - S(2)*A*phi_dot*w5*w7 - S(2)*A*phi_dot*w3*w5 + A*phi_dot*w1*w3 + A*w0*w6*w9) - S(2)*phi_ddot*w0*w12*w4;
-        out_G[2] = S(0);
-        out_G[3] = -S(2)*theta_dot*w0*w12*w4;
-        out_G[4] = w14 + w18 - w13 - w15 - w17 - w16;
-        out_G[5] = w19;
-        out_G[6] = S(0);
-        out_G[7] = -C*phi_dot*w10*w4 + C*w1*w20 + A*w20*w3*w5 - A*phi_dot*w0*w11*w2 + A*w20*w5*w7 - A*phi_dot*w0*w6*w9 + P*l*w4;
-        out_G[8] = S(0);
-        out_G[9] = w13 + w15 + w16 + w17 - w14 - w18;
-        out_G[10] = S(0);
-        out_G[11] = -w21;
-        out_G[12] = S(0);
-        out_G[13] = C*(phi_ddot*w0 + phi_dot*theta_dot*w4);
-        out_G[14] = S(0);
-        out_G[15] = w19;
-        out_G[16] = w21;
-        out_G[17] = S(0);
+        const S w22 = C*psi_ddot*w0 + theta_dot*(A*phi_dot*w1*w7 + A*w0*w11*w2 + C*phi_dot*w5 - S(2)*C*phi_dot*w1 + C*w10*w4 - S(2)*A*phi_dot*w5*w7 - S(2)*A*phi_dot*w3*w5 + A*phi_dot*w1*w3 + A*w0*w6*w9) - S(2)*phi_ddot*w0*w12*w4;
+        const S w23 = -S(2)*theta_dot*w0*w12*w4;
+        const S w24 = w14 + w18 - w13 - w15 - w17 - w16;
+        const S w25 = -C*phi_dot*w10*w4 + C*w1*w20 + A*w20*w3*w5 - A*phi_dot*w0*w11*w2 + A*w20*w5*w7 - A*phi_dot*w0*w6*w9 + P*l*w4;
+        const S w26 = w13 + w15 + w16 + w17 - w14 - w18;
+        const S w27 = -w21;
+        const S w28 = C*(phi_ddot*w0 + phi_dot*theta_dot*w4);
+        const S w29 = A*w1*w7 + C*w5 + A*w1*w3;
+        const S w30 = A*(w3 + w7);
+        const S w31 = S(1)/w29;
+        const S w32 = w31*w8;
+        const S w33 = C - w32*w8;
+        const S w34 = S(1)/w33;
+        const S w35 = w28 - w22*w32;
+        const S w36 = w34*w35;
+        const S w37 = w19 - w23*w32;
+        const S w38 = w34*w37;
+        const S w39 = w21 - w24*w32;
+        const S w40 = w34*w39;
+        const S w41 = -w19*w32;
+        const S w42 = w34*w41;
+        const S w43 = S(1)/w30;
+        out[0] = S(0);
+        out[1] = -w32*w36 + w22*w31;
+        out[2] = S(0);
+        out[3] = w23*w31 - w32*w38;
+        out[4] = -w32*w40 + w24*w31;
+        out[5] = -w32*w42 + w19*w31;
+        out[6] = S(0);
+        out[7] = w25*w43;
+        out[8] = S(0);
+        out[9] = w26*w43;
+        out[10] = S(0);
+        out[11] = w27*w43;
+        out[12] = S(0);
+        out[13] = w36;
+        out[14] = S(0);
+        out[15] = w38;
+        out[16] = w40;
+        out[17] = w42;
     }
 
     // The rows of ∂ẋ/∂x of the closed-form rates.

@@ -3,6 +3,7 @@
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 1 coordinate, as the first-order system x =
 // (q, q̇), ẋ = (q̇, M⁻¹f). u̇ is solved in closed form (n_velocities ≤ 2).
+// jacobian() gives ∂ẋ/∂x.
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
 //   forcing                           5 ->       5 (0 temporaries)
@@ -21,7 +22,10 @@ static_assert(EOMC_RUNTIME_VERSION == 1, "kernel generated for eomc runtime vers
 
 namespace eomc::models {
 
-struct VanDerPolStiff {
+// PT is the parameters' scalar: double for the kernel VanDerPolStiff below; a SIMD batch (one
+// value per lane) lets an ensemble run several members per call where `batchable`.
+template <class PT>
+struct BasicVanDerPolStiff {
     static constexpr int n_coordinates = 1;
     static constexpr int n_state = 2;
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
@@ -32,16 +36,22 @@ struct VanDerPolStiff {
     static constexpr int n_outputs = 0;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
     static constexpr bool separable = false;
+    // True when jacobian() (∂ẋ/∂x) was generated: `eomc generate --jacobian`, [kernel] jacobian,
+    // --variational, or a method that needs it.
+    static constexpr bool has_jacobian = true;
     static constexpr const char* scene_name = "van_der_pol_stiff";
     static constexpr std::array<const char*, n_state> state_names{ "x", "x_dot" };
     static constexpr std::array<const char*, n_parameters> parameter_names{ "mu" };
     static constexpr std::array<const char*, n_invariants> invariant_names{  };
     static constexpr std::array<const char*, n_outputs> output_names{  };
     static constexpr std::array<double, n_state> initial_state{ 2, 0 };
+    // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
+    // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
+    static constexpr bool batchable = true;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {
-        double mu = 1000;
+        PT mu = 1000;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -120,5 +130,7 @@ struct VanDerPolStiff {
     }
 
 };
+
+using VanDerPolStiff = BasicVanDerPolStiff<double>;
 
 }  // namespace eomc::models
