@@ -52,7 +52,7 @@ struct BasicLeoJ2 {
     static constexpr std::array<double, n_state> initial_state{ 6930, 0, 0, -0, 4.899259621590088, 5.838710255081736 };
     // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
     // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
-    static constexpr bool batchable = false;
+    static constexpr bool batchable = true;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {

@@ -52,7 +52,7 @@ struct BasicRelativeOrbit {
     static constexpr std::array<double, n_state> initial_state{ 0.1, 0, 0.05, 0, -0.00022627333, 0 };
     // True when rhs() and invariants() are straight-line arithmetic and <cmath> calls (u̇ in closed
     // form, no run-time solve, no constraint rows): they then run with S and PT a SIMD batch.
-    static constexpr bool batchable = false;
+    static constexpr bool batchable = true;
 
     // Defaults from the scene; every function reads them at run time.
     struct Parameters {

@@ -332,6 +332,13 @@ std::string number_list(const std::vector<double>& values, std::string_view what
     return out;
 }
 
+// M u̇ = f solved in the kernel's own straight-line code over S (no Eigen), so a SIMD S works.
+bool straight_line_solve(const SolvePlan& plan) {
+    using M = SolvePlan::Method;
+    return plan.method == M::identity || plan.method == M::diagonal || plan.method == M::block_diagonal ||
+           plan.method == M::unrolled_ldlt;
+}
+
 bool uses_kepler_solver(const KernelIR& ir) {
     for (const Block* b : {&ir.mass_matrix, &ir.forcing, &ir.rhs_explicit, &ir.jacobian_explicit, &ir.mass_and_forcing,
                            &ir.explicit_rates, &ir.explicit_rates_jacobian, &ir.mass_and_jacobian_terms, &ir.invariants,
@@ -1095,8 +1102,10 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
         {"n_invariants", std::to_string(ir.invariant_names.size())},
         {"n_outputs", std::to_string(ir.output_names.size())},
         {"separable", ir.separable ? "true" : "false"},
-        // Straight-line rates: nothing solved at run time, no iteration (Kepler's equation), no rows.
-        {"batchable", (nu == 0 || ir.explicit_solution) && ir.constraint_names.empty() && ir.program_names.empty() &&
+        // Straight-line rates: nothing solved by a library at run time (a closed form, or a solve
+        // unrolled from M's structure), no iteration (Kepler's equation), no rows.
+        {"batchable", (nu == 0 || ir.explicit_solution || straight_line_solve(ir.solve_plan)) &&
+                              ir.constraint_names.empty() && ir.program_names.empty() &&
                               ir.contact_names.empty() && !ir.rectification && !uses_kepler_solver(ir)
                           ? "true"
                           : "false"},
