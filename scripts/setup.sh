@@ -14,7 +14,7 @@ packages=(
   libboost-dev                              # Boost.Odeint (the bench peer), Boost.Math (the tests' elliptic integrals), header-only
   libopenmpi-dev openmpi-bin                # optional: `eomc ensemble` across ranks under mpirun (built only when found)
   gnuplot-nox                               # the plots of `eomc bench`, `sweep` and `ensemble` (optional at run time)
-  libsundials-dev                           # the stiff bench's peer, CVODE (optional: bench_stiff_cvode is built only where found)
+  libsundials-dev                           # the peers CVODE and IDA (optional: bench_stiff_cvode and bench_control_ida are built only where found)
   libsiconos-kernel-dev libsiconos-numerics-dev  # the contact bench's peer, Siconos (optional: bench_contact_siconos is built only where found)
   texlive-latex-base                        # the test that compiles `eomc derive --format latex`
   python3                                   # the tests that parse the JSON of derive, equilibria and inverse

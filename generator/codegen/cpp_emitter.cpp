@@ -5,6 +5,7 @@
 #include <set>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -384,6 +385,18 @@ std::string block_body(const KernelIR& ir, const LocalNames& names, const Block&
 }
 
 // One row of the banner's operation table.
+// Where the rates given in closed form land: dxdt[i] in rhs, and row i of the Jacobian (n_state
+// entries from out[i n_state]).
+std::pair<std::vector<std::string>, std::vector<std::string>> explicit_rate_targets(const KernelIR& ir) {
+    const std::size_t N = ir.state.size();
+    std::vector<std::string> rates, rate_rows;
+    for (std::size_t i : ir.explicit_index) {
+        rates.push_back(fmt::format("dxdt[{}]", i));
+        for (std::size_t j = 0; j < N; ++j) rate_rows.push_back(fmt::format("out[{}]", i * N + j));
+    }
+    return {rates, rate_rows};
+}
+
 std::string table_row(const char* name, const Block& b) {
     return fmt::format("//   {:<26} {:>8} -> {:>7} ({} temporaries)\n", name, b.ops_before, b.ops_after, b.temporaries.size());
 }
@@ -562,11 +575,7 @@ Rates emit_straight_line_rates(const KernelIR& ir, const LocalNames& names) {
               table_row("mass_matrix + jacobian terms", ir.mass_and_jacobian_terms) +
               table_row("M⁻¹ (jacobian terms)", ir.solved_jacobian_terms) +
               table_row("explicit rates jacobian", ir.explicit_rates_jacobian);
-    std::vector<std::string> rates, rate_rows;
-    for (std::size_t i : ir.explicit_index) {
-        rates.push_back(fmt::format("dxdt[{}]", i));
-        for (std::size_t j = 0; j < N; ++j) rate_rows.push_back(fmt::format("out[{}]", i * N + j));
-    }
+    const auto [rates, rate_rows] = explicit_rate_targets(ir);
     r.private_part = fmt::format(
         "\n private:\n"
         "    // u̇ = M⁻¹f to out[0 .. n_velocities): M and f together (they share most of their\n"
@@ -650,11 +659,7 @@ Rates emit_rates(const KernelIR& ir, const LocalNames& names) {
     for (const auto& s : indexed("out_f", nu)) mf.push_back(s);
     std::vector<std::string> mg = indexed("out_M", nu * nu);
     for (const auto& s : indexed("out_G", nu * N)) mg.push_back(s);
-    std::vector<std::string> rates, rate_rows;
-    for (std::size_t i : ir.explicit_index) {
-        rates.push_back(fmt::format("dxdt[{}]", i));
-        for (std::size_t j = 0; j < N; ++j) rate_rows.push_back(fmt::format("out[{}]", i * N + j));
-    }
+    const auto [rates, rate_rows] = explicit_rate_targets(ir);
     r.private_part = fmt::format(
         "\n private:\n"
         "    // M and f together: they share most of their subexpressions.\n"
