@@ -13,7 +13,11 @@ x = (th1..thn, th1_dot..thn_dot), p in eomc's parameter order (g, m1, l1, m2, l2
 M row-major n*n. What is compared is the n*n mass matrix and n-vector forcing, not
 mass_matrix_full / forcing_full (those add the kinematic rows q' = u).
 
-usage: sympy_pendulum.py N --method kane|lagrange -o DIR [--function NAME]
+With --spatial the system is the 3-D chain of make_pendulum_scenes.py --form spatial: rod k
+has direction (sin a_k cos b_k, sin b_k, -cos a_k cos b_k) in N (z up), gravity -g N.z, and
+x = (a1, b1, ..., an, bn, a1_dot, b1_dot, ...): eomc's order for that scene.
+
+usage: sympy_pendulum.py N --method kane|lagrange [--spatial] -o DIR [--function NAME]
 prints one JSON object (timings, op counts, header path) on stdout.
 """
 import argparse
@@ -52,29 +56,50 @@ def bobs(n, N, O, q, m, l):
     return particles
 
 
-def derive_kane(n):
+def spatial_bobs(n, N, O, q, m, l):
+    """The 3-D chain: q = (a1, b1, a2, b2, ...), positions as in the spatial scene, z up."""
+    particles = []
+    x = y = z = sp.Integer(0)
+    for k in range(n):
+        a, b = q[2 * k], q[2 * k + 1]
+        x += l[k] * sp.sin(a) * sp.cos(b)
+        y += l[k] * sp.sin(b)
+        z += -l[k] * sp.cos(a) * sp.cos(b)
+        P = O.locatenew(f"P{k + 1}", x * N.x + y * N.y + z * N.z)
+        P.set_vel(N, P.pos_from(O).dt(N))
+        particles.append((me.Particle(f"bob{k + 1}", P, m[k]), z))
+    return particles
+
+
+def coordinate_names(n, spatial):
+    return [f"{c}{k}" for k in range(1, n + 1) for c in "ab"] if spatial else [f"th{k}" for k in range(1, n + 1)]
+
+
+def derive_kane(n, spatial=False):
     g, m, l, _ = parameter_symbols(n)
-    q = me.dynamicsymbols(f"th1:{n + 1}")
-    u = me.dynamicsymbols(f"u1:{n + 1}")
+    names = coordinate_names(n, spatial)
+    q = list(me.dynamicsymbols(",".join(names) + ","))
+    u = list(me.dynamicsymbols(",".join(f"u_{c}" for c in names) + ","))
     N = me.ReferenceFrame("N")
     O = me.Point("O")
     O.set_vel(N, 0)
-    parts = bobs(n, N, O, q, m, l)
-    forces = [(p.point, -p.mass * g * N.y) for p, _ in parts]
+    parts = (spatial_bobs if spatial else bobs)(n, N, O, q, m, l)
+    up = N.z if spatial else N.y
+    forces = [(p.point, -p.mass * g * up) for p, _ in parts]
     kane = me.KanesMethod(N, q_ind=q, u_ind=u, kd_eqs=[qi.diff() - ui for qi, ui in zip(q, u)])
     kane.kanes_equations([p for p, _ in parts], forces)
     M, f = kane.mass_matrix, kane.forcing   # M u' = f with u = q'
     return M, f, q, u
 
 
-def derive_lagrange(n):
+def derive_lagrange(n, spatial=False):
     g, m, l, _ = parameter_symbols(n)
-    q = me.dynamicsymbols(f"th1:{n + 1}")
+    q = list(me.dynamicsymbols(",".join(coordinate_names(n, spatial)) + ","))
     qd = [qi.diff() for qi in q]
     N = me.ReferenceFrame("N")
     O = me.Point("O")
     O.set_vel(N, 0)
-    parts = bobs(n, N, O, q, m, l)
+    parts = (spatial_bobs if spatial else bobs)(n, N, O, q, m, l)
     for p, y in parts:
         p.potential_energy = p.mass * g * y   # V = g * sum m_k y_k, y up
     L = me.Lagrangian(N, *[p for p, _ in parts])
@@ -86,8 +111,8 @@ def derive_lagrange(n):
 
 def to_plain_symbols(exprs, q, speeds):
     """th_k(t) -> th_k, speed_k -> th_k_dot: the names eomc's kernel uses for x."""
-    th = [sp.Symbol(f"th{k}") for k in range(1, len(q) + 1)]
-    thd = [sp.Symbol(f"th{k}_dot") for k in range(1, len(q) + 1)]
+    th = [sp.Symbol(qi.func.__name__) for qi in q]
+    thd = [sp.Symbol(f"{qi.func.__name__}_dot") for qi in q]
     # xreplace looks at a node before its children, so Derivative(th_k(t), t) is replaced
     # whole before th_k(t) inside it would be.
     rep = {s: d for s, d in zip(speeds, thd)}
@@ -146,10 +171,10 @@ def emit_header(path, function, n, params, th, thd, temps, M_out, f_out, method)
     path.write_text("\n".join(lines))
 
 
-def run(n, method, out_dir, function):
+def run(n, method, out_dir, function, spatial=False):
     derive = derive_kane if method == "kane" else derive_lagrange
     t0 = time.perf_counter()
-    M, f, q, speeds = derive(n)
+    M, f, q, speeds = derive(n, spatial)
     t_derive = time.perf_counter() - t0
 
     exprs = list(M) + list(f)   # row-major M, then f
@@ -167,8 +192,9 @@ def run(n, method, out_dir, function):
     _, _, _, params = parameter_symbols(n)
     out_dir.mkdir(parents=True, exist_ok=True)
     header = out_dir / f"{function}_{n}.hpp"
+    nq = len(q)
     emit_header(header, function, n, [str(s) for s in params], th, thd, temps,
-                reduced[: n * n], reduced[n * n:], method)
+                reduced[: nq * nq], reduced[nq * nq:], method)
     return {
         "n": n, "method": method, "sympy": sp.__version__,
         "derive_s": t_derive, "cse_s": t_cse,
@@ -181,12 +207,13 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("n", type=int)
     ap.add_argument("--method", choices=["kane", "lagrange"], default="kane")
+    ap.add_argument("--spatial", action="store_true", help="the 3-D chain (2n coordinates)")
     ap.add_argument("-o", "--output-dir", type=pathlib.Path, default=pathlib.Path("."))
     ap.add_argument("--function", help="C++ function name (default sympy_mass_forcing for kane, "
                                         "sympy_lagrange_mass_forcing for lagrange)")
     a = ap.parse_args()
     function = a.function or ("sympy_mass_forcing" if a.method == "kane" else "sympy_lagrange_mass_forcing")
-    print(json.dumps(run(a.n, a.method, a.output_dir, function)))
+    print(json.dumps(run(a.n, a.method, a.output_dir, function, a.spatial)))
 
 
 if __name__ == "__main__":

@@ -9,7 +9,7 @@
 //   forcing                          25 ->      23 (2 temporaries)
 //   mass_matrix + forcing            25 ->      23 (2 temporaries)
 //   explicit rates                    0 ->       0 (0 temporaries)
-//   M u̇ = f solved                  31 ->      29 (5 temporaries)
+//   M u̇ = f solved                  25 ->      20 (2 temporaries)
 //   mass_matrix + jacobian terms       19 ->      11 (3 temporaries)
 //   M⁻¹ (jacobian terms)             29 ->      21 (13 temporaries)
 //   explicit rates jacobian           0 ->       0 (0 temporaries)
@@ -147,19 +147,15 @@ struct BasicDampedParticle {
         const S x_dot = x[3];
         const S y_dot = x[4];
         const S z_dot = x[5];
-        const S m = S(p.m);
         const S g = S(p.g);
         const S k = S(p.k);
         const S Omega = S(p.Omega);
         const S phi = S(p.phi);
         const S w0 = cos(phi);
         const S w1 = sin(phi);
-        const S w2 = -m*(-S(2)*Omega*(-w0*z_dot + w1*y_dot) + k*x_dot);
-        const S w3 = -m*(S(2)*Omega*w1*x_dot + k*y_dot);
-        const S w4 = -m*(g + k*z_dot - S(2)*Omega*w0*x_dot);
-        out[0] = w2/m;
-        out[1] = w3/m;
-        out[2] = w4/m;
+        out[0] = -k*x_dot + S(2)*Omega*(-w0*z_dot + w1*y_dot);
+        out[1] = -k*y_dot - S(2)*Omega*w1*x_dot;
+        out[2] = -g + S(2)*Omega*w0*x_dot - k*z_dot;
     }
 
     // The rates given in closed form (everything outside the velocity block).

@@ -9,7 +9,7 @@
 //   forcing                          19 ->      17 (2 temporaries)
 //   mass_matrix + forcing            19 ->      17 (2 temporaries)
 //   explicit rates                    0 ->       0 (0 temporaries)
-//   M u̇ = f solved                  25 ->      23 (5 temporaries)
+//   M u̇ = f solved                  19 ->      14 (2 temporaries)
 //   mass_matrix + jacobian terms       16 ->      10 (2 temporaries)
 //   M⁻¹ (jacobian terms)             23 ->      17 (9 temporaries)
 //   explicit rates jacobian           0 ->       0 (0 temporaries)
@@ -156,18 +156,14 @@ struct BasicFallingParticle {
         const S x_dot = x[3];
         const S y_dot = x[4];
         const S z_dot = x[5];
-        const S m = S(p.m);
         const S g = S(p.g);
         const S Omega = S(p.Omega);
         const S phi = S(p.phi);
         const S w0 = cos(phi);
         const S w1 = sin(phi);
-        const S w2 = S(2)*Omega*m*(-w0*z_dot + w1*y_dot);
-        const S w3 = -S(2)*Omega*m*w1*x_dot;
-        const S w4 = m*(-g + S(2)*Omega*w0*x_dot);
-        out[0] = w2/m;
-        out[1] = w3/m;
-        out[2] = w4/m;
+        out[0] = S(2)*Omega*(-w0*z_dot + w1*y_dot);
+        out[1] = -S(2)*Omega*w1*x_dot;
+        out[2] = -g + S(2)*Omega*w0*x_dot;
     }
 
     // The rates given in closed form (everything outside the velocity block).

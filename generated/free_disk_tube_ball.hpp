@@ -11,7 +11,7 @@
 //   forcing                           7 ->       7 (0 temporaries)
 //   mass_matrix + forcing            14 ->      14 (0 temporaries)
 //   explicit rates                   53 ->      33 (5 temporaries)
-//   M u̇ = f solved                  18 ->      17 (3 temporaries)
+//   M u̇ = f solved                  16 ->      14 (2 temporaries)
 //   mass_matrix + jacobian terms        0 ->       0 (0 temporaries)
 //   M⁻¹ (jacobian terms)              0 ->       0 (0 temporaries)
 //   explicit rates jacobian           0 ->       0 (0 temporaries)
@@ -173,10 +173,9 @@ struct BasicFreeDiskTubeBall {
         const S M = S(p.M);
         const S m = S(p.m);
         const S r = S(p.r);
-        const S w0 = m*q*w*w;
         const S w1 = -S(2)*m*q*q_dot*w;
         const S w3 = S(1)/S(2)*M*r*r + m*q*q;
-        out[0] = w0/m;
+        out[0] = q*w*w;
         out[1] = S(0);
         out[2] = w1/w3;
     }

@@ -9,9 +9,9 @@
 //   forcing                          55 ->      39 (5 temporaries)
 //   mass_matrix + forcing            55 ->      39 (5 temporaries)
 //   explicit rates                    0 ->       0 (0 temporaries)
-//   M u̇ = f solved                  61 ->      45 (8 temporaries)
+//   M u̇ = f solved                  55 ->      36 (5 temporaries)
 //   mass_matrix + jacobian terms       46 ->      23 (8 temporaries)
-//   M⁻¹ (jacobian terms)             58 ->      35 (20 temporaries)
+//   M⁻¹ (jacobian terms)             55 ->      29 (17 temporaries)
 //   explicit rates jacobian           0 ->       0 (0 temporaries)
 //   invariants                       81 ->      62 (4 temporaries)
 //   outputs                         237 ->     137 (14 temporaries)
@@ -214,7 +214,6 @@ struct BasicProjectileRotatingEarth {
         const S x_dot = x[3];
         const S y_dot = x[4];
         const S z_dot = x[5];
-        const S m = S(p.m);
         const S g = S(p.g);
         const S Omega = S(p.Omega);
         const S phi = S(p.phi);
@@ -224,12 +223,9 @@ struct BasicProjectileRotatingEarth {
         const S w2 = w0*w0;
         const S w3 = -w0*z + w1*y;
         const S w4 = Omega*Omega;
-        const S w5 = -Omega*m*(-S(2)*w1*y_dot - Omega*x_*(w2 + w1*w1) + S(2)*w0*z_dot);
-        const S w6 = Omega*m*w1*(Omega*w3 - Omega*Re*w0 - S(2)*x_dot);
-        const S w7 = m*(-g + Re*w2*w4 - w0*w3*w4 + S(2)*Omega*w0*x_dot);
-        out[0] = w5/m;
-        out[1] = w6/m;
-        out[2] = w7/m;
+        out[0] = -Omega*(-S(2)*w1*y_dot - Omega*x_*(w2 + w1*w1) + S(2)*w0*z_dot);
+        out[1] = Omega*w1*(Omega*w3 - Omega*Re*w0 - S(2)*x_dot);
+        out[2] = -g + Re*w2*w4 - w0*w3*w4 + S(2)*Omega*w0*x_dot;
     }
 
     // The rates given in closed form (everything outside the velocity block).
@@ -264,33 +260,30 @@ struct BasicProjectileRotatingEarth {
         const S w5 = Omega*m*w3;
         const S w6 = Omega*m*w1;
         const S w7 = m*w0*w1*w3;
-        const S w8 = m*w0*(w2 + w4);
         const S w9 = S(2)*w5;
         const S w10 = -S(2)*w6;
-        const S w11 = m*w0*w4;
         const S w12 = -w7;
         const S w13 = -S(2)*w5;
         const S w14 = -w7;
-        const S w15 = m*w0*w2;
         const S w16 = S(2)*w6;
         const S w17 = S(1)/m;
         const S w18 = S(1)/m;
         const S w19 = S(1)/m;
-        out[0] = w17*w8;
+        out[0] = w0*(w2 + w4);
         out[1] = S(0);
         out[2] = S(0);
         out[3] = S(0);
         out[4] = w17*w9;
         out[5] = w10*w17;
         out[6] = S(0);
-        out[7] = w11*w18;
+        out[7] = w0*w4;
         out[8] = w12*w18;
         out[9] = w13*w18;
         out[10] = S(0);
         out[11] = S(0);
         out[12] = S(0);
         out[13] = w14*w19;
-        out[14] = w15*w19;
+        out[14] = w0*w2;
         out[15] = w16*w19;
         out[16] = S(0);
         out[17] = S(0);

@@ -186,6 +186,8 @@ Block solve_block(const Block& system, const SolvePlan& plan, std::size_t n, std
     const auto m = [&](std::size_t i, std::size_t j) { return system.outputs[i * n + j]; };
     const auto rhs = [&](std::size_t i, std::size_t c) { return system.outputs[n * n + i * columns + c]; };
     std::vector<std::vector<ex>> x(n, std::vector<ex>(columns));
+    // Entries where M_kk cancelled from f_k: they cost no more than f_k, which the system counts.
+    std::vector<std::vector<bool>> free_of_solve(n, std::vector<bool>(columns, false));
 
     std::size_t solve_ops = 0;
     if (plan.method == Method::identity) {
@@ -207,9 +209,22 @@ Block solve_block(const Block& system, const SolvePlan& plan, std::size_t n, std
                     throw EmitError(fmt::format("the mass matrix is singular: its diagonal entry {0} is zero and row {0} "
                                                 "has no other entry",
                                                 i));
-                // One division per entry; several right-hand sides share one reciprocal.
-                const ex scale = columns > 1 ? code.name(GiNaC::pow(a[i][i], -1)) : GiNaC::pow(a[i][i], -1);
-                for (std::size_t c = 0; c < columns; ++c) x[i][c] = b[i][c] * scale;
+                // M_kk's factors cancel from f_k's where both are products at the top (a particle's
+                // m from m·g, so a constant M costs nothing at run time); otherwise one division per
+                // entry, several right-hand sides sharing one reciprocal. GiNaC's product cancels
+                // m·g·m⁻¹ by itself; M_kk ≠ 0 is the plan's premise either way.
+                const ex inverse = GiNaC::pow(m(i, i), -1);
+                ex scale;
+                for (std::size_t c = 0; c < columns; ++c) {
+                    const ex cancelled = rhs(i, c) * inverse;
+                    if (count_operations(cancelled) <= count_operations(rhs(i, c))) {
+                        x[i][c] = cancelled;
+                        free_of_solve[i][c] = true;
+                        continue;
+                    }
+                    if (scale.is_zero()) scale = columns > 1 ? code.name(GiNaC::pow(a[i][i], -1)) : GiNaC::pow(a[i][i], -1);
+                    x[i][c] = b[i][c] * scale;
+                }
                 continue;
             }
             std::vector<std::vector<ex>> ab(block.size(), std::vector<ex>(block.size())), bb;
@@ -225,7 +240,7 @@ Block solve_block(const Block& system, const SolvePlan& plan, std::size_t n, std
     for (std::size_t i = 0; i < n; ++i)
         for (std::size_t c = 0; c < columns; ++c) {
             out.outputs.push_back(x[i][c]);
-            if (plan.method != Method::identity) solve_ops += count_operations(x[i][c]);
+            if (plan.method != Method::identity && !free_of_solve[i][c]) solve_ops += count_operations(x[i][c]);
         }
     prune(out);
     out.ops_before = system.ops_before + solve_ops;

@@ -240,8 +240,11 @@ BOOST_AUTO_TEST_CASE(every_integrator_closes_the_kepler_orbit) {
     // (fixed step) or tolerance 1e-12 (adaptive) every method here is accurate to ~1e-12
     // (RK4: C h⁴ with C ~ 1; Gauss–Legendre and DOP853 far better). 1e-8 leaves four orders
     // of margin and still fails for a wrong tableau, whose error would be O(h) ~ 1e-3.
+    // radau5 runs its Newton iteration and error test at its own tolerance 0.1 rtol^(2/3) ≈ 1e-9
+    // (Hairer & Wanner's RADAU5 convention), about 460 steps here: its bound is that
+    // tolerance summed over the steps, 5e-7, so 1e-6; a wrong coefficient still gives O(h).
     const fs::path dir = scratch("integrators");
-    for (const char* method : {"rk4", "dopri5", "dop853", "gl4", "gl6", "gl8"}) {
+    for (const char* method : {"rk4", "dopri5", "dop853", "radau5", "gl4", "gl6", "gl8"}) {
         const Result r = run("simulate " + (fs::path(EOMC_SOURCE_DIR) / "scenes/kepler_orbit.toml").string() +
                                  " --integrator " + method + " --step 1e-3 --rtol 1e-12 --atol 1e-12 --summary json" +
                                  " --cache-dir " + (dir / "cache").string(),
@@ -250,7 +253,8 @@ BOOST_AUTO_TEST_CASE(every_integrator_closes_the_kepler_orbit) {
         const auto at = r.out.find("\"r\": ");
         BOOST_REQUIRE(at != std::string::npos);
         const double radius = std::stod(r.out.substr(at + 5));
-        BOOST_TEST(std::abs(radius - 0.5) < 1e-8, method << ": r = " << radius);
+        const double bound = std::string(method) == "radau5" ? 1e-6 : 1e-8;
+        BOOST_TEST(std::abs(radius - 0.5) < bound, method << ": r = " << radius);
     }
 }
 
@@ -362,7 +366,7 @@ BOOST_AUTO_TEST_CASE(the_jacobian_is_generated_only_when_asked_for) {
     // The banner's text with its comment lines joined.
     const auto banner = [](const std::string& header) {
         std::string text = header.substr(0, header.find("#pragma once"));
-        for (std::size_t at; (at = text.find("\n// ")) != std::string::npos;) text.replace(at, 4, " ");
+        for (std::size_t at; (at = text.find("\n// ")) != std::string::npos;) text.replace(at, 4, 1, ' ');
         return text;
     };
     const std::string plain = generate(tube, "");

@@ -287,6 +287,34 @@ BOOST_AUTO_TEST_CASE(constant_matrices_are_recognised_and_a_numeric_one_is_facto
         BOOST_TEST((solved.outputs[i].subs(temporaries) - exact(i, 0)).expand().is_zero(), "u̇_" << i);
 }
 
+BOOST_AUTO_TEST_CASE(a_particle_mass_cancels_from_its_force_so_a_constant_diagonal_m_costs_no_division) {
+    // Two bodies under mutual gravity in Cartesian coordinates (one axis each, enough for the
+    // structure): M = diag(m1, m2), f_k = m_k · (field at body k). u̇_k = f_k / m_k is the field
+    // itself, so the kernel divides by no mass; where f_k has no factor m_k (a force not
+    // proportional to the mass) the division stays, exact.
+    const GiNaC::symbol m1("m1"), m2("m2"), G("G"), x1("x1"), x2("x2"), F("F");
+    const GiNaC::matrix M{{m1, 0}, {0, m2}};
+    const auto plan = codegen::plan_solve(M, {x1, x2});
+    BOOST_TEST(int(plan.method) == int(Method::diagonal));
+    BOOST_TEST(plan.constant);
+    const ex r3 = GiNaC::pow(GiNaC::pow(x2 - x1, 2), GiNaC::numeric(3, 2));
+    const ex field1 = G * m2 * (x2 - x1) / r3, field2 = -G * m1 * (x2 - x1) / r3;
+    codegen::Block system;
+    system.outputs = {m1, 0, 0, m2, m1 * field1, m2 * field2};
+    codegen::Block solved = codegen::solve_block(system, plan, 2, 1, "w");
+    BOOST_TEST((solved.outputs[0] - field1).expand().is_zero());
+    BOOST_TEST((solved.outputs[1] - field2).expand().is_zero());
+    for (const ex& e : solved.outputs) BOOST_TEST(!e.has(GiNaC::pow(m1, -1)), e);
+    BOOST_TEST(!solved.outputs[1].has(GiNaC::pow(m2, -1)));
+
+    // A force that is not a multiple of the mass keeps its one division.
+    system.outputs = {m1, 0, 0, m2, F, m2 * field2};
+    solved = codegen::solve_block(system, plan, 2, 1, "w");
+    BOOST_TEST((solved.outputs[0] - F / m1).expand().is_zero());
+    BOOST_TEST((solved.outputs[1] - field2).expand().is_zero());
+    BOOST_TEST(divisions(solved) >= 1u);
+}
+
 BOOST_AUTO_TEST_CASE(the_straight_line_solve_is_exact_in_exact_arithmetic) {
     std::mt19937 gen(20261126);
     for (std::size_t n = 1; n <= codegen::unrolled_limit; ++n)
