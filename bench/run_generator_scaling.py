@@ -146,6 +146,15 @@ def main():
         p_der = fit_exponent(ns, [r[f"{form}_derive_s"] for r in sc])
         md.append(f"- {form}: whole generate {p_gen:.2f}, derive {p_der:.2f} "
                   f"(target ≤ 3 for generate: {'met' if p_gen <= 3 else 'NOT met'})")
+    if jacobian:
+        md += ["", "With `--jacobian` (∂ẋ/∂x lowered and emitted too; the SymPy side forms no Jacobian):", "",
+               "| n | generate --jacobian, bodies (s) | generate --jacobian, [lagrangian] (s) "
+               "| SymPy / eomc, bodies | SymPy / eomc, [lagrangian] |", "|" + "---:|" * 5]
+        for r in rows:
+            if "kane_derive_cse_s" not in r:
+                continue
+            k, b, l = r["kane_derive_cse_s"], r["bodies_generate_jacobian_s"], r["lagrangian_generate_jacobian_s"]
+            md.append(f"| {r['n']} | {b:.3g} | {l:.3g} | {k / b:.1f}× | {k / l:.1f}× |")
     md += ["", "Targets (≥ 10× faster than SymPy Kane derive + cse, whole generate):"]
     for r in rows:
         if "kane_derive_cse_s" not in r:

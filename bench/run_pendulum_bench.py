@@ -146,7 +146,7 @@ def main():
         e = run_eomc(eomc, work / f"pendulum_{n}.toml", work, a.repeat)
         header = (work / f"pendulum_{n}.hpp").read_text()
         e_before, e_after = eomc_banner_ops(header, n)
-        model = re.search(r"^struct (\w+) \{", header, re.M).group(1)
+        model = re.search(r"^using (\w+) = Basic\w+<double>;", header, re.M).group(1)
 
         print(f"n = {n}: sympy kane", file=sys.stderr, flush=True)
         kane = run_sympy(n, "kane", work, None)

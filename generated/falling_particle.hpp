@@ -11,7 +11,7 @@
 //   explicit rates                    0 ->       0 (0 temporaries)
 //   M u̇ = f solved                  19 ->      14 (2 temporaries)
 //   mass_matrix + jacobian terms       16 ->      10 (2 temporaries)
-//   M⁻¹ (jacobian terms)             23 ->      17 (9 temporaries)
+//   M⁻¹ (jacobian terms)             21 ->      15 (7 temporaries)
 //   explicit rates jacobian           0 ->       0 (0 temporaries)
 //   invariants                       10 ->      10 (0 temporaries)
 #pragma once
@@ -197,8 +197,6 @@ struct BasicFallingParticle {
         const S w4 = -S(2)*w0;
         const S w5 = S(2)*w1;
         const S w6 = S(1)/m;
-        const S w7 = S(1)/m;
-        const S w8 = S(1)/m;
         out[0] = S(0);
         out[1] = S(0);
         out[2] = S(0);
@@ -208,13 +206,13 @@ struct BasicFallingParticle {
         out[6] = S(0);
         out[7] = S(0);
         out[8] = S(0);
-        out[9] = w4*w7;
+        out[9] = w4*w6;
         out[10] = S(0);
         out[11] = S(0);
         out[12] = S(0);
         out[13] = S(0);
         out[14] = S(0);
-        out[15] = w5*w8;
+        out[15] = w5*w6;
         out[16] = S(0);
         out[17] = S(0);
     }

@@ -11,7 +11,7 @@
 //   explicit rates                    0 ->       0 (0 temporaries)
 //   M u̇ = f solved                  55 ->      36 (5 temporaries)
 //   mass_matrix + jacobian terms       46 ->      23 (8 temporaries)
-//   M⁻¹ (jacobian terms)             55 ->      29 (17 temporaries)
+//   M⁻¹ (jacobian terms)             53 ->      27 (15 temporaries)
 //   explicit rates jacobian           0 ->       0 (0 temporaries)
 //   invariants                       81 ->      62 (4 temporaries)
 //   outputs                         237 ->     137 (14 temporaries)
@@ -145,7 +145,7 @@ struct BasicProjectileRotatingEarth {
         const S w1 = sin(phi);
         const S w2 = x_*x_;
         const S w3 = -Re*w0 - w0*z + w1*y;
-        out[0] = S(1)/S(2)*m*(-z_dot*z_dot + S(2)*y_dot*(y_dot + Omega*w1*x_) + S(2)*x_dot*(x_dot + Omega*Re*w0 + Omega*w0*z - Omega*w1*y) + S(2)*g*z + S(2)*Omega*(w0*x_*z_dot - w1*x_*y_dot + w3*x_dot) - S(2)*z_dot*(-z_dot + Omega*w0*x_) - x_dot*x_dot - y_dot*y_dot - Omega*Omega*(w3*w3 + w2*w1*w1 + w2*w0*w0));
+        out[0] = S(1)/S(2)*m*(-z_dot*z_dot + S(2)*z_dot*(z_dot - Omega*w0*x_) + S(2)*y_dot*(y_dot + Omega*w1*x_) + S(2)*x_dot*(x_dot + Omega*Re*w0 + Omega*w0*z - Omega*w1*y) + S(2)*g*z - S(2)*Omega*(-w0*x_*z_dot - w3*x_dot + w1*x_*y_dot) - x_dot*x_dot - y_dot*y_dot - Omega*Omega*(w3*w3 + w2*w1*w1 + w2*w0*w0));
     }
 
     // Quantities written beside the state (functions of t, x and u̇), in output_names order.
@@ -184,12 +184,12 @@ struct BasicProjectileRotatingEarth {
         const S w11 = w3*z + w0*y;
         const S w12 = x_*x_;
         const S w13 = y*z_dot - y_dot*z - Omega*w11*x_;
-        out[0] = m*(x_ddot + Omega*w0*z_dot + Omega*w0*w2 - Omega*w3*w5 - Omega*w3*y_dot);
+        out[0] = -m*(-Omega*w0*z_dot + Omega*w3*y_dot - Omega*w0*w2 + Omega*w3*w5 - x_ddot);
         out[1] = m*(y_ddot + Omega*w3*x_dot + Omega*w10*w3);
         out[2] = -m*(Omega*w0*x_dot + Omega*w0*w10 - z_ddot);
-        out[3] = m*(-w5*z_dot - Omega*w11*x_dot + y*z_ddot + Omega*w0*(x_*y_dot - x_dot*y + Omega*(w12*w3 + w9*y)) + w2*y_dot - y_ddot*z + Omega*w3*(-Omega*(-w9*z + w0*w12) - x_dot*z + x_*z_dot));
-        out[4] = -m*(x_dot*(z_dot - S(2)*w1) - z_dot*(x_dot + Omega*(w8 - w6 + S(2)*w7)) - Omega*w13*w3 + Omega*w3*y_dot*z + Omega*Re*w0*w2 - x_ddot*z + x_*z_ddot);
-        out[5] = -m*(-x_dot*(y_dot + S(2)*w4) + Omega*w0*w13 - x_*y_ddot - Omega*Re*w0*w5 + Omega*w0*y*z_dot + x_ddot*y + y_dot*(x_dot + Omega*(w7 + w8 - S(2)*w6)));
+        out[3] = m*(-w5*z_dot - Omega*w11*x_dot + y*z_ddot + Omega*w0*(x_*y_dot - x_dot*y + Omega*(w12*w3 + w9*y)) + w2*y_dot + Omega*w3*(Omega*(w9*z - w0*w12) - x_dot*z + x_*z_dot) - y_ddot*z);
+        out[4] = -m*(-z_dot*(x_dot + Omega*(w8 - w6 + S(2)*w7)) - Omega*w13*w3 + Omega*w3*y_dot*z + Omega*Re*w0*w2 - x_ddot*z - x_dot*(-z_dot + S(2)*w1) + x_*z_ddot);
+        out[5] = m*(-Omega*w0*w13 + Omega*Re*w0*w5 - Omega*w0*y*z_dot - y_dot*(x_dot + Omega*(w7 + w8 - S(2)*w6)) + x_dot*(y_dot + S(2)*w4) - x_ddot*y + x_*y_ddot);
     }
 
     template <class S>
@@ -267,8 +267,6 @@ struct BasicProjectileRotatingEarth {
         const S w14 = -w7;
         const S w16 = S(2)*w6;
         const S w17 = S(1)/m;
-        const S w18 = S(1)/m;
-        const S w19 = S(1)/m;
         out[0] = w0*(w2 + w4);
         out[1] = S(0);
         out[2] = S(0);
@@ -277,14 +275,14 @@ struct BasicProjectileRotatingEarth {
         out[5] = w10*w17;
         out[6] = S(0);
         out[7] = w0*w4;
-        out[8] = w12*w18;
-        out[9] = w13*w18;
+        out[8] = w12*w17;
+        out[9] = w13*w17;
         out[10] = S(0);
         out[11] = S(0);
         out[12] = S(0);
-        out[13] = w14*w19;
+        out[13] = w14*w17;
         out[14] = w0*w2;
-        out[15] = w16*w19;
+        out[15] = w16*w17;
         out[16] = S(0);
         out[17] = S(0);
     }

@@ -202,6 +202,8 @@ Block solve_block(const Block& system, const SolvePlan& plan, std::size_t n, std
             for (std::size_t r = 0; r < block.size(); ++r)
                 for (std::size_t s = 0; s <= r; ++s) a[block[r]][block[s]] = code.name(m(block[r], block[s]));
         const std::size_t first = code.size();
+        // One reciprocal per distinct diagonal entry (a particle's m serves its x, y and z).
+        std::map<ex, ex, GiNaC::ex_is_less> reciprocals;
         for (const auto& block : plan.blocks) {
             if (block.size() == 1) {
                 const std::size_t i = block[0];
@@ -222,7 +224,15 @@ Block solve_block(const Block& system, const SolvePlan& plan, std::size_t n, std
                         free_of_solve[i][c] = true;
                         continue;
                     }
-                    if (scale.is_zero()) scale = columns > 1 ? code.name(GiNaC::pow(a[i][i], -1)) : GiNaC::pow(a[i][i], -1);
+                    if (scale.is_zero()) {
+                        if (columns == 1) {
+                            scale = GiNaC::pow(a[i][i], -1);
+                        } else {
+                            auto [at, fresh] = reciprocals.try_emplace(m(i, i));
+                            if (fresh) at->second = code.name(GiNaC::pow(a[i][i], -1));
+                            scale = at->second;
+                        }
+                    }
                     x[i][c] = b[i][c] * scale;
                 }
                 continue;

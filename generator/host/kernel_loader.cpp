@@ -2,7 +2,6 @@
 
 #include <dlfcn.h>
 
-#include <cctype>
 #include <chrono>
 #include <filesystem>
 #include <iostream>
@@ -11,6 +10,7 @@
 
 #include <fmt/format.h>
 
+#include "support/identifier.hpp"
 #include "support/sha256.hpp"
 
 namespace eomc::host {
@@ -390,13 +390,6 @@ std::string replace_all(std::string text, const std::string& from, const std::st
     for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
         text.replace(at, from.size(), to);
     return text;
-}
-
-bool is_identifier(const std::string& s) {
-    if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
-    for (char c : s)
-        if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) return false;
-    return true;
 }
 
 // The adapter and the kernel, built into a shared object with only the adapter's C functions

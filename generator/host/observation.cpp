@@ -1,7 +1,6 @@
 #include "host/observation.hpp"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <limits>
 
@@ -9,17 +8,9 @@
 
 #include "model/expression_parser.hpp"
 #include "scene/scene.hpp"
+#include "support/identifier.hpp"
 
 namespace eomc::host {
-
-namespace {
-
-bool is_identifier(std::string_view s) {
-    if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
-    return std::all_of(s.begin(), s.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
-}
-
-}  // namespace
 
 Observation parse_observation(std::string_view text) {
     Observation o;

@@ -10,13 +10,14 @@
 
 #include "model/functions.hpp"
 #include "support/diagnostic.hpp"
+#include "support/identifier.hpp"
 
 namespace eomc::model {
 
 namespace {
 
-bool ident_start(char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; }
-bool ident_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; }
+bool ident_start(char c) { return is_ascii_letter(c) || c == '_'; }
+bool ident_char(char c) { return is_ascii_word_char(c); }
 bool digit(char c) { return std::isdigit(static_cast<unsigned char>(c)) != 0; }
 
 // Length of the numeric literal starting at i (0 if none): 12, 1.5, .5, 2e-3, 1.e4.

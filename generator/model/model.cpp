@@ -1,7 +1,6 @@
 #include "model/model.hpp"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -15,6 +14,7 @@
 #include "eomc/runtime/rigid/andoyer_deprit.hpp"
 #include "model/expression_parser.hpp"
 #include "support/diagnostic.hpp"
+#include "support/identifier.hpp"
 
 namespace eomc::model {
 
@@ -160,10 +160,7 @@ void build_free_carrier(const scene::Carrier& c, const scene::Forces& forces, Sy
                 out[std::size_t(axis)] = 0;
                 continue;
             }
-            const bool identifier = !e.text.empty() && (std::isalpha(static_cast<unsigned char>(e.text[0]))) &&
-                                    std::all_of(e.text.begin(), e.text.end(), [](char ch) {
-                                        return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_';
-                                    });
+            const bool identifier = is_scene_identifier(e.text);
             const std::string what = angular ? "angular_velocity" : "pole_velocity";
             if (!identifier)
                 throw InputError(e.pos, fmt::format("a free carrier's {} component must be a new name (an unknown "

@@ -24,19 +24,14 @@
 #include <fmt/ranges.h>
 #include <toml++/toml.h>
 
+#include "support/identifier.hpp"
+
 namespace eomc::scene {
 
 namespace {
 
 // ---------------------------------------------------------------------------------------
 // Small helpers that need no parser state.
-
-bool is_identifier(std::string_view s) {
-    if (s.empty() || !std::isalpha(static_cast<unsigned char>(s[0]))) return false;
-    return std::all_of(s.begin() + 1, s.end(), [](char c) {
-        return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
-    });
-}
 
 bool is_scene_name(std::string_view s) {
     if (s.empty() || !(s[0] >= 'a' && s[0] <= 'z')) return false;
@@ -327,7 +322,7 @@ private:
     // Parameters and coordinates become symbols: they must not shadow the time, the
     // built-in functions and constants, or the derived names q_dot / q_ddot.
     void check_symbol_name(const std::string& name, const SourcePos& pos, const char* kind) const {
-        if (!is_identifier(name))
+        if (!is_scene_identifier(name))
             fail(pos, fmt::format("invalid {} name '{}': expected a letter followed by letters, digits or underscores",
                                   kind, name));
         if (name == "t") fail(pos, fmt::format("'t' is reserved for the time and cannot name a {}", kind));
@@ -535,7 +530,7 @@ private:
             b.pos = at(t);
             const toml::node& name = require(t, "name", "[[body]]");
             b.name = read_string(name, path + ".name");
-            if (!is_identifier(b.name))
+            if (!is_scene_identifier(b.name))
                 fail(at(name), fmt::format("invalid body name '{}': expected a letter followed by letters, digits or "
                                            "underscores",
                                            b.name));
@@ -930,7 +925,7 @@ private:
             e.name = std::string(key->str());
             e.pos = at(*key);
             const std::string path = "events." + e.name;
-            if (!is_identifier(e.name))
+            if (!is_scene_identifier(e.name))
                 fail(at(*key), fmt::format("invalid event name '{}': expected a letter followed by letters, digits or "
                                            "underscores",
                                            e.name));
@@ -981,7 +976,7 @@ private:
         const toml::node& name = require(t, "name", title);
         std::string value = read_string(name, path + ".name");
         name_pos = at(name);
-        if (!is_identifier(value))
+        if (!is_scene_identifier(value))
             fail(at(name), fmt::format("invalid {} name '{}': expected a letter followed by letters, digits or "
                                        "underscores",
                                        noun, value));

@@ -521,6 +521,9 @@ BOOST_AUTO_TEST_CASE(invalid_names) {
     expect_error("[scene]\nname = \"2disk\"\n", 2, 8, "invalid scene name '2disk'");
     expect_error("[scene]\nname = \"x\"\n[parameters]\n\"2m\" = 1\n", 4, 1, "invalid parameter name '2m'");
     expect_error("[scene]\nname = \"x\"\n[coordinates]\n_q = {}\n", 4, 1, "invalid coordinate name '_q'");
+    // Letters are ASCII whatever the locale: a quoted TOML key may hold any UTF-8.
+    expect_error("[scene]\nname = \"x\"\n[coordinates]\n\"θ\" = {}\n", 4, 1, "invalid coordinate name 'θ'");
+    expect_error("[scene]\nname = \"x\"\n[parameters]\n\"m\u00e9\" = 1\n", 4, 1, "invalid parameter name 'mé'");
     expect_error("[scene]\nname = \"x\"\n[coordinates]\nq = {}\n[[body]]\nname = \"the ball\"\n", 6, 8,
                  "invalid body name 'the ball'");
 }

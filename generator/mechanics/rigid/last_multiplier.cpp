@@ -181,11 +181,22 @@ LastMultiplier last_multiplier(const model::Model& model, const Equations& eqs) 
         return m;
     }
     const unsigned n = eqs.mass_matrix.rows();
-    if (n == 0 || n > 5) {
-        m.reason = "more than 5 coordinates: det M not expanded";
+    // A diagonal M (particles in Cartesian coordinates) has det M = Π M_ss and adj(M) diagonal at
+    // any size; a full one is expanded only up to 5 × 5.
+    bool diagonal = true;
+    for (unsigned i = 0; i < n; ++i)
+        for (unsigned j = 0; j < n; ++j) diagonal = diagonal && (i == j || eqs.mass_matrix(i, j).is_zero());
+    if (n == 0 || (n > 5 && !diagonal)) {
+        m.reason = "more than 5 coordinates and M not diagonal: det M not expanded";
         return m;
     }
-    m.mu = expanded_determinant(eqs.mass_matrix);
+    const auto product_of_diagonal_but = [&](unsigned skip) {
+        ex product = 1;
+        for (unsigned j = 0; j < n; ++j)
+            if (j != skip) product *= eqs.mass_matrix(j, j);
+        return product;
+    };
+    m.mu = diagonal ? product_of_diagonal_but(n) : expanded_determinant(eqs.mass_matrix);
     // Each summand of ∂μ/∂t + Σ q̇_s ∂μ/∂q_s + Σ_s ∂(adj(M) f)_s/∂q̇_s.
     std::vector<ex> summands{derivative(m.mu, model.t)};
     for (unsigned s = 0; s < n; ++s) {
@@ -193,8 +204,9 @@ LastMultiplier last_multiplier(const model::Model& model, const Equations& eqs) 
         summands.push_back(c.q_dot * derivative(m.mu, c.q));
         ex g = 0;  // (μ M⁻¹ f)_s = Σ_k adj(M)_sk f_k, adj(M)_sk = (−1)^{s+k} det M without row k, column s
         for (unsigned k = 0; k < n; ++k) {
-            if (eqs.forcing[k].is_zero()) continue;
-            const ex cofactor = minor_determinant(eqs.mass_matrix, all_but(n, k), all_but(n, s));
+            if (eqs.forcing[k].is_zero() || (diagonal && k != s)) continue;
+            const ex cofactor = diagonal ? product_of_diagonal_but(s)
+                                         : minor_determinant(eqs.mass_matrix, all_but(n, k), all_but(n, s));
             g += ((s + k) % 2 == 0 ? 1 : -1) * cofactor * eqs.forcing[k];
         }
         summands.push_back(derivative(g, c.q_dot));
