@@ -27,20 +27,12 @@ import statistics
 import subprocess
 import sys
 
+from eomc_bench import find_eomc
+
 BENCH = pathlib.Path(__file__).resolve().parent
 ROOT = BENCH.parent
 CXXFLAGS = ["-O2", "-std=c++20"]
 INCLUDES = [f"-I{ROOT / 'runtime' / 'include'}", "-I/usr/include/eigen3"]
-
-
-def find_eomc(explicit):
-    if explicit:
-        return pathlib.Path(explicit)
-    for build in ("build", "build-lead", "build-bench", "build-h"):
-        p = ROOT / build / "generator" / "eomc"
-        if p.exists():
-            return p
-    sys.exit("eomc not found: build it or pass --eomc")
 
 
 def cpu_of(cmd, **kw):

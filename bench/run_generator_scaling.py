@@ -25,19 +25,11 @@ import subprocess
 import sys
 import time
 
+from eomc_bench import find_eomc
+
 BENCH = pathlib.Path(__file__).resolve().parent
 ROOT = BENCH.parent
 FORMS = ("bodies", "lagrangian")
-
-
-def find_eomc(explicit):
-    if explicit:
-        return pathlib.Path(explicit)
-    for build in ("build", "build-lead", "build-bench", "build-h"):
-        p = ROOT / build / "generator" / "eomc"
-        if p.exists():
-            return p
-    sys.exit("eomc not found: build it or pass --eomc")
 
 
 def scene_path(work, form, n):

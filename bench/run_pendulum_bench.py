@@ -24,19 +24,11 @@ import subprocess
 import sys
 import time
 
+from eomc_bench import find_eomc
+
 BENCH = pathlib.Path(__file__).resolve().parent
 ROOT = BENCH.parent
 CXXFLAGS = ["-O2", "-std=c++20"]
-
-
-def find_eomc(explicit):
-    if explicit:
-        return pathlib.Path(explicit)
-    for build in ("build", "build-lead", "build-bench"):
-        p = ROOT / build / "generator" / "eomc"
-        if p.exists():
-            return p
-    sys.exit("eomc not found: build it (see bench/RESULTS.md) or pass --eomc")
 
 
 def eomc_banner_ops(header_text, n):
