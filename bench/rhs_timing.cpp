@@ -12,7 +12,6 @@
 //       bench/rhs_timing.cpp
 // Prints `key value` lines that the driver parses.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -21,6 +20,8 @@
 #include <vector>
 
 #include <Eigen/Dense>
+
+#include "paired_timing.hpp"
 
 #include EOMC_HEADER
 #include SYMPY_HEADER
@@ -70,18 +71,6 @@ double relative_difference(const double* a, const double* b, int size) {
     return scale > 0 ? diff / scale : diff;
 }
 
-template <class F>
-double seconds_of(F&& f) {
-    const auto t0 = std::chrono::steady_clock::now();
-    f();
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v[v.size() / 2];
-}
-
 }  // namespace
 
 int main() {
@@ -107,7 +96,10 @@ int main() {
         for (int i = 0; i < n_state; ++i) states[std::size_t(b) * n_state + i] = i < n ? angle(rng) : rate(rng);
 
     // Agreement over the whole batch: M and f entry by entry, then q̈.
-    double err_M = 0, err_f = 0, err_rhs = 0, err_lag_M = 0, err_lag_f = 0;
+    double err_M = 0, err_f = 0, err_rhs = 0;
+#ifdef SYMPY_LAGRANGE_HEADER
+    double err_lag_M = 0, err_lag_f = 0;
+#endif
     for (int b = 0; b < batch; ++b) {
         const double* x = &states[std::size_t(b) * n_state];
         double Me[n * n], fe[n], Ms[n * n], fs[n], dxe[n_state], dxs[n_state];
@@ -131,10 +123,7 @@ int main() {
     std::printf("rel_diff_lagrange_M %.3e\nrel_diff_lagrange_f %.3e\n", err_lag_M, err_lag_f);
 #endif
 
-    // Timing: sweeps over the batch, enough of them for ~1 ms per sample, 301 samples per
-    // side taken in alternating pairs. The machine this runs on is shared, so the load
-    // changes between samples: the median of the per-pair ratio compares the two sides
-    // under the same load; the medians and minima per call are printed as well.
+    // Timing: sweeps over the batch, paired (bench/paired_timing.hpp).
     double checksum_eomc = 0, checksum_sympy = 0;
     std::vector<double> out(n_state);
     auto sweep_eomc = [&] {
@@ -149,20 +138,10 @@ int main() {
             checksum_sympy += out[n_state - 1];
         }
     };
-    const double one = std::max(seconds_of(sweep_eomc), seconds_of(sweep_sympy));
-    const int sweeps = std::max(1, int(1e-3 / std::max(one, 1e-9)));
-    std::vector<double> t_eomc, t_sympy, ratio;
-    for (int r = 0; r < 301; ++r) {
-        const double te = seconds_of([&] { for (int s = 0; s < sweeps; ++s) sweep_eomc(); }) / (sweeps * batch);
-        const double ts = seconds_of([&] { for (int s = 0; s < sweeps; ++s) sweep_sympy(); }) / (sweeps * batch);
-        t_eomc.push_back(te);
-        t_sympy.push_back(ts);
-        ratio.push_back(ts / te);
-    }
-    std::printf("eomc_rhs_ns %.2f\nsympy_rhs_ns %.2f\n", 1e9 * median(t_eomc), 1e9 * median(t_sympy));
-    std::printf("eomc_rhs_min_ns %.2f\nsympy_rhs_min_ns %.2f\n", 1e9 * *std::min_element(t_eomc.begin(), t_eomc.end()),
-                1e9 * *std::min_element(t_sympy.begin(), t_sympy.end()));
-    std::printf("paired_ratio %.4f\n", median(ratio));
+    const bench::PairedTiming t = bench::time_paired(sweep_eomc, sweep_sympy, batch);
+    std::printf("eomc_rhs_ns %.2f\nsympy_rhs_ns %.2f\n", 1e9 * t.first_median, 1e9 * t.second_median);
+    std::printf("eomc_rhs_min_ns %.2f\nsympy_rhs_min_ns %.2f\n", 1e9 * t.first_min, 1e9 * t.second_min);
+    std::printf("paired_ratio %.4f\n", 1 / t.ratio);  // SymPy / eomc
     std::printf("checksum_eomc %.17g\nchecksum_sympy %.17g\n", checksum_eomc, checksum_sympy);
     return 0;
 }

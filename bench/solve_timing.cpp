@@ -17,11 +17,11 @@
 #include <Eigen/Core>
 #include <eomc/runtime/version.hpp>
 
-#include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <random>
 #include <vector>
+
+#include "paired_timing.hpp"
 
 namespace before {
 #include BEFORE_HEADER
@@ -41,18 +41,6 @@ constexpr int n_state = After::n_state;
 template <class K>
 __attribute__((noinline)) void call_rhs(const double* x, const typename K::Parameters& p, double* dx) {
     K::rhs(0.0, x, dx, p);
-}
-
-template <class F>
-double seconds_of(F&& f) {
-    const auto t0 = std::chrono::steady_clock::now();
-    f();
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v[v.size() / 2];
 }
 
 }  // namespace
@@ -85,8 +73,7 @@ int main() {
     }
     std::printf("rel_diff_rates %.3e\n", diff);
 
-    // Sweeps over the batch, ~1 ms per sample, 301 samples per side in alternating pairs: the
-    // median of the per-pair ratio compares the two under the same load (the machine is shared).
+    // Sweeps over the batch, paired (bench/paired_timing.hpp).
     double checksum = 0;
     auto sweep = [&](auto&& one) {
         for (int b = 0; b < batch; ++b) {
@@ -96,18 +83,8 @@ int main() {
     };
     auto sweep_before = [&] { sweep([&](const double* x) { call_rhs<Before>(x, pb, xa.data()); }); };
     auto sweep_after = [&] { sweep([&](const double* x) { call_rhs<After>(x, pa, xa.data()); }); };
-    const double one = std::max(seconds_of(sweep_before), seconds_of(sweep_after));
-    const int sweeps = std::max(1, int(1e-3 / std::max(one, 1e-9)));
-    std::vector<double> tb, ta, ratio;
-    for (int r = 0; r < 301; ++r) {
-        const double b = seconds_of([&] { for (int s = 0; s < sweeps; ++s) sweep_before(); }) / (sweeps * batch);
-        const double a = seconds_of([&] { for (int s = 0; s < sweeps; ++s) sweep_after(); }) / (sweeps * batch);
-        tb.push_back(b);
-        ta.push_back(a);
-        ratio.push_back(b / a);
-    }
+    const bench::PairedTiming t = bench::time_paired(sweep_before, sweep_after, batch);
     std::printf("before_rhs_ns %.1f\nafter_rhs_ns %.1f\nbefore_rhs_min_ns %.1f\nafter_rhs_min_ns %.1f\n"
                 "paired_ratio %.3f\nchecksum %.6e\n",
-                median(tb) * 1e9, median(ta) * 1e9, *std::min_element(tb.begin(), tb.end()) * 1e9,
-                *std::min_element(ta.begin(), ta.end()) * 1e9, median(ratio), checksum);
+                t.first_median * 1e9, t.second_median * 1e9, t.first_min * 1e9, t.second_min * 1e9, t.ratio, checksum);
 }

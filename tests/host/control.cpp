@@ -19,6 +19,7 @@
 #include "eomc/runtime/program/erugin.hpp"
 #include "host/simulate.hpp"
 
+#include "control_scenes.hpp"
 #include "simulation.hpp"
 
 namespace {
@@ -331,35 +332,14 @@ attitude = { zxz = [0.0, 0.6, 0.0] }
 }
 
 // A program beside a [[constraint]] row at run time: the bead kept at speed v0 = 3 on the circle
-// x² + y² = 1 (Baumgarte α = 1, β = 2) by the tangential control d = (−y, x), κ = 3 (the closed forms
-// are tests/mechanics/control's): along the run the reaction's multiplier is μ = m (g y − v0²)/(2R²)
-// and the control λ = m g x/R² at the state reached, both rows held to the file's tolerance. μ and
-// λ are affine in the state with slopes ≤ g/2 and g, and the state is within the global error of
-// the programmed motion, so they match the closed forms to 10 × tolerance.
+// x² + y² = 1 (Baumgarte α = 1, β = 2) by the tangential control d = (−y, x), κ = 3 (the scene
+// and its closed forms: tests/support/control_scenes.hpp). Along the run the reaction's
+// multiplier is μ = m (g y − v0²)/(2R²) and the control λ = m g x/R² at the state reached, both
+// rows held to the file's tolerance. μ and λ are affine in the state with slopes ≤ g/2 and g, and
+// the state is within the global error of the programmed motion, so they match the closed forms
+// to 10 × tolerance.
 BOOST_AUTO_TEST_CASE(program_beside_a_constraint_row_at_run_time) {
-    const std::string toml = R"toml([scene]
-name = "bead_on_circle"
-[parameters]
-m = 1.0
-g = 9.81
-R = 1.0
-v0 = 3.0
-[coordinates]
-x = { initial = 0.0, rate = 3.0 }
-y = { initial = -1.0, rate = 0.0 }
-[lagrangian]
-T = "m*(x_dot^2 + y_dot^2)/2"
-V = "m*g*y"
-[[constraint]]
-name = "circle"
-holonomic = "x^2 + y^2 - R^2"
-stabilize = { alpha = 1, beta = 2 }
-[[program]]
-name = "speed"
-constraint = "(x_dot^2 + y_dot^2 - v0^2)/2"
-erugin = { kappa = 3 }
-control = { x = "-y", y = "x" }
-)toml";
+    const std::string toml = test_support::bead_on_circle_at_constant_speed();
     for (double t_end : {0.4, 1.3}) {
         const auto r = run(toml, t_end);
         const double x = r.value("x"), y = r.value("y");

@@ -17,6 +17,7 @@
 #include "model/model.hpp"
 #include "support/diagnostic.hpp"
 
+#include "control_scenes.hpp"
 #include "scenes.hpp"
 
 using GiNaC::ex;
@@ -637,38 +638,14 @@ control = ["q2"]
     BOOST_TEST(r.singular.empty(), r.singular.size());  // Ā M⁻¹ D = d11/det M: a principal minor, > 0
 }
 
-// A program beside a [[constraint]] row: a bead of mass m on a fixed vertical circle x² + y² = R²
-// (gravity m g along −y, Baumgarte's α = 1, β = 2), kept at speed v0 by a tangential control
-// d = (−y, x) (φ = (ẋ² + ẏ² − v0²)/2, κ = 3). The reaction μ ∇f and the control λ d solved together;
-// on the programmed motion (f = ḟ = φ = 0) by hand: tangentially m v̇ = 0 = −m g x/R + λ R, so
-// λ = m g x/R²; radially −m v0²/R = −m g y/R + 2R μ, so μ = m (g y − v0²)/(2R²). At x = 3/5,
-// y = 4/5, (ẋ, ẏ) = v0 (−4/5, 3/5) with R = 1, m = 1, g = 9.81, v0 = 3: λ = 5.886, μ = −0.576.
-// Exact rationals in, GiNaC's floats of the gains: round-off only. A "project" stabilisation has
-// no counterpart in the controlled kernel: refused at its place.
+// A program beside a [[constraint]] row: the bead held on a vertical circle and kept at constant
+// speed (tests/support/control_scenes.hpp, with the closed forms μ = m (g y − v0²)/(2R²) and
+// λ = m g x/R²). The reaction μ ∇f and the control λ d are solved together; at x = 3/5, y = 4/5,
+// (ẋ, ẏ) = v0 (−4/5, 3/5): λ = 5.886, μ = −0.576. Exact rationals in, GiNaC's floats of the gains:
+// round-off only. A "project" stabilisation has no counterpart in the controlled kernel: refused at
+// its place.
 BOOST_AUTO_TEST_CASE(program_beside_a_constraint_row_solved_together) {
-    const std::string scene = R"toml([scene]
-name = "bead"
-[parameters]
-m = 1.0
-g = 9.81
-R = 1.0
-v0 = 3.0
-[coordinates]
-x = { initial = 0.0, rate = 3.0 }
-y = { initial = -1.0, rate = 0.0 }
-[lagrangian]
-T = "m*(x_dot^2 + y_dot^2)/2"
-V = "m*g*y"
-[[constraint]]
-name = "circle"
-holonomic = "x^2 + y^2 - R^2"
-stabilize = { alpha = 1, beta = 2 }
-[[program]]
-name = "speed"
-constraint = "(x_dot^2 + y_dot^2 - v0^2)/2"
-erugin = { kappa = 3 }
-control = { x = "-y", y = "x" }
-)toml";
+    const std::string scene = test_support::bead_on_circle_at_constant_speed();
     const Model model = from_string(scene);
     const auto eqs = eomc::mechanics::derive(model);
     BOOST_TEST_REQUIRE(eqs.programs.size() == 2u);
