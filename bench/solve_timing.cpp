@@ -15,6 +15,8 @@
 // the kernels' own includes no-ops.
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <eomc/runtime/constraint_projection.hpp>
+#include <eomc/runtime/constraints.hpp>
 #include <eomc/runtime/version.hpp>
 
 #include <cstdio>
@@ -23,12 +25,19 @@
 
 #include "paired_timing.hpp"
 
+// Inside these namespaces a kernel's eomc::runtime:: names the real runtime through an alias.
 namespace before {
+namespace eomc {
+namespace runtime = ::eomc::runtime;
+}
 #include BEFORE_HEADER
-}
+}  // namespace before
 namespace after {
-#include AFTER_HEADER
+namespace eomc {
+namespace runtime = ::eomc::runtime;
 }
+#include AFTER_HEADER
+}  // namespace after
 
 namespace {
 

@@ -2,15 +2,18 @@
 // A ball rolling without slipping on a turntable
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 5 coordinates, as the first-order system x =
-// (q, q̇), ẋ = (q̇, M⁻¹f). M u̇ − Wᵀλ = f, W u̇ = r is solved at run time (the
-// Schur complement on Eigen's LDLT). No jacobian() (eomc generate --jacobian adds it).
+// (q, q̇), ẋ = (q̇, M⁻¹f). M u̇ − Wᵀλ = f, W u̇ = r is solved in straight-line
+// code (LDLᵀ of [[M, Wᵀ], [W, 0]], the velocities first: the Schur complement), and so are
+// the projection's corrections. No jacobian() (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                      40 ->      26 (9 temporaries)
 //   forcing                         203 ->     112 (11 temporaries)
 //   mass_matrix + forcing + rows      287 ->     161 (15 temporaries)
 //   explicit rates                    0 ->       0 (0 temporaries)
+//   saddle-point solve              359 ->     232 (57 temporaries)
 //   constraint residuals             36 ->      15 (5 temporaries)
 //   constraint jacobian              12 ->       9 (3 temporaries)
+//   velocity correction             101 ->      82 (47 temporaries)
 //   invariants                      272 ->     128 (15 temporaries)
 //   outputs                         921 ->     382 (22 temporaries)
 //   singular_sets                     1 ->       1 (0 temporaries)
@@ -18,9 +21,7 @@
 
 #include <array>
 #include <cmath>
-#include <Eigen/Core>
-#include <Eigen/Cholesky>
-#include <eomc/runtime/constraints.hpp>
+#include <eomc/runtime/constraint_projection.hpp>
 
 #if __has_include(<eomc/runtime/version.hpp>)
 #include <eomc/runtime/version.hpp>
@@ -270,12 +271,12 @@ struct BasicBallOnTurntable {
     // 2nd ed., IV.4, Algorithm 4.2).
     template <class S>
     static void project(S t, S* x, const Parameters& p) {
-        eomc::runtime::project_onto_constraints(
+        eomc::runtime::project_by_corrections(
             t, x, eomc::runtime::ConstraintLayout{n_coordinates, velocity_offset, n_velocities, n_constraints},
             constraint_projected.data(), constraint_holonomic.data(),
             [&p](S tau, const S* y, S* f, S* phi) { constraint_residuals_(tau, y, f, phi, p); },
-            [&p](S tau, const S* y, S* W) { constraint_jacobian_(tau, y, W, p); },
-            [&p](S tau, const S* y, S* M) { mass_matrix(tau, y, M, p); });
+            [](S, const S*, S*) {},
+            [&p](S tau, const S* y, S* C) { velocity_correction_(tau, y, C, p); });
     }
 
     template <class S>
@@ -406,25 +407,181 @@ struct BasicBallOnTurntable {
         dxdt[4] = psi_dot;
     }
 
-    // ẋ from M u̇ − Wᵀλ = f, W u̇ = r (runtime/constraints.hpp: the Schur complement on the LDLT of
-    // M); λ and the generalized reactions Wᵀλ too where lambda and reaction are not null.
+    // u̇, λ and Wᵀλ of M u̇ − Wᵀλ = f, W u̇ = r: LDLᵀ of [[M, Wᵀ], [W, 0]] in straight-line code, the
+    // velocities before the multipliers (the Schur complement: M's pivots, then −W M⁻¹ Wᵀ's).
+    template <class S>
+    static void constrained_solution_(S t, const S* x, S* udot, S* lambda, S* reaction, const Parameters& p) {
+        (void)t;
+        using std::cos;
+        using std::sin;
+        const S x_ = x[0];
+        const S y = x[1];
+        const S phi = x[2];
+        const S theta = x[3];
+        const S psi = x[4];
+        const S x_dot = x[5];
+        const S y_dot = x[6];
+        const S phi_dot = x[7];
+        const S theta_dot = x[8];
+        const S psi_dot = x[9];
+        const S m = S(p.m);
+        const S r = S(p.r);
+        const S Omega = S(p.Omega);
+        const S w0 = r*r;
+        const S w1 = cos(theta);
+        const S w2 = sin(theta);
+        const S w3 = w2*w2;
+        const S w4 = sin(psi);
+        const S w5 = w4*w4;
+        const S w6 = cos(psi);
+        const S w7 = w6*w6;
+        const S w8 = m*w0*w1;
+        const S w9 = psi_dot + phi_dot*w1;
+        const S w10 = theta_dot*w4 - phi_dot*w2*w6;
+        const S w11 = phi_dot*w2*w4 + theta_dot*w6;
+        const S w12 = Omega*Omega;
+        const S w13 = sin(phi);
+        const S w14 = cos(phi);
+        const S w15 = Omega*m*(Omega*x_ + S(2)*y_dot);
+        const S w16 = Omega*m*(Omega*y - S(2)*x_dot);
+        const S w17 = -S(2)/S(5)*m*theta_dot*w0*(phi_dot*w1*w2*w7 - w1*w10*w6 + S(2)*Omega*w1*w2*(S(-1) + w5 + w7) + phi_dot*w1*w2*w5 - phi_dot*w1*w2 + w1*w11*w4 - w2*w9);
+        const S w18 = -S(2)/S(5)*m*w0*(phi_dot*w1*w10*w6 - Omega*phi_dot*w1*w2*w5 - phi_dot*w1*w11*w4 + Omega*phi_dot*w1*w2 - Omega*phi_dot*w1*w2*w7 - w1*w12*w2*w5 + Omega*w1*w10*w6 + Omega*w2*w9 + w1*w12*w2 - Omega*w1*w11*w4 + phi_dot*w2*w9 - w1*w12*w2*w7);
+        const S w19 = S(2)/S(5)*m*theta_dot*w0*w2*(Omega + phi_dot);
+        const S w20 = -r*(psi_dot*theta_dot*w1*w14 - phi_dot*theta_dot*w14 - phi_dot*psi_dot*w13*w2);
+        const S w21 = -r*(-phi_dot*theta_dot*w13 + psi_dot*theta_dot*w1*w13 + phi_dot*psi_dot*w14*w2);
+        const S w22 = S(2)/S(5)*m*w0*(w1*w1 + w3*w5 + w3*w7);
+        const S w23 = S(2)/S(5)*m*w0*(w5 + w7);
+        const S w24 = S(2)/S(5)*w8;
+        const S w25 = S(2)/S(5)*m*w0;
+        const S w26 = -r*w13;
+        const S w27 = r*w14*w2;
+        const S w28 = r*w14;
+        const S w29 = r*w13*w2;
+        const S w30 = S(1)/m;
+        const S w31 = S(1)/w22;
+        const S w32 = w24*w31;
+        const S w33 = S(1)/w23;
+        const S w34 = w26*w33;
+        const S w35 = w28*w33;
+        const S w36 = w25 - w24*w32;
+        const S w37 = S(1)/w36;
+        const S w38 = w27*w37;
+        const S w39 = w29*w37;
+        const S w40 = -w27*w38 - w30 - w26*w34;
+        const S w41 = S(1)/w40;
+        const S w42 = -w29*w38 - w28*w34;
+        const S w43 = w41*w42;
+        const S w44 = -w28*w35 - w29*w39 - w30 - w42*w43;
+        const S w45 = S(1)/w44;
+        const S w46 = w19 - w17*w32;
+        const S w47 = w20 - w18*w34 - w38*w46 - w15*w30;
+        const S w48 = w21 - w16*w30 - w43*w47 - w18*w35 - w39*w46;
+        const S w49 = w45*w48;
+        const S w50 = -w43*w49 + w41*w47;
+        const S w51 = -w39*w49 + w37*w46 - w38*w50;
+        const S w52 = -w34*w50 - w35*w49 + w18*w33;
+        const S w53 = -w32*w51 + w17*w31;
+        const S w54 = -w30*w49 + w16*w30;
+        const S w55 = -w50;
+        const S w56 = -w49;
+        udot[0] = w15*w30 - w30*w50;
+        udot[1] = w54;
+        udot[2] = w53;
+        udot[3] = w52;
+        udot[4] = w51;
+        lambda[0] = w55;
+        lambda[1] = w56;
+        reaction[0] = w55;
+        reaction[1] = w56;
+        reaction[2] = S(0);
+        reaction[3] = w26*w55 + w28*w56;
+        reaction[4] = w29*w56 + w27*w55;
+    }
+
+    // ẋ from M u̇ − Wᵀλ = f, W u̇ = r; λ and the generalized reactions Wᵀλ too where lambda and
+    // reaction are not null.
     template <class S>
     static void constrained_rates_(S t, const S* x, S* dxdt, S* lambda, S* reaction, const Parameters& p) {
-        using Matrix = eomc::runtime::ConstraintMatrix<S>;
-        using Vector = eomc::runtime::ConstraintVector<S>;
-        Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> M(n_velocities, n_velocities),
-            W(n_constraints, n_velocities);
-        Vector f(n_velocities), r(n_constraints), udot, multipliers;
-        mass_forcing_and_constraints_(t, x, M.data(), f.data(), W.data(), r.data(), p);
+        std::array<S, n_velocities> udot, generalized;
+        std::array<S, n_constraints> multipliers;
+        constrained_solution_(t, x, udot.data(), multipliers.data(), generalized.data(), p);
         explicit_rates_(t, x, dxdt, p);
-        eomc::runtime::schur_solve<S>(Matrix(M), f, Matrix(W), r, udot, multipliers);
-        for (int k = 0; k < n_velocities; ++k) dxdt[velocity_offset + k] = udot[k];
+        for (int k = 0; k < n_velocities; ++k) dxdt[velocity_offset + k] = udot[std::size_t(k)];
         if (lambda)
-            for (int a = 0; a < n_constraints; ++a) lambda[a] = multipliers[a];
-        if (reaction) {
-            const Vector generalized = W.transpose() * multipliers;
-            for (int k = 0; k < n_velocities; ++k) reaction[k] = generalized[k];
-        }
+            for (int a = 0; a < n_constraints; ++a) lambda[a] = multipliers[std::size_t(a)];
+        if (reaction)
+            for (int k = 0; k < n_velocities; ++k) reaction[k] = generalized[std::size_t(k)];
+    }
+
+    // The projection's step C = M⁻¹Wᵀ(W M⁻¹ Wᵀ)⁻¹ over every projected row,
+    // n_velocities × 2 row-major.
+    template <class S>
+    static void velocity_correction_(S t, const S* x, S* out, const Parameters& p) {
+        (void)t;
+        using std::cos;
+        using std::sin;
+        const S phi = x[2];
+        const S theta = x[3];
+        const S psi = x[4];
+        const S m = S(p.m);
+        const S r = S(p.r);
+        const S w0 = r*r;
+        const S w1 = cos(theta);
+        const S w2 = sin(theta);
+        const S w3 = w2*w2;
+        const S w4 = sin(psi);
+        const S w5 = w4*w4;
+        const S w6 = cos(psi);
+        const S w7 = w6*w6;
+        const S w8 = m*w0*w1;
+        const S w9 = sin(phi);
+        const S w10 = cos(phi);
+        const S w11 = S(2)/S(5)*m*w0*(w1*w1 + w3*w5 + w3*w7);
+        const S w12 = S(2)/S(5)*m*w0*(w5 + w7);
+        const S w13 = S(2)/S(5)*w8;
+        const S w14 = S(2)/S(5)*m*w0;
+        const S w15 = -r*w9;
+        const S w16 = r*w10*w2;
+        const S w17 = r*w10;
+        const S w18 = r*w2*w9;
+        const S w19 = S(1)/m;
+        const S w20 = S(1)/w11;
+        const S w21 = w13*w20;
+        const S w22 = S(1)/w12;
+        const S w23 = w15*w22;
+        const S w24 = w17*w22;
+        const S w25 = w14 - w13*w21;
+        const S w26 = S(1)/w25;
+        const S w27 = w16*w26;
+        const S w28 = w18*w26;
+        const S w29 = -w16*w27 - w15*w23 - w19;
+        const S w30 = S(1)/w29;
+        const S w31 = -w17*w23 - w18*w27;
+        const S w32 = w30*w31;
+        const S w33 = -w18*w28 - w19 - w17*w24 - w31*w32;
+        const S w34 = S(1)/w33;
+        const S w35 = -w32;
+        const S w36 = w34*w35;
+        const S w37 = w30 - w32*w36;
+        const S w38 = -w28*w36 - w27*w37;
+        const S w39 = -w23*w37 - w24*w36;
+        const S w40 = -w21*w38;
+        const S w41 = -w19*w36;
+        const S w42 = -w32*w34;
+        const S w43 = -w27*w42 - w28*w34;
+        const S w44 = -w23*w42 - w24*w34;
+        const S w45 = -w21*w43;
+        const S w46 = -w19*w34;
+        out[0] = -w19*w37;
+        out[1] = -w19*w42;
+        out[2] = w41;
+        out[3] = w46;
+        out[4] = w40;
+        out[5] = w45;
+        out[6] = w39;
+        out[7] = w44;
+        out[8] = w38;
+        out[9] = w43;
     }
 
     // The rows' residuals: f (holonomic) or φ (kinematic) to out, φ to out_phi.

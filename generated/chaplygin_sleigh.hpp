@@ -2,24 +2,25 @@
 // Chaplygin's sleigh: a knife edge, a nonholonomic constraint
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 3 coordinates, as the first-order system x =
-// (q, q̇), ẋ = (q̇, M⁻¹f). M u̇ − Wᵀλ = f, W u̇ = r is solved at run time (the
-// Schur complement on Eigen's LDLT). No jacobian() (eomc generate --jacobian adds it).
+// (q, q̇), ẋ = (q̇, M⁻¹f). M u̇ − Wᵀλ = f, W u̇ = r is solved in straight-line
+// code (LDLᵀ of [[M, Wᵀ], [W, 0]], the velocities first: the Schur complement), and so are
+// the projection's corrections. No jacobian() (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                      21 ->      13 (4 temporaries)
 //   forcing                          10 ->       9 (1 temporaries)
 //   mass_matrix + forcing + rows       39 ->      24 (5 temporaries)
 //   explicit rates                    0 ->       0 (0 temporaries)
+//   saddle-point solve               84 ->      69 (28 temporaries)
 //   constraint residuals             10 ->       5 (1 temporaries)
 //   constraint jacobian               2 ->       2 (0 temporaries)
+//   velocity correction              50 ->      40 (20 temporaries)
 //   invariants                       50 ->      32 (4 temporaries)
 //   outputs                           0 ->       0 (0 temporaries)
 #pragma once
 
 #include <array>
 #include <cmath>
-#include <Eigen/Core>
-#include <Eigen/Cholesky>
-#include <eomc/runtime/constraints.hpp>
+#include <eomc/runtime/constraint_projection.hpp>
 
 #if __has_include(<eomc/runtime/version.hpp>)
 #include <eomc/runtime/version.hpp>
@@ -161,12 +162,12 @@ struct BasicChaplyginSleigh {
     // 2nd ed., IV.4, Algorithm 4.2).
     template <class S>
     static void project(S t, S* x, const Parameters& p) {
-        eomc::runtime::project_onto_constraints(
+        eomc::runtime::project_by_corrections(
             t, x, eomc::runtime::ConstraintLayout{n_coordinates, velocity_offset, n_velocities, n_constraints},
             constraint_projected.data(), constraint_holonomic.data(),
             [&p](S tau, const S* y, S* f, S* phi) { constraint_residuals_(tau, y, f, phi, p); },
-            [&p](S tau, const S* y, S* W) { constraint_jacobian_(tau, y, W, p); },
-            [&p](S tau, const S* y, S* M) { mass_matrix(tau, y, M, p); });
+            [](S, const S*, S*) {},
+            [&p](S tau, const S* y, S* C) { velocity_correction_(tau, y, C, p); });
     }
 
     template <class S>
@@ -229,25 +230,106 @@ struct BasicChaplyginSleigh {
         dxdt[2] = phi_dot;
     }
 
-    // ẋ from M u̇ − Wᵀλ = f, W u̇ = r (runtime/constraints.hpp: the Schur complement on the LDLT of
-    // M); λ and the generalized reactions Wᵀλ too where lambda and reaction are not null.
+    // u̇, λ and Wᵀλ of M u̇ − Wᵀλ = f, W u̇ = r: LDLᵀ of [[M, Wᵀ], [W, 0]] in straight-line code, the
+    // velocities before the multipliers (the Schur complement: M's pivots, then −W M⁻¹ Wᵀ's).
+    template <class S>
+    static void constrained_solution_(S t, const S* x, S* udot, S* lambda, S* reaction, const Parameters& p) {
+        (void)t;
+        using std::cos;
+        using std::sin;
+        const S phi = x[2];
+        const S x_dot = x[3];
+        const S y_dot = x[4];
+        const S phi_dot = x[5];
+        const S m = S(p.m);
+        const S I = S(p.I);
+        const S a = S(p.a);
+        const S w0 = sin(phi);
+        const S w1 = a*m*w0;
+        const S w2 = cos(phi);
+        const S w3 = a*m*w2;
+        const S w4 = phi_dot*phi_dot;
+        const S w5 = a*m*w2*w4;
+        const S w6 = a*m*w0*w4;
+        const S w7 = phi_dot*(w0*y_dot + w2*x_dot);
+        const S w8 = -w1;
+        const S w9 = I + m*a*a*(w0*w0 + w2*w2);
+        const S w10 = -w0;
+        const S w11 = S(1)/m;
+        const S w12 = w11*w8;
+        const S w13 = w10*w11;
+        const S w14 = w11*w3;
+        const S w15 = w11*w2;
+        const S w16 = w9 - w14*w3 - w12*w8;
+        const S w17 = S(1)/w16;
+        const S w18 = -w14*w2 - w10*w12;
+        const S w19 = w17*w18;
+        const S w20 = -w15*w2 - w10*w13 - w18*w19;
+        const S w21 = S(1)/w20;
+        const S w22 = -w14*w6 - w12*w5;
+        const S w23 = w7 - w15*w6 - w19*w22 - w13*w5;
+        const S w24 = w21*w23;
+        const S w25 = -w19*w24 + w17*w22;
+        const S w26 = -w15*w24 + w11*w6 - w14*w25;
+        const S w27 = -w24;
+        udot[0] = w11*w5 - w12*w25 - w13*w24;
+        udot[1] = w26;
+        udot[2] = w25;
+        lambda[0] = w27;
+        reaction[0] = w10*w27;
+        reaction[1] = w2*w27;
+        reaction[2] = S(0);
+    }
+
+    // ẋ from M u̇ − Wᵀλ = f, W u̇ = r; λ and the generalized reactions Wᵀλ too where lambda and
+    // reaction are not null.
     template <class S>
     static void constrained_rates_(S t, const S* x, S* dxdt, S* lambda, S* reaction, const Parameters& p) {
-        using Matrix = eomc::runtime::ConstraintMatrix<S>;
-        using Vector = eomc::runtime::ConstraintVector<S>;
-        Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> M(n_velocities, n_velocities),
-            W(n_constraints, n_velocities);
-        Vector f(n_velocities), r(n_constraints), udot, multipliers;
-        mass_forcing_and_constraints_(t, x, M.data(), f.data(), W.data(), r.data(), p);
+        std::array<S, n_velocities> udot, generalized;
+        std::array<S, n_constraints> multipliers;
+        constrained_solution_(t, x, udot.data(), multipliers.data(), generalized.data(), p);
         explicit_rates_(t, x, dxdt, p);
-        eomc::runtime::schur_solve<S>(Matrix(M), f, Matrix(W), r, udot, multipliers);
-        for (int k = 0; k < n_velocities; ++k) dxdt[velocity_offset + k] = udot[k];
+        for (int k = 0; k < n_velocities; ++k) dxdt[velocity_offset + k] = udot[std::size_t(k)];
         if (lambda)
-            for (int a = 0; a < n_constraints; ++a) lambda[a] = multipliers[a];
-        if (reaction) {
-            const Vector generalized = W.transpose() * multipliers;
-            for (int k = 0; k < n_velocities; ++k) reaction[k] = generalized[k];
-        }
+            for (int a = 0; a < n_constraints; ++a) lambda[a] = multipliers[std::size_t(a)];
+        if (reaction)
+            for (int k = 0; k < n_velocities; ++k) reaction[k] = generalized[std::size_t(k)];
+    }
+
+    // The projection's step C = M⁻¹Wᵀ(W M⁻¹ Wᵀ)⁻¹ over every projected row,
+    // n_velocities × 1 row-major.
+    template <class S>
+    static void velocity_correction_(S t, const S* x, S* out, const Parameters& p) {
+        (void)t;
+        using std::cos;
+        using std::sin;
+        const S phi = x[2];
+        const S m = S(p.m);
+        const S I = S(p.I);
+        const S a = S(p.a);
+        const S w0 = sin(phi);
+        const S w1 = a*m*w0;
+        const S w2 = cos(phi);
+        const S w3 = a*m*w2;
+        const S w4 = -w1;
+        const S w5 = I + m*a*a*(w0*w0 + w2*w2);
+        const S w6 = -w0;
+        const S w7 = S(1)/m;
+        const S w8 = w4*w7;
+        const S w9 = w6*w7;
+        const S w10 = w3*w7;
+        const S w11 = w2*w7;
+        const S w12 = w5 - w10*w3 - w4*w8;
+        const S w13 = S(1)/w12;
+        const S w14 = -w6*w8 - w10*w2;
+        const S w15 = w13*w14;
+        const S w16 = -w14*w15 - w6*w9 - w11*w2;
+        const S w17 = S(1)/w16;
+        const S w18 = -w15*w17;
+        const S w19 = -w10*w18 - w11*w17;
+        out[0] = -w18*w8 - w17*w9;
+        out[1] = w19;
+        out[2] = w18;
     }
 
     // The rows' residuals: f (holonomic) or φ (kinematic) to out, φ to out_phi.

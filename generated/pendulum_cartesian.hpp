@@ -2,24 +2,26 @@
 // Pendulum in Cartesian coordinates, the rod as a holonomic constraint
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 2 coordinates, as the first-order system x =
-// (q, q̇), ẋ = (q̇, M⁻¹f). M u̇ − Wᵀλ = f, W u̇ = r is solved at run time (the
-// Schur complement on Eigen's LDLT). No jacobian() (eomc generate --jacobian adds it).
+// (q, q̇), ẋ = (q̇, M⁻¹f). M u̇ − Wᵀλ = f, W u̇ = r is solved in straight-line
+// code (LDLᵀ of [[M, Wᵀ], [W, 0]], the velocities first: the Schur complement), and so are
+// the projection's corrections. No jacobian() (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
 //   forcing                           1 ->       1 (0 temporaries)
 //   mass_matrix + forcing + rows        8 ->       8 (0 temporaries)
 //   explicit rates                    0 ->       0 (0 temporaries)
+//   saddle-point solve               24 ->      24 (13 temporaries)
 //   constraint residuals             10 ->      10 (0 temporaries)
 //   constraint jacobian               2 ->       2 (0 temporaries)
+//   position correction              11 ->      11 (8 temporaries)
+//   velocity correction              11 ->      11 (8 temporaries)
 //   invariants                        8 ->       8 (0 temporaries)
 //   outputs                           0 ->       0 (0 temporaries)
 #pragma once
 
 #include <array>
 #include <cmath>
-#include <Eigen/Core>
-#include <Eigen/Cholesky>
-#include <eomc/runtime/constraints.hpp>
+#include <eomc/runtime/constraint_projection.hpp>
 
 #if __has_include(<eomc/runtime/version.hpp>)
 #include <eomc/runtime/version.hpp>
@@ -144,12 +146,12 @@ struct BasicPendulumCartesian {
     // 2nd ed., IV.4, Algorithm 4.2).
     template <class S>
     static void project(S t, S* x, const Parameters& p) {
-        eomc::runtime::project_onto_constraints(
+        eomc::runtime::project_by_corrections(
             t, x, eomc::runtime::ConstraintLayout{n_coordinates, velocity_offset, n_velocities, n_constraints},
             constraint_projected.data(), constraint_holonomic.data(),
             [&p](S tau, const S* y, S* f, S* phi) { constraint_residuals_(tau, y, f, phi, p); },
-            [&p](S tau, const S* y, S* W) { constraint_jacobian_(tau, y, W, p); },
-            [&p](S tau, const S* y, S* M) { mass_matrix(tau, y, M, p); });
+            [&p](S tau, const S* y, S* C) { position_correction_(tau, y, C, p); },
+            [&p](S tau, const S* y, S* C) { velocity_correction_(tau, y, C, p); });
     }
 
     template <class S>
@@ -195,25 +197,90 @@ struct BasicPendulumCartesian {
         dxdt[1] = y_dot;
     }
 
-    // ẋ from M u̇ − Wᵀλ = f, W u̇ = r (runtime/constraints.hpp: the Schur complement on the LDLT of
-    // M); λ and the generalized reactions Wᵀλ too where lambda and reaction are not null.
+    // u̇, λ and Wᵀλ of M u̇ − Wᵀλ = f, W u̇ = r: LDLᵀ of [[M, Wᵀ], [W, 0]] in straight-line code, the
+    // velocities before the multipliers (the Schur complement: M's pivots, then −W M⁻¹ Wᵀ's).
+    template <class S>
+    static void constrained_solution_(S t, const S* x, S* udot, S* lambda, S* reaction, const Parameters& p) {
+        (void)t;
+        const S x_ = x[0];
+        const S y = x[1];
+        const S x_dot = x[2];
+        const S y_dot = x[3];
+        const S m = S(p.m);
+        const S g = S(p.g);
+        const S w0 = -g*m;
+        const S w1 = -S(2)*y_dot*y_dot - S(2)*x_dot*x_dot;
+        const S w2 = S(2)*x_;
+        const S w3 = S(2)*y;
+        const S w4 = S(1)/m;
+        const S w5 = w2*w4;
+        const S w6 = w3*w4;
+        const S w7 = -w3*w6 - w2*w5;
+        const S w8 = S(1)/w7;
+        const S w9 = w1 - w0*w6;
+        const S w10 = w8*w9;
+        const S w11 = w0*w4 - w10*w6;
+        const S w12 = -w10;
+        udot[0] = -w10*w5;
+        udot[1] = w11;
+        lambda[0] = w12;
+        reaction[0] = w12*w2;
+        reaction[1] = w12*w3;
+    }
+
+    // ẋ from M u̇ − Wᵀλ = f, W u̇ = r; λ and the generalized reactions Wᵀλ too where lambda and
+    // reaction are not null.
     template <class S>
     static void constrained_rates_(S t, const S* x, S* dxdt, S* lambda, S* reaction, const Parameters& p) {
-        using Matrix = eomc::runtime::ConstraintMatrix<S>;
-        using Vector = eomc::runtime::ConstraintVector<S>;
-        Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> M(n_velocities, n_velocities),
-            W(n_constraints, n_velocities);
-        Vector f(n_velocities), r(n_constraints), udot, multipliers;
-        mass_forcing_and_constraints_(t, x, M.data(), f.data(), W.data(), r.data(), p);
+        std::array<S, n_velocities> udot, generalized;
+        std::array<S, n_constraints> multipliers;
+        constrained_solution_(t, x, udot.data(), multipliers.data(), generalized.data(), p);
         explicit_rates_(t, x, dxdt, p);
-        eomc::runtime::schur_solve<S>(Matrix(M), f, Matrix(W), r, udot, multipliers);
-        for (int k = 0; k < n_velocities; ++k) dxdt[velocity_offset + k] = udot[k];
+        for (int k = 0; k < n_velocities; ++k) dxdt[velocity_offset + k] = udot[std::size_t(k)];
         if (lambda)
-            for (int a = 0; a < n_constraints; ++a) lambda[a] = multipliers[a];
-        if (reaction) {
-            const Vector generalized = W.transpose() * multipliers;
-            for (int k = 0; k < n_velocities; ++k) reaction[k] = generalized[k];
-        }
+            for (int a = 0; a < n_constraints; ++a) lambda[a] = multipliers[std::size_t(a)];
+        if (reaction)
+            for (int k = 0; k < n_velocities; ++k) reaction[k] = generalized[std::size_t(k)];
+    }
+
+    // The projection's step C = M⁻¹Wᵀ(W M⁻¹ Wᵀ)⁻¹ over the projected holonomic rows,
+    // n_velocities × 1 row-major.
+    template <class S>
+    static void position_correction_(S t, const S* x, S* out, const Parameters& p) {
+        (void)t;
+        const S x_ = x[0];
+        const S y = x[1];
+        const S m = S(p.m);
+        const S w0 = S(2)*x_;
+        const S w1 = S(2)*y;
+        const S w2 = S(1)/m;
+        const S w3 = w0*w2;
+        const S w4 = w1*w2;
+        const S w5 = -w1*w4 - w0*w3;
+        const S w6 = S(1)/w5;
+        const S w7 = -w4*w6;
+        out[0] = -w3*w6;
+        out[1] = w7;
+    }
+
+    // The projection's step C = M⁻¹Wᵀ(W M⁻¹ Wᵀ)⁻¹ over every projected row,
+    // n_velocities × 1 row-major.
+    template <class S>
+    static void velocity_correction_(S t, const S* x, S* out, const Parameters& p) {
+        (void)t;
+        const S x_ = x[0];
+        const S y = x[1];
+        const S m = S(p.m);
+        const S w0 = S(2)*x_;
+        const S w1 = S(2)*y;
+        const S w2 = S(1)/m;
+        const S w3 = w0*w2;
+        const S w4 = w1*w2;
+        const S w5 = -w1*w4 - w0*w3;
+        const S w6 = S(1)/w5;
+        const S w7 = -w4*w6;
+        out[0] = -w3*w6;
+        out[1] = w7;
     }
 
     // The rows' residuals: f (holonomic) or φ (kinematic) to out, φ to out_phi.

@@ -420,10 +420,58 @@ struct Rates {
 
 // rhs() and jacobian() of a kernel with constraint rows: u̇ and λ from the Schur complement
 // (runtime/constraints.hpp), ∂ẋ/∂x by central differences of rhs.
+bool straight_line_constraints(const KernelIR& ir) {
+    return !ir.constraint_names.empty() && ir.constraint_plan.method != SolvePlan::Method::eigen_llt &&
+           ir.constraint_plan.method != SolvePlan::Method::none;
+}
+
+// The straight-line path of emit_constrained_rates: u̇, λ and Wᵀλ from the saddle-point solve
+// (codegen/solve_plan.hpp), and the projection's corrections, with no Eigen.
+std::string straight_line_constraint_functions(const KernelIR& ir, const LocalNames& names) {
+    const std::size_t nu = ir.n_velocities, m = ir.constraint_names.size();
+    std::vector<std::string> targets = indexed("udot", nu);
+    for (const auto& s : indexed("lambda", m)) targets.push_back(s);
+    for (const auto& s : indexed("reaction", nu)) targets.push_back(s);
+    std::string out = fmt::format(
+        "    // u̇, λ and Wᵀλ of M u̇ − Wᵀλ = f, W u̇ = r: LDLᵀ of [[M, Wᵀ], [W, 0]] in straight-line code, the\n"
+        "    // velocities before the multipliers (the Schur complement: M's pivots, then −W M⁻¹ Wᵀ's).\n"
+        "    template <class S>\n"
+        "    static void constrained_solution_(S t, const S* x, S* udot, S* lambda, S* reaction, const Parameters& p) {{\n{}\n    }}\n\n"
+        "    // ẋ from M u̇ − Wᵀλ = f, W u̇ = r; λ and the generalized reactions Wᵀλ too where lambda and\n"
+        "    // reaction are not null.\n"
+        "    template <class S>\n"
+        "    static void constrained_rates_(S t, const S* x, S* dxdt, S* lambda, S* reaction, const Parameters& p) {{\n"
+        "        std::array<S, n_velocities> udot, generalized;\n"
+        "        std::array<S, n_constraints> multipliers;\n"
+        "        constrained_solution_(t, x, udot.data(), multipliers.data(), generalized.data(), p);\n"
+        "        explicit_rates_(t, x, dxdt, p);\n"
+        "        for (int k = 0; k < n_velocities; ++k) dxdt[velocity_offset + k] = udot[std::size_t(k)];\n"
+        "        if (lambda)\n"
+        "            for (int a = 0; a < n_constraints; ++a) lambda[a] = multipliers[std::size_t(a)];\n"
+        "        if (reaction)\n"
+        "            for (int k = 0; k < n_velocities; ++k) reaction[k] = generalized[std::size_t(k)];\n"
+        "    }}\n",
+        indent(function_body(ir, names, ir.solved_constraints, targets), 8));
+    const auto correction = [&](const char* name, const char* rows, const Block& block) {
+        if (block.outputs.empty()) return std::string();
+        return fmt::format(
+            "\n    // The projection's step C = M⁻¹Wᵀ(W M⁻¹ Wᵀ)⁻¹ over {},\n"
+            "    // n_velocities × {} row-major.\n"
+            "    template <class S>\n"
+            "    static void {}(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n",
+            rows, block.outputs.size() / nu, name, indent(function_body(ir, names, block, indexed("out", block.outputs.size())), 8));
+    };
+    out += correction("position_correction_", "the projected holonomic rows", ir.position_correction);
+    out += correction("velocity_correction_", "every projected row", ir.velocity_correction);
+    return out;
+}
+
 Rates emit_constrained_rates(const KernelIR& ir, const LocalNames& names) {
     const std::size_t nu = ir.n_velocities, m = ir.constraint_names.size();
+    const bool straight = straight_line_constraints(ir);
     Rates r;
-    r.includes = "#include <Eigen/Core>\n#include <Eigen/Cholesky>\n#include <eomc/runtime/constraints.hpp>\n";
+    r.includes = straight ? "#include <eomc/runtime/constraint_projection.hpp>\n"
+                          : "#include <Eigen/Core>\n#include <Eigen/Cholesky>\n#include <eomc/runtime/constraints.hpp>\n";
     r.rhs = "constrained_rates_(t, x, dxdt, static_cast<S*>(nullptr), static_cast<S*>(nullptr), p);";
     r.jacobian = "// The rates go through the Schur complement: differenced, not derived.\n"
                  "eomc::runtime::central_difference_jacobian(t, x, out, n_state,\n"
@@ -446,10 +494,20 @@ Rates emit_constrained_rates(const KernelIR& ir, const LocalNames& names) {
         "    // The rates given in closed form (everything outside the velocity block).\n"
         "    template <class S>\n"
         "    static void explicit_rates_(S t, const S* x, S* dxdt, const Parameters& p) {{\n{}\n    }}\n\n"
+        "{}\n"
+        "    // The rows' residuals: f (holonomic) or φ (kinematic) to out, φ to out_phi.\n"
+        "    template <class S>\n"
+        "    static void constraint_residuals_(S t, const S* x, S* out, S* out_phi, const Parameters& p) {{\n{}\n    }}\n\n"
+        "    // W alone, m × n_velocities row-major: what the projection needs.\n"
+        "    template <class S>\n"
+        "    static void constraint_jacobian_(S t, const S* x, S* out_W, const Parameters& p) {{\n{}\n    }}\n",
+        indent(function_body(ir, names, ir.mass_forcing_and_constraints, targets), 8),
+        indent((rates.empty() ? "(void)dxdt;\n" : std::string()) + function_body(ir, names, ir.explicit_rates, rates), 8),
+        straight ? straight_line_constraint_functions(ir, names) : std::string(
         "    // ẋ from M u̇ − Wᵀλ = f, W u̇ = r (runtime/constraints.hpp: the Schur complement on the LDLT of\n"
         "    // M); λ and the generalized reactions Wᵀλ too where lambda and reaction are not null.\n"
         "    template <class S>\n"
-        "    static void constrained_rates_(S t, const S* x, S* dxdt, S* lambda, S* reaction, const Parameters& p) {{\n"
+        "    static void constrained_rates_(S t, const S* x, S* dxdt, S* lambda, S* reaction, const Parameters& p) {\n"
         "        using Matrix = eomc::runtime::ConstraintMatrix<S>;\n"
         "        using Vector = eomc::runtime::ConstraintVector<S>;\n"
         "        Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> M(n_velocities, n_velocities),\n"
@@ -461,24 +519,22 @@ Rates emit_constrained_rates(const KernelIR& ir, const LocalNames& names) {
         "        for (int k = 0; k < n_velocities; ++k) dxdt[velocity_offset + k] = udot[k];\n"
         "        if (lambda)\n"
         "            for (int a = 0; a < n_constraints; ++a) lambda[a] = multipliers[a];\n"
-        "        if (reaction) {{\n"
+        "        if (reaction) {\n"
         "            const Vector generalized = W.transpose() * multipliers;\n"
         "            for (int k = 0; k < n_velocities; ++k) reaction[k] = generalized[k];\n"
-        "        }}\n"
-        "    }}\n\n"
-        "    // The rows' residuals: f (holonomic) or φ (kinematic) to out, φ to out_phi.\n"
-        "    template <class S>\n"
-        "    static void constraint_residuals_(S t, const S* x, S* out, S* out_phi, const Parameters& p) {{\n{}\n    }}\n\n"
-        "    // W alone, m × n_velocities row-major: what the projection needs.\n"
-        "    template <class S>\n"
-        "    static void constraint_jacobian_(S t, const S* x, S* out_W, const Parameters& p) {{\n{}\n    }}\n",
-        indent(function_body(ir, names, ir.mass_forcing_and_constraints, targets), 8),
-        indent((rates.empty() ? "(void)dxdt;\n" : std::string()) + function_body(ir, names, ir.explicit_rates, rates), 8),
+        "        }\n"
+        "    }\n"),
         indent(function_body(ir, names, ir.constraint_residuals, residuals), 8),
         indent(function_body(ir, names, ir.constraint_jacobian, indexed("out_W", m * nu)), 8));
     r.table = table_row("mass_matrix + forcing + rows", ir.mass_forcing_and_constraints) +
-              table_row("explicit rates", ir.explicit_rates) + table_row("constraint residuals", ir.constraint_residuals) +
+              table_row("explicit rates", ir.explicit_rates) +
+              (straight ? table_row("saddle-point solve", ir.solved_constraints) : std::string()) +
+              table_row("constraint residuals", ir.constraint_residuals) +
               table_row("constraint jacobian", ir.constraint_jacobian);
+    if (straight && !ir.position_correction.outputs.empty())
+        r.table += table_row("position correction", ir.position_correction);
+    if (straight && !ir.velocity_correction.outputs.empty())
+        r.table += table_row("velocity correction", ir.velocity_correction);
     return r;
 }
 
@@ -856,7 +912,21 @@ std::string constraints_part(const KernelIR& ir) {
     std::string body;
     if (!ir.unit_quaternions.empty() || !ir.unit_vectors.empty())
         body += "        using std::sqrt;\n" + unit_renormalisation(ir);
-    if (projects)
+    if (projects && straight_line_constraints(ir)) {
+        const auto correction = [](const Block& block, const char* name) {
+            return block.outputs.empty() ? std::string("[](S, const S*, S*) {}")
+                                         : fmt::format("[&p](S tau, const S* y, S* C) {{ {}(tau, y, C, p); }}", name);
+        };
+        body += fmt::format(
+            "        eomc::runtime::project_by_corrections(\n"
+            "            t, x, eomc::runtime::ConstraintLayout{{n_coordinates, velocity_offset, n_velocities, n_constraints}},\n"
+            "            constraint_projected.data(), constraint_holonomic.data(),\n"
+            "            [&p](S tau, const S* y, S* f, S* phi) {{ constraint_residuals_(tau, y, f, phi, p); }},\n"
+            "            {},\n"
+            "            {});\n",
+            correction(ir.position_correction, "position_correction_"),
+            correction(ir.velocity_correction, "velocity_correction_"));
+    } else if (projects)
         body +=
             "        eomc::runtime::project_onto_constraints(\n"
             "            t, x, eomc::runtime::ConstraintLayout{n_coordinates, velocity_offset, n_velocities, n_constraints},\n"
@@ -1081,6 +1151,9 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
     }
 
     const std::string solve_note = nu == 0 ? "Every rate is explicit."
+                                   : straight_line_constraints(ir)
+                                       ? "M u̇ − Wᵀλ = f, W u̇ = r is solved in straight-line code (LDLᵀ of [[M, Wᵀ], [W, 0]], the "
+                                         "velocities first: the Schur complement), and so are the projection's corrections."
                                    : !ir.constraint_names.empty()
                                        ? "M u̇ − Wᵀλ = f, W u̇ = r is solved at run time (the Schur complement on Eigen's LDLT)."
                                    : !ir.program_names.empty()

@@ -123,6 +123,13 @@ struct KernelIR {
     Block mass_forcing_and_constraints;  // M (n_velocities², row-major), f, W (m × n_velocities), r (m)
     Block constraint_residuals;          // 2m: f_α (holonomic) or φ_α (kinematic), then φ_α
     Block constraint_jacobian;           // W alone, m × n_velocities row-major (the projection)
+    // How M u̇ − Wᵀλ = f, W u̇ = r is solved (codegen/solve_plan.hpp, plan_saddle_point): in
+    // straight-line code up to unrolled_limit coupled unknowns, else (eigen_llt) by the runtime's
+    // Schur complement on Eigen.
+    SolvePlan constraint_plan;
+    Block solved_constraints;   // straight-line: u̇ (n_velocities), λ (m), Wᵀλ (n_velocities)
+    Block position_correction;  // straight-line, projected holonomic rows: M⁻¹Wᵀ(W M⁻¹ Wᵀ)⁻¹, n_velocities × p
+    Block velocity_correction;  // straight-line, every projected row: the same, n_velocities × v
 
     // Unilateral rows (mechanics/unilateral/rows.hpp; empty: nothing is emitted and the kernel keeps
     // its bytes): a gap f_α(q, t) ≥ 0 or a kinematic row φ_α(q, q̇, t) ≥ 0 (Mei §6.7), with

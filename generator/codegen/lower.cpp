@@ -105,6 +105,30 @@ void lower_constraints(KernelIR& ir, const mechanics::FirstOrderForm& form, cons
     ir.mass_forcing_and_constraints = eliminate_common_subexpressions(all, prefix);
     ir.constraint_residuals = eliminate_common_subexpressions(residuals, prefix);
     ir.constraint_jacobian = eliminate_common_subexpressions(W, prefix);
+
+    // The saddle-point solve and the projection's corrections in straight-line code where the
+    // coupled unknowns fit; otherwise the runtime's Schur complement (runtime/constraints.hpp).
+    std::vector<ex> varying{ir.t};
+    for (const auto& s : ir.state) varying.push_back(s.symbol);
+    ir.constraint_plan = plan_saddle_point(form.mass_matrix, W, m, varying);
+    if (ir.constraint_plan.method == SolvePlan::Method::eigen_llt) return;
+    ir.solved_constraints = solve_saddle_point(ir.mass_forcing_and_constraints, ir.constraint_plan, nu, m, prefix);
+    const auto correction = [&](bool positions) {
+        std::vector<ex> rows;
+        std::size_t count = 0;
+        for (std::size_t a = 0; a < m; ++a)
+            if (ir.constraint_projected[a] && (!positions || ir.constraint_holonomic[a])) {
+                rows.insert(rows.end(), W.begin() + long(a * nu), W.begin() + long((a + 1) * nu));
+                ++count;
+            }
+        if (count == 0) return Block{};
+        std::vector<ex> system = M;
+        system.insert(system.end(), rows.begin(), rows.end());
+        const SolvePlan plan = plan_saddle_point(form.mass_matrix, rows, count, varying);
+        return saddle_point_correction(eliminate_common_subexpressions(system, prefix), plan, nu, count, prefix);
+    };
+    ir.position_correction = correction(true);
+    ir.velocity_correction = correction(false);
 }
 
 // The unilateral rows' blocks (Mei ch. 6; Acary, Brogliato, Numerical Methods for Nonsmooth

@@ -1,6 +1,7 @@
 #include "codegen/solve_plan.hpp"
 
 #include <algorithm>
+#include <functional>
 #include <map>
 #include <numeric>
 #include <set>
@@ -52,12 +53,20 @@ public:
         block_.temporaries.push_back({w, value});
         return w;
     }
+    // 1/d, named once per distinct d (equal pivots, a particle's m in several rows, share it).
+    ex reciprocal(const ex& d) {
+        const ex named = name(d);
+        auto [at, fresh] = reciprocals_.try_emplace(named);
+        if (fresh) at->second = name(GiNaC::pow(named, -1));
+        return at->second;
+    }
     std::size_t size() const { return block_.temporaries.size(); }
     Block& block() { return block_; }
 
 private:
     Block block_;
     std::string prefix_;
+    std::map<ex, ex, GiNaC::ex_is_less> reciprocals_;
 };
 
 void collect_symbols(const ex& e, std::set<ex, GiNaC::ex_is_less>& out) {
@@ -103,7 +112,7 @@ void solve_dense(StraightLine& code, const std::vector<std::size_t>& idx, const 
             throw EmitError(fmt::format("the mass matrix has a zero pivot at velocity {} (it is singular, or indefinite "
                                         "so that LDLᵀ needs pivoting): M must be positive definite",
                                         idx[j]));
-        inverse_d[j] = code.name(GiNaC::pow(code.name(d), -1));
+        inverse_d[j] = code.reciprocal(d);
         for (std::size_t i = j + 1; i < s; ++i) {
             ex e = a[i][j];
             for (std::size_t k = 0; k < j; ++k) e -= E[i][k] * L[j][k];
@@ -124,6 +133,51 @@ void solve_dense(StraightLine& code, const std::vector<std::size_t>& idx, const 
             x[idx[i]][c] = i > 0 ? code.name(v) : v;  // x of the block's first velocity is read by no other
         }
     }
+}
+
+// The saddle-point matrix K = [[M, Wᵀ], [W, 0]] of (M, W), W m × n row-major.
+GiNaC::matrix saddle_point_matrix(const GiNaC::matrix& M, const std::vector<ex>& W, std::size_t m) {
+    const std::size_t n = M.rows();
+    GiNaC::matrix K{unsigned(n + m), unsigned(n + m)};
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = 0; j < n; ++j) K(unsigned(i), unsigned(j)) = M(unsigned(i), unsigned(j));
+    for (std::size_t a = 0; a < m; ++a)
+        for (std::size_t k = 0; k < n; ++k) K(unsigned(n + a), unsigned(k)) = K(unsigned(k), unsigned(n + a)) = W[a * n + k];
+    return K;
+}
+
+// X = K⁻¹B in straight-line code for the saddle-point K of plan_saddle_point: `lower(i, j)` gives
+// K's entries for j ≤ i, `b` is (n + m) × columns; both are named first, so that their operations
+// stay the system's (`first` is where the solve's own temporaries begin). Returns X and, in
+// `named`, K's lower triangle as the code names it.
+std::vector<std::vector<ex>> solve_saddle(StraightLine& code, const SolvePlan& plan, std::size_t size,
+                                          const std::function<ex(std::size_t, std::size_t)>& lower,
+                                          const std::vector<std::vector<ex>>& b_raw,
+                                          std::vector<std::vector<ex>>& named, std::size_t& first) {
+    const std::size_t columns = b_raw.empty() ? 0 : b_raw[0].size();
+    std::vector<std::vector<ex>> b(size, std::vector<ex>(columns)), x(size, std::vector<ex>(columns));
+    named.assign(size, std::vector<ex>(size, 0));
+    for (std::size_t i = 0; i < size; ++i)
+        for (std::size_t c = 0; c < columns; ++c) b[i][c] = code.name(b_raw[i][c]);
+    for (const auto& block : plan.blocks)
+        for (std::size_t r = 0; r < block.size(); ++r)
+            for (std::size_t s = 0; s <= r; ++s) named[block[r]][block[s]] = code.name(lower(block[r], block[s]));
+    first = code.size();
+    for (const auto& block : plan.blocks) {
+        if (block.size() == 1) {  // a velocity no row touches, with no coupling in M
+            const std::size_t i = block[0];
+            const ex inverse = GiNaC::pow(named[i][i], -1);
+            for (std::size_t c = 0; c < columns; ++c) x[i][c] = b[i][c] * inverse;
+            continue;
+        }
+        std::vector<std::vector<ex>> ab(block.size(), std::vector<ex>(block.size())), bb;
+        for (std::size_t r = 0; r < block.size(); ++r) {
+            for (std::size_t s = 0; s <= r; ++s) ab[r][s] = named[block[r]][block[s]];
+            bb.push_back(b[block[r]]);
+        }
+        solve_dense(code, block, ab, bb, x);
+    }
+    return x;
 }
 
 }  // namespace
@@ -202,8 +256,6 @@ Block solve_block(const Block& system, const SolvePlan& plan, std::size_t n, std
             for (std::size_t r = 0; r < block.size(); ++r)
                 for (std::size_t s = 0; s <= r; ++s) a[block[r]][block[s]] = code.name(m(block[r], block[s]));
         const std::size_t first = code.size();
-        // One reciprocal per distinct diagonal entry (a particle's m serves its x, y and z).
-        std::map<ex, ex, GiNaC::ex_is_less> reciprocals;
         for (const auto& block : plan.blocks) {
             if (block.size() == 1) {
                 const std::size_t i = block[0];
@@ -224,15 +276,7 @@ Block solve_block(const Block& system, const SolvePlan& plan, std::size_t n, std
                         free_of_solve[i][c] = true;
                         continue;
                     }
-                    if (scale.is_zero()) {
-                        if (columns == 1) {
-                            scale = GiNaC::pow(a[i][i], -1);
-                        } else {
-                            auto [at, fresh] = reciprocals.try_emplace(m(i, i));
-                            if (fresh) at->second = code.name(GiNaC::pow(a[i][i], -1));
-                            scale = at->second;
-                        }
-                    }
+                    if (scale.is_zero()) scale = columns == 1 ? GiNaC::pow(a[i][i], -1) : code.reciprocal(a[i][i]);
                     x[i][c] = b[i][c] * scale;
                 }
                 continue;
@@ -258,6 +302,124 @@ Block solve_block(const Block& system, const SolvePlan& plan, std::size_t n, std
     for (const auto& t : out.temporaries) out.ops_after += count_operations(t.value);
     for (const ex& e : out.outputs) out.ops_after += count_operations(e);
     return std::move(out);
+}
+
+SolvePlan plan_saddle_point(const GiNaC::matrix& M, const std::vector<ex>& W, std::size_t m,
+                            const std::vector<ex>& varying) {
+    const std::size_t n = M.rows();
+    const GiNaC::matrix K = saddle_point_matrix(M, W, m);
+    SolvePlan plan;
+    plan.constant = true;
+    plan.numeric = true;
+    for (std::size_t i = 0; i < n + m; ++i)
+        for (std::size_t j = 0; j < n + m; ++j) {
+            const ex& e = K(unsigned(i), unsigned(j));
+            plan.constant = plan.constant && !depends_on(e, varying);
+            plan.numeric = plan.numeric && GiNaC::is_a<GiNaC::numeric>(e);
+        }
+    plan.blocks = coupled_blocks(K);
+    std::size_t largest = 0;
+    for (const auto& b : plan.blocks) {
+        largest = std::max(largest, b.size());
+        if (b.size() == 1 && b[0] >= n)
+            throw EmitError(fmt::format("constraint row {} constrains no velocity (its W is zero)", b[0] - n));
+    }
+    using Method = SolvePlan::Method;
+    plan.method = largest > unrolled_limit ? Method::eigen_llt : plan.blocks.size() > 1 ? Method::block_diagonal
+                                                                                         : Method::unrolled_ldlt;
+    // A numeric K is factored here: dependent rows show as a zero pivot now.
+    if (plan.numeric && plan.method != Method::eigen_llt) {
+        StraightLine probe(Block{}, "probe");
+        std::vector<std::vector<ex>> named;
+        std::size_t first = 0;
+        try {
+            solve_saddle(probe, plan, n + m, [&](std::size_t i, std::size_t j) { return K(unsigned(i), unsigned(j)); },
+                         std::vector<std::vector<ex>>(n + m, std::vector<ex>(1, 0)), named, first);
+        } catch (const EmitError&) {
+            throw EmitError("the constraint rows are dependent (W has no full row rank), or M is singular: "
+                            "M u̇ − Wᵀλ = f, W u̇ = r has no unique solution");
+        }
+    }
+    return plan;
+}
+
+Block solve_saddle_point(const Block& system, const SolvePlan& plan, std::size_t n, std::size_t m,
+                         const std::string& prefix) {
+    if (plan.method == SolvePlan::Method::none || plan.method == SolvePlan::Method::eigen_llt)
+        throw std::logic_error("solve_saddle_point: no straight-line solve for this plan");
+    if (system.outputs.size() != n * n + n + m * n + m)
+        throw std::logic_error("solve_saddle_point: the system has " + std::to_string(system.outputs.size()) +
+                               " outputs for M, f, W and r");
+    const auto out = [&](std::size_t k) { return system.outputs[k]; };
+    const auto lower = [&](std::size_t i, std::size_t j) -> ex {
+        if (i < n) return out(i * n + j);                                 // M
+        if (j < n) return out(n * n + n + (i - n) * n + j);               // W
+        return 0;
+    };
+    std::vector<std::vector<ex>> rhs(n + m, std::vector<ex>(1));
+    for (std::size_t k = 0; k < n; ++k) rhs[k][0] = out(n * n + k);
+    for (std::size_t a = 0; a < m; ++a) rhs[n + a][0] = out(n * n + n + m * n + a);
+    Block bare = system;
+    bare.outputs.clear();
+    StraightLine code(std::move(bare), prefix);
+    std::size_t first = 0;
+    std::vector<std::vector<ex>> K;
+    const auto x = solve_saddle(code, plan, n + m, lower, rhs, K, first);
+    // λ = −(the multipliers' unknowns), named once: the reactions read it again.
+    std::vector<ex> lambda(m);
+    for (std::size_t a = 0; a < m; ++a) lambda[a] = code.name(-x[n + a][0]);
+    Block& result = code.block();
+    for (std::size_t k = 0; k < n; ++k) result.outputs.push_back(x[k][0]);
+    for (std::size_t a = 0; a < m; ++a) result.outputs.push_back(lambda[a]);
+    for (std::size_t k = 0; k < n; ++k) {  // (Wᵀλ)_k, W's entries as the solve named them
+        ex reaction = 0;
+        for (std::size_t a = 0; a < m; ++a) reaction += K[n + a][k] * lambda[a];
+        result.outputs.push_back(reaction);
+    }
+    std::size_t solve_ops = 0;
+    for (std::size_t k = first; k < result.temporaries.size(); ++k) solve_ops += count_operations(result.temporaries[k].value);
+    for (const ex& e : result.outputs) solve_ops += count_operations(e);
+    prune(result);
+    result.ops_before = system.ops_before + solve_ops;
+    result.ops_after = 0;
+    for (const auto& t : result.temporaries) result.ops_after += count_operations(t.value);
+    for (const ex& e : result.outputs) result.ops_after += count_operations(e);
+    return std::move(result);
+}
+
+Block saddle_point_correction(const Block& system, const SolvePlan& plan, std::size_t n, std::size_t m,
+                              const std::string& prefix) {
+    if (plan.method == SolvePlan::Method::none || plan.method == SolvePlan::Method::eigen_llt)
+        throw std::logic_error("saddle_point_correction: no straight-line solve for this plan");
+    if (system.outputs.size() != n * n + m * n)
+        throw std::logic_error("saddle_point_correction: the system has " + std::to_string(system.outputs.size()) +
+                               " outputs for M and W");
+    const auto lower = [&](std::size_t i, std::size_t j) -> ex {
+        if (i < n) return system.outputs[i * n + j];
+        if (j < n) return system.outputs[n * n + (i - n) * n + j];
+        return 0;
+    };
+    // K [du; μ] = [0; e_j]: M du + Wᵀμ = 0 and W du = e_j, so du = M⁻¹Wᵀ(W M⁻¹ Wᵀ)⁻¹ e_j.
+    std::vector<std::vector<ex>> unit(n + m, std::vector<ex>(m, 0));
+    for (std::size_t a = 0; a < m; ++a) unit[n + a][a] = 1;
+    Block bare = system;
+    bare.outputs.clear();
+    StraightLine code(std::move(bare), prefix);
+    std::size_t first = 0;
+    std::vector<std::vector<ex>> K;
+    const auto x = solve_saddle(code, plan, n + m, lower, unit, K, first);
+    Block& result = code.block();
+    for (std::size_t k = 0; k < n; ++k)
+        for (std::size_t a = 0; a < m; ++a) result.outputs.push_back(x[k][a]);
+    std::size_t solve_ops = 0;
+    for (std::size_t k = first; k < result.temporaries.size(); ++k) solve_ops += count_operations(result.temporaries[k].value);
+    for (const ex& e : result.outputs) solve_ops += count_operations(e);
+    prune(result);
+    result.ops_before = system.ops_before + solve_ops;
+    result.ops_after = 0;
+    for (const auto& t : result.temporaries) result.ops_after += count_operations(t.value);
+    for (const ex& e : result.outputs) result.ops_after += count_operations(e);
+    return std::move(result);
 }
 
 std::string describe(const SolvePlan& plan, std::size_t n_velocities) {

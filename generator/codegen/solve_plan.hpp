@@ -36,6 +36,31 @@ SolvePlan plan_solve(const GiNaC::matrix& M, const std::vector<GiNaC::ex>& varyi
 Block solve_block(const Block& system, const SolvePlan& plan, std::size_t n, std::size_t columns,
                   const std::string& prefix);
 
+// Constraint rows beside M u̇ = f: M u̇ − Wᵀλ = f, W u̇ = r is the saddle-point system
+//     [M  Wᵀ] [ u̇ ]   [f]
+//     [W  0 ] [−λ ] = [r]
+// (Golub & Van Loan, Matrix Computations, 4th ed., §4.4 and §12.1). With the velocities ordered
+// before the multipliers it is quasi-definite (M positive definite, −W M⁻¹ Wᵀ negative definite
+// when W has full row rank), so LDLᵀ without pivoting exists in that order (R. J. Vanderbei, SIAM
+// J. Optim. 5 (1995) 100–113) and is the Schur-complement solve: the first pivots factor M, the
+// last ones −W M⁻¹ Wᵀ. The plan splits K into the blocks it couples like plan_solve; past
+// unrolled_limit unknowns in one block it says eigen_llt: the runtime's Schur complement solves it.
+// `W` is m × n row-major. Throws EmitError when a row constrains no velocity, or when a numeric K
+// has a zero pivot (dependent rows).
+SolvePlan plan_saddle_point(const GiNaC::matrix& M, const std::vector<GiNaC::ex>& W, std::size_t m,
+                            const std::vector<GiNaC::ex>& varying);
+
+// `system` computes M (n²), f (n), W (m × n) and r (m), the layout of mass_forcing_and_constraints;
+// the result computes u̇ (n), λ (m) and the generalized reactions Wᵀλ (n) in straight-line code.
+Block solve_saddle_point(const Block& system, const SolvePlan& plan, std::size_t n, std::size_t m,
+                         const std::string& prefix);
+
+// `system` computes M (n²) and W (m × n); the result computes C = M⁻¹Wᵀ(W M⁻¹ Wᵀ)⁻¹ (n × m,
+// row-major), the M-metric correction that moves a state by C v to change W's rows by v (the
+// saddle-point system with f = 0 and r the unit vectors). `plan` is plan_saddle_point's for M, W.
+Block saddle_point_correction(const Block& system, const SolvePlan& plan, std::size_t n, std::size_t m,
+                              const std::string& prefix);
+
 // The plan in words, for the kernel's banner ("M u̇ = f is solved …").
 std::string describe(const SolvePlan& plan, std::size_t n_velocities);
 

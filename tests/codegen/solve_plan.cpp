@@ -337,6 +337,119 @@ BOOST_AUTO_TEST_CASE(the_straight_line_solve_agrees_with_eigen_to_round_off_in_d
     BOOST_TEST_MESSAGE("largest difference / bound: " << worst);
 }
 
+namespace {
+
+// The saddle-point solve of M u̇ − Wᵀλ = f, W u̇ = r over symbols (M's entries where the pattern
+// has them, W's where the row pattern has them, f, r), bound to exact integers: u̇, λ and Wᵀλ
+// against GiNaC's exact solve of the bordered matrix, and the projection's correction C against
+// M⁻¹Wᵀ(W M⁻¹ Wᵀ)⁻¹.
+void check_saddle_point_exact(const GiNaC::matrix& M_values, const std::vector<std::vector<int>>& W_values,
+                              std::mt19937& gen) {
+    const std::size_t n = M_values.rows(), m = W_values.size();
+    const SymbolicSystem s = symbolic_system(M_values, 1);  // M then f = b_i_0
+    std::vector<std::vector<GiNaC::symbol>> w(m, std::vector<GiNaC::symbol>(n));
+    std::vector<GiNaC::symbol> r;
+    std::vector<ex> W, varying;
+    for (const auto& row : s.m)
+        for (const auto& v : row) varying.push_back(v);
+    for (std::size_t a = 0; a < m; ++a)
+        for (std::size_t k = 0; k < n; ++k) {
+            w[a][k] = GiNaC::symbol("w_" + std::to_string(a) + "_" + std::to_string(k));
+            W.push_back(W_values[a][k] == 0 ? ex(0) : ex(w[a][k]));
+            varying.push_back(w[a][k]);
+        }
+    codegen::Block system = s.block;
+    system.outputs.insert(system.outputs.end(), W.begin(), W.end());
+    for (std::size_t a = 0; a < m; ++a) {
+        r.emplace_back("r_" + std::to_string(a));
+        system.outputs.push_back(r.back());
+    }
+    const codegen::SolvePlan plan = codegen::plan_saddle_point(s.M, W, m, varying);
+    BOOST_TEST_REQUIRE(int(plan.method) != int(Method::eigen_llt));
+    const codegen::Block solved = codegen::solve_saddle_point(system, plan, n, m, "w");
+    BOOST_TEST_REQUIRE(solved.outputs.size() == n + m + n);
+
+    std::uniform_int_distribution<int> entry(-9, 9);
+    GiNaC::exmap values;
+    GiNaC::matrix K{unsigned(n + m), unsigned(n + m)}, rhs{unsigned(n + m), 1};
+    for (std::size_t i = 0; i < n; ++i) {
+        for (std::size_t j = 0; j < n; ++j) K(unsigned(i), unsigned(j)) = M_values(unsigned(i), unsigned(j));
+        for (std::size_t j = 0; j <= i; ++j) values[s.m[i][j]] = M_values(unsigned(i), unsigned(j));
+        values[s.b[i][0]] = rhs(unsigned(i), 0) = entry(gen);
+    }
+    for (std::size_t a = 0; a < m; ++a) {
+        for (std::size_t k = 0; k < n; ++k) {
+            values[w[a][k]] = W_values[a][k];
+            K(unsigned(n + a), unsigned(k)) = K(unsigned(k), unsigned(n + a)) = W_values[a][k];
+        }
+        values[r[a]] = rhs(unsigned(n + a), 0) = entry(gen);
+    }
+    // K (u̇, −λ) = (f, r).
+    const GiNaC::matrix exact = K.inverse().mul(rhs);
+    const auto got = evaluate(solved, values);
+    for (std::size_t k = 0; k < n; ++k) BOOST_TEST((got[k] - exact(unsigned(k), 0)).is_zero(), "u̇_" << k);
+    for (std::size_t a = 0; a < m; ++a) BOOST_TEST((got[n + a] + exact(unsigned(n + a), 0)).is_zero(), "λ_" << a);
+    for (std::size_t k = 0; k < n; ++k) {
+        GiNaC::numeric reaction = 0;
+        for (std::size_t a = 0; a < m; ++a) reaction += W_values[a][k] * got[n + a];
+        BOOST_TEST((got[n + m + k] - reaction).is_zero(), "(Wᵀλ)_" << k);
+    }
+
+    // C from the block of M and W alone.
+    codegen::Block mw = s.block;
+    mw.outputs.resize(n * n);
+    mw.outputs.insert(mw.outputs.end(), W.begin(), W.end());
+    const codegen::Block correction = codegen::saddle_point_correction(mw, plan, n, m, "w");
+    GiNaC::matrix Mn{unsigned(n), unsigned(n)}, Wt{unsigned(n), unsigned(m)};
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = 0; j < n; ++j) Mn(unsigned(i), unsigned(j)) = M_values(unsigned(i), unsigned(j));
+    for (std::size_t a = 0; a < m; ++a)
+        for (std::size_t k = 0; k < n; ++k) Wt(unsigned(k), unsigned(a)) = W_values[a][k];
+    const GiNaC::matrix Y = Mn.inverse().mul(Wt);
+    const GiNaC::matrix C = Y.mul(Wt.transpose().mul(Y).inverse());
+    const auto c = evaluate(correction, values);
+    BOOST_TEST_REQUIRE(c.size() == n * m);
+    for (std::size_t k = 0; k < n; ++k)
+        for (std::size_t a = 0; a < m; ++a)
+            BOOST_TEST((c[k * m + a] - C(unsigned(k), unsigned(a))).is_zero(), "C_" << k << "," << a);
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(the_saddle_point_solve_of_constraint_rows_is_exact_in_exact_arithmetic) {
+    std::mt19937 gen(20261126);
+    std::uniform_int_distribution<int> entry(-3, 3);
+    // Full row rank W with every entry nonzero (one coupled block), m = 1 .. min(n, 4).
+    for (std::size_t n = 1; n <= 8; ++n)
+        for (std::size_t m = 1; m <= std::min<std::size_t>(n, 4); ++m) {
+            std::vector<std::vector<int>> W(m, std::vector<int>(n));
+            for (std::size_t a = 0; a < m; ++a)
+                for (std::size_t k = 0; k < n; ++k) W[a][k] = (a == k % m ? 5 : 0) + (entry(gen) == 0 ? 1 : entry(gen));
+            check_saddle_point_exact(random_spd(n, one_block(n), gen), W, gen);
+        }
+    // A diagonal M and a row touching some velocities only: the others stay single blocks (u̇ = f/M).
+    check_saddle_point_exact(random_spd(5, {{0}, {1}, {2}, {3}, {4}}, gen), {{1, 0, -2, 0, 0}}, gen);
+    // Two rows on disjoint velocities: two coupled blocks.
+    check_saddle_point_exact(random_spd(4, {{0}, {1}, {2}, {3}}, gen), {{1, 2, 0, 0}, {0, 0, 3, -1}}, gen);
+}
+
+BOOST_AUTO_TEST_CASE(constraint_rows_it_cannot_solve_are_refused_at_generation_time) {
+    const GiNaC::symbol q("q");
+    const GiNaC::matrix M{{2, 0}, {0, 3}};
+    // A row with no velocity in it.
+    BOOST_CHECK_EXCEPTION(codegen::plan_saddle_point(M, {0, 0}, 1, {q}), codegen::EmitError,
+                          [](const codegen::EmitError& e) { return std::string(e.what()).find("constrains no velocity") != std::string::npos; });
+    // Two equal rows: W has rank 1, the second multiplier's pivot is 0.
+    BOOST_CHECK_EXCEPTION(codegen::plan_saddle_point(M, {1, 1, 1, 1}, 2, {q}), codegen::EmitError,
+                          [](const codegen::EmitError& e) { return std::string(e.what()).find("dependent") != std::string::npos; });
+    // Past unrolled_limit coupled unknowns: the runtime's Schur complement.
+    const std::size_t n = codegen::unrolled_limit;
+    GiNaC::matrix big{unsigned(n), unsigned(n)};
+    std::vector<ex> row(n, 1);
+    for (std::size_t i = 0; i < n; ++i) big(unsigned(i), unsigned(i)) = 1;
+    BOOST_TEST(int(codegen::plan_saddle_point(big, row, 1, {q}).method) == int(Method::eigen_llt));
+}
+
 BOOST_AUTO_TEST_CASE(matrices_it_cannot_solve_are_refused_at_generation_time) {
     const GiNaC::symbol a("a"), b("b"), q("q");
     // Not symmetric.

@@ -10,8 +10,11 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <string>
 #include <vector>
+
+#include <fmt/format.h>
 
 #include "codegen/cpp_emitter.hpp"
 #include "codegen/kernel_ir.hpp"
@@ -232,4 +235,58 @@ BOOST_AUTO_TEST_CASE(summaries_report_the_rows) {
     eomc::host::print_summary(result, "json", json);
     BOOST_TEST(text.str().find("constraints\n") != std::string::npos);
     BOOST_TEST(json.str().find("\"constraints\": {\"rod\": {\"max_abs_residual\": ") != std::string::npos);
+}
+
+namespace {
+
+// N particles on a line, masses m_i = 1 + i/N, springs V = Σ k_i x_i²/2 with k_i = i, and the
+// centre of mass held: the row Σ m_i x_i = 0, projected after every step.
+std::string centre_of_mass_scene(int n) {
+    std::string toml = "[scene]\nname = \"centre_held_" + std::to_string(n) + "\"\n[coordinates]\n";
+    std::string T, V, row;
+    for (int i = 1; i <= n; ++i) {
+        const double mass = 1.0 + double(i) / n;
+        // Start with x1 = 1, x2 = −m1/m2, the others at rest at 0: the row holds.
+        const double x0 = i == 1 ? 1.0 : i == 2 ? -(1.0 + 1.0 / n) / mass : 0.0;
+        toml += "x" + std::to_string(i) + " = { initial = " + fmt::format("{:.17g}", x0) + ", rate = 0.0 }\n";
+        const std::string m = fmt::format("{:.17g}", mass);
+        T += (i > 1 ? " + " : "") + m + "*x" + std::to_string(i) + "_dot^2/2";
+        V += (i > 1 ? " + " : "") + std::to_string(i) + "*x" + std::to_string(i) + "^2/2";
+        row += (i > 1 ? " + " : "") + m + "*x" + std::to_string(i);
+    }
+    return toml + "[lagrangian]\nT = \"" + T + "\"\nV = \"" + V + "\"\n[[constraint]]\nname = \"centre\"\nholonomic = \"" +
+           row + "\"\nstabilize = \"project\"\n";
+}
+
+}  // namespace
+
+// The two ways a kernel solves M u̇ − Wᵀλ = f, W u̇ = r: straight-line code up to 16 coupled
+// unknowns (N = 8: 9), the runtime's Schur complement on Eigen past that (N = 20: 21). With
+// M = diag(m_i), f_i = −k_i x_i and W = (m_1 … m_N) (a linear row: no bias, and projected, so no
+// stabilisation: r = 0), ẍ_i = f_i/m_i + λ and W ẍ = 0 give λ = Σ k_i x_i / Σ m_i at whatever
+// state the run reached. Both sides evaluate a few terms per particle, so they differ by round-off:
+// 8 N ε times the terms' magnitude over Σ m_i. The projection (position and velocity
+// corrections, straight-line or Eigen) keeps the row at the round-off of its terms.
+BOOST_AUTO_TEST_CASE(centre_of_mass_held_on_both_solve_paths) {
+    for (int n : {8, 20}) {
+        const test_support::Kernel k = test_support::kernel_of(centre_of_mass_scene(n));
+        const bool straight = k.header.find("W u̇ = r is solved in straight-line") != std::string::npos;
+        BOOST_TEST(straight == (n + 1 <= 16), "n = " << n);
+        BOOST_TEST((k.header.find("#include <Eigen/Core>") == std::string::npos) == straight, "n = " << n);
+        const auto result = eomc::host::simulate(test_support::simulation_request(k, 2.0));
+        double sum_kx = 0, total_mass = 0, scale = 0;
+        for (int i = 1; i <= n; ++i) {
+            const double x = result.value(fmt::format("x{}", i));
+            sum_kx += i * x;
+            total_mass += 1.0 + double(i) / n;
+            scale += std::abs(i * x);
+        }
+        const double expected = sum_kx / total_mass;
+        BOOST_TEST(std::abs(result.value("lambda_centre") - expected) <=
+                       8 * n * std::numeric_limits<double>::epsilon() * scale / total_mass,
+                   "n = " << n << ": λ = " << result.value("lambda_centre") << ", closed form " << expected);
+        // |m_i x_i| ≲ 2: N of them round to well under 1e-12.
+        BOOST_REQUIRE(result.constraints.size() == 1u);
+        BOOST_TEST(result.constraints[0].max_abs_residual <= 1e-12, "n = " << n);
+    }
 }

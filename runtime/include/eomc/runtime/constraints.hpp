@@ -25,6 +25,8 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 
+#include "eomc/runtime/constraint_projection.hpp"  // ConstraintLayout, central_difference_jacobian
+
 namespace eomc::runtime {
 
 template <class S>
@@ -44,13 +46,6 @@ void schur_solve(const ConstraintMatrix<S>& M, const ConstraintVector<S>& f, con
   lambda = G.ldlt().solve(r - W * free_acceleration);
   udot = free_acceleration + Y * lambda;
 }
-
-// Where the rows act in a kernel's state: the generalized coordinates are x[0 .. n_coordinates),
-// the velocity block x[velocity_offset .. velocity_offset + n_velocities). The position step
-// needs q̇ = u (n_coordinates == n_velocities): then W's holonomic rows are ∂f/∂q.
-struct ConstraintLayout {
-  int n_coordinates = 0, velocity_offset = 0, n_velocities = 0, n_constraints = 0;
-};
 
 // Puts x back on the rows with projected[α]: first the positions on the holonomic ones, then the
 // velocities on all of them (HLW IV.4, M-metric). The callables evaluate the kernel's blocks:
@@ -119,26 +114,6 @@ int project_onto_constraints(S t, S* x, const ConstraintLayout& layout, const bo
   const ConstraintVector<S> du = c.Y * c.G.solve(selected(phi, velocity_rows));
   for (int k = 0; k < n; ++k) x[layout.velocity_offset + k] -= du[k];
   return iterations;
-}
-
-// ∂ẋ/∂x by central differences of rhs(t, x, dxdt), row-major n × n: the Jacobian of a
-// constrained kernel, whose rates go through the Schur complement (the implicit methods only
-// need it for their Newton iterations). Step (ε^(1/3)) max(1, |x_j|): error O(ε^(2/3)).
-template <class S, class Rates>
-void central_difference_jacobian(S t, const S* x, S* out, int n, Rates&& rhs) {
-  using std::abs;
-  using std::cbrt;
-  std::vector<S> y(x, x + n), plus(static_cast<std::size_t>(n)), minus(static_cast<std::size_t>(n));
-  const S scale = cbrt(Eigen::NumTraits<S>::epsilon());
-  for (int j = 0; j < n; ++j) {
-    const S h = scale * (abs(x[j]) > S(1) ? abs(x[j]) : S(1));
-    y[std::size_t(j)] = x[j] + h;
-    rhs(t, static_cast<const S*>(y.data()), plus.data());
-    y[std::size_t(j)] = x[j] - h;
-    rhs(t, static_cast<const S*>(y.data()), minus.data());
-    y[std::size_t(j)] = x[j];
-    for (int i = 0; i < n; ++i) out[i * n + j] = (plus[std::size_t(i)] - minus[std::size_t(i)]) / (S(2) * h);
-  }
 }
 
 }  // namespace eomc::runtime
