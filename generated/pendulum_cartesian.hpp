@@ -14,7 +14,6 @@
 //   constraint residuals             10 ->      10 (0 temporaries)
 //   constraint jacobian               2 ->       2 (0 temporaries)
 //   position correction              11 ->      11 (8 temporaries)
-//   velocity correction              11 ->      11 (8 temporaries)
 //   invariants                        8 ->       8 (0 temporaries)
 //   outputs                           0 ->       0 (0 temporaries)
 #pragma once
@@ -151,7 +150,7 @@ struct BasicPendulumCartesian {
             constraint_projected.data(), constraint_holonomic.data(),
             [&p](S tau, const S* y, S* f, S* phi) { constraint_residuals_(tau, y, f, phi, p); },
             [&p](S tau, const S* y, S* C) { position_correction_(tau, y, C, p); },
-            [&p](S tau, const S* y, S* C) { velocity_correction_(tau, y, C, p); });
+            [&p](S tau, const S* y, S* C) { position_correction_(tau, y, C, p); });
     }
 
     template <class S>
@@ -243,30 +242,10 @@ struct BasicPendulumCartesian {
             for (int k = 0; k < n_velocities; ++k) reaction[k] = generalized[std::size_t(k)];
     }
 
-    // The projection's step C = M⁻¹Wᵀ(W M⁻¹ Wᵀ)⁻¹ over the projected holonomic rows,
+    // The projection's step C = M⁻¹Wᵀ(W M⁻¹ Wᵀ)⁻¹ over the projected rows (all holonomic: positions and velocities),
     // n_velocities × 1 row-major.
     template <class S>
     static void position_correction_(S t, const S* x, S* out, const Parameters& p) {
-        (void)t;
-        const S x_ = x[0];
-        const S y = x[1];
-        const S m = S(p.m);
-        const S w0 = S(2)*x_;
-        const S w1 = S(2)*y;
-        const S w2 = S(1)/m;
-        const S w3 = w0*w2;
-        const S w4 = w1*w2;
-        const S w5 = -w1*w4 - w0*w3;
-        const S w6 = S(1)/w5;
-        const S w7 = -w4*w6;
-        out[0] = -w3*w6;
-        out[1] = w7;
-    }
-
-    // The projection's step C = M⁻¹Wᵀ(W M⁻¹ Wᵀ)⁻¹ over every projected row,
-    // n_velocities × 1 row-major.
-    template <class S>
-    static void velocity_correction_(S t, const S* x, S* out, const Parameters& p) {
         (void)t;
         const S x_ = x[0];
         const S y = x[1];

@@ -461,7 +461,10 @@ std::string straight_line_constraint_functions(const KernelIR& ir, const LocalNa
             "    static void {}(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n",
             rows, block.outputs.size() / nu, name, indent(function_body(ir, names, block, indexed("out", block.outputs.size())), 8));
     };
-    out += correction("position_correction_", "the projected holonomic rows", ir.position_correction);
+    out += correction("position_correction_",
+                      ir.velocity_correction.outputs.empty() ? "the projected rows (all holonomic: positions and velocities)"
+                                                             : "the projected holonomic rows",
+                      ir.position_correction);
     out += correction("velocity_correction_", "every projected row", ir.velocity_correction);
     return out;
 }
@@ -925,7 +928,8 @@ std::string constraints_part(const KernelIR& ir) {
             "            {},\n"
             "            {});\n",
             correction(ir.position_correction, "position_correction_"),
-            correction(ir.velocity_correction, "velocity_correction_"));
+            ir.velocity_correction.outputs.empty() ? correction(ir.position_correction, "position_correction_")
+                                                   : correction(ir.velocity_correction, "velocity_correction_"));
     } else if (projects)
         body +=
             "        eomc::runtime::project_onto_constraints(\n"

@@ -129,7 +129,8 @@ struct KernelIR {
     SolvePlan constraint_plan;
     Block solved_constraints;   // straight-line: u̇ (n_velocities), λ (m), Wᵀλ (n_velocities)
     Block position_correction;  // straight-line, projected holonomic rows: M⁻¹Wᵀ(W M⁻¹ Wᵀ)⁻¹, n_velocities × p
-    Block velocity_correction;  // straight-line, every projected row: the same, n_velocities × v
+    Block velocity_correction;  // straight-line, every projected row: the same, n_velocities × v (empty
+                                // when those are the holonomic ones: position_correction serves)
 
     // Unilateral rows (mechanics/unilateral/rows.hpp; empty: nothing is emitted and the kernel keeps
     // its bytes): a gap f_α(q, t) ≥ 0 or a kinematic row φ_α(q, q̇, t) ≥ 0 (Mei §6.7), with

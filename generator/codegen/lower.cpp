@@ -128,7 +128,10 @@ void lower_constraints(KernelIR& ir, const mechanics::FirstOrderForm& form, cons
         return saddle_point_correction(eliminate_common_subexpressions(system, prefix), plan, nu, count, prefix);
     };
     ir.position_correction = correction(true);
-    ir.velocity_correction = correction(false);
+    // Every projected row holonomic: the velocity step uses the same rows, so the same C.
+    bool same_rows = true;
+    for (std::size_t a = 0; a < m; ++a) same_rows = same_rows && (!ir.constraint_projected[a] || ir.constraint_holonomic[a]);
+    if (!same_rows) ir.velocity_correction = correction(false);
 }
 
 // The unilateral rows' blocks (Mei ch. 6; Acary, Brogliato, Numerical Methods for Nonsmooth

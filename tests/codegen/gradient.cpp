@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include "mechanics/derive.hpp"
 #include "mechanics/first_order.hpp"
 #include "model/kepler_function.hpp"
@@ -82,9 +84,9 @@ void check_model(const eomc::model::Model& model, const std::string& what) {
 // The n-link planar pendulum of bench/make_pendulum_scenes.py.
 std::string chain_scene(int n) {
     std::string s = "[scene]\nname = \"chain\"\n[parameters]\ng = 9.81\n";
-    for (int k = 1; k <= n; ++k) s += "m" + std::to_string(k) + " = 1.0\nl" + std::to_string(k) + " = 1.0\n";
+    for (int k = 1; k <= n; ++k) s += fmt::format("m{0} = 1.0\nl{0} = 1.0\n", k);
     s += "[coordinates]\n";
-    for (int k = 1; k <= n; ++k) s += "th" + std::to_string(k) + " = { initial = 0.1, rate = 0.0 }\n";
+    for (int k = 1; k <= n; ++k) s += fmt::format("th{} = {{ initial = 0.1, rate = 0.0 }}\n", k);
     std::string x, y, potential;
     for (int k = 1; k <= n; ++k) {
         const std::string K = std::to_string(k);
