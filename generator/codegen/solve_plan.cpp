@@ -175,9 +175,27 @@ std::vector<std::vector<ex>> solve_saddle(StraightLine& code, const SolvePlan& p
             for (std::size_t s = 0; s <= r; ++s) ab[r][s] = named[block[r]][block[s]];
             bb.push_back(b[block[r]]);
         }
-        solve_dense(code, block, ab, bb, x);
+        try {
+            solve_dense(code, block, ab, bb, x);
+        } catch (const EmitError&) {  // a pivot that is 0 as written: known at generation time
+            throw EmitError("the constraint rows are dependent (W has no full row rank), or M is singular: "
+                            "M u̇ − Wᵀλ = f, W u̇ = r has no unique solution");
+        }
     }
     return x;
+}
+
+// The operation counts of a straight-line solve appended to a system: the solve's own temporaries
+// from `first` on and its outputs, then what is left after pruning.
+void count_solve(Block& result, std::size_t system_ops, std::size_t first) {
+    std::size_t solve_ops = 0;
+    for (std::size_t k = first; k < result.temporaries.size(); ++k) solve_ops += count_operations(result.temporaries[k].value);
+    for (const ex& e : result.outputs) solve_ops += count_operations(e);
+    prune(result);
+    result.ops_before = system_ops + solve_ops;
+    result.ops_after = 0;
+    for (const auto& t : result.temporaries) result.ops_after += count_operations(t.value);
+    for (const ex& e : result.outputs) result.ops_after += count_operations(e);
 }
 
 }  // namespace
@@ -332,13 +350,8 @@ SolvePlan plan_saddle_point(const GiNaC::matrix& M, const std::vector<ex>& W, st
         StraightLine probe(Block{}, "probe");
         std::vector<std::vector<ex>> named;
         std::size_t first = 0;
-        try {
-            solve_saddle(probe, plan, n + m, [&](std::size_t i, std::size_t j) { return K(unsigned(i), unsigned(j)); },
-                         std::vector<std::vector<ex>>(n + m, std::vector<ex>(1, 0)), named, first);
-        } catch (const EmitError&) {
-            throw EmitError("the constraint rows are dependent (W has no full row rank), or M is singular: "
-                            "M u̇ − Wᵀλ = f, W u̇ = r has no unique solution");
-        }
+        solve_saddle(probe, plan, n + m, [&](std::size_t i, std::size_t j) { return K(unsigned(i), unsigned(j)); },
+                     std::vector<std::vector<ex>>(n + m, std::vector<ex>(1, 0)), named, first);
     }
     return plan;
 }
@@ -376,14 +389,7 @@ Block solve_saddle_point(const Block& system, const SolvePlan& plan, std::size_t
         for (std::size_t a = 0; a < m; ++a) reaction += K[n + a][k] * lambda[a];
         result.outputs.push_back(reaction);
     }
-    std::size_t solve_ops = 0;
-    for (std::size_t k = first; k < result.temporaries.size(); ++k) solve_ops += count_operations(result.temporaries[k].value);
-    for (const ex& e : result.outputs) solve_ops += count_operations(e);
-    prune(result);
-    result.ops_before = system.ops_before + solve_ops;
-    result.ops_after = 0;
-    for (const auto& t : result.temporaries) result.ops_after += count_operations(t.value);
-    for (const ex& e : result.outputs) result.ops_after += count_operations(e);
+    count_solve(result, system.ops_before, first);
     return std::move(result);
 }
 
@@ -411,14 +417,7 @@ Block saddle_point_correction(const Block& system, const SolvePlan& plan, std::s
     Block& result = code.block();
     for (std::size_t k = 0; k < n; ++k)
         for (std::size_t a = 0; a < m; ++a) result.outputs.push_back(x[k][a]);
-    std::size_t solve_ops = 0;
-    for (std::size_t k = first; k < result.temporaries.size(); ++k) solve_ops += count_operations(result.temporaries[k].value);
-    for (const ex& e : result.outputs) solve_ops += count_operations(e);
-    prune(result);
-    result.ops_before = system.ops_before + solve_ops;
-    result.ops_after = 0;
-    for (const auto& t : result.temporaries) result.ops_after += count_operations(t.value);
-    for (const ex& e : result.outputs) result.ops_after += count_operations(e);
+    count_solve(result, system.ops_before, first);
     return std::move(result);
 }
 
