@@ -418,8 +418,8 @@ struct Rates {
     std::string rhs, jacobian, private_part, includes, table;
 };
 
-// rhs() and jacobian() of a kernel with constraint rows: u̇ and λ from the Schur complement
-// (runtime/constraints.hpp), ∂ẋ/∂x by central differences of rhs.
+// Whether a kernel's constraint rows are solved in straight-line code (codegen/solve_plan.hpp,
+// plan_saddle_point) rather than by the runtime's Schur complement on Eigen.
 bool straight_line_constraints(const KernelIR& ir) {
     return !ir.constraint_names.empty() && ir.constraint_plan.method != SolvePlan::Method::eigen_llt &&
            ir.constraint_plan.method != SolvePlan::Method::none;
@@ -469,6 +469,8 @@ std::string straight_line_constraint_functions(const KernelIR& ir, const LocalNa
     return out;
 }
 
+// rhs() and jacobian() of a kernel with constraint rows: u̇ and λ from the Schur complement, in
+// straight-line code or by runtime/constraints.hpp; ∂ẋ/∂x by central differences of rhs.
 Rates emit_constrained_rates(const KernelIR& ir, const LocalNames& names) {
     const std::size_t nu = ir.n_velocities, m = ir.constraint_names.size();
     const bool straight = straight_line_constraints(ir);
