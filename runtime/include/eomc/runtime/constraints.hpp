@@ -58,62 +58,25 @@ int project_onto_constraints(S t, S* x, const ConstraintLayout& layout, const bo
                              Residuals&& residuals, Jacobian&& jacobian, Mass&& mass, int max_iterations = 4) {
   using RowMajor = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   const int m = layout.n_constraints, n = layout.n_velocities;
-  std::vector<int> position_rows, velocity_rows;
-  for (int a = 0; a < m; ++a) {
-    if (!projected[a]) continue;
-    velocity_rows.push_back(a);
-    if (holonomic[a]) position_rows.push_back(a);
-  }
-  if (velocity_rows.empty()) return 0;
-  RowMajor M(n, n), W(m, n);
-  ConstraintVector<S> f(m), phi(m);
-
-  // M⁻¹Wᵀ(W M⁻¹ Wᵀ)⁻¹ v over the selected rows, with M and W at the current x.
-  struct Correction {
-    Eigen::LDLT<ConstraintMatrix<S>> G;
-    ConstraintMatrix<S> Y;
+  // The steps of project_by_corrections, C = M⁻¹Wᵀ(W M⁻¹ Wᵀ)⁻¹ over the selected rows (n × p,
+  // row-major), with M and W at the state it is asked at.
+  const auto correction = [&](bool positions) {
+    return [&, positions](S tau, const S* y, S* C) {
+      RowMajor M(n, n), W(m, n);
+      mass(tau, y, M.data());
+      jacobian(tau, y, W.data());
+      std::vector<int> rows;
+      for (int a = 0; a < m; ++a)
+        if (projected[a] && (!positions || holonomic[a])) rows.push_back(a);
+      ConstraintMatrix<S> Wr(static_cast<Eigen::Index>(rows.size()), n);
+      for (std::size_t i = 0; i < rows.size(); ++i) Wr.row(Eigen::Index(i)) = W.row(rows[i]);
+      const ConstraintMatrix<S> Y = ConstraintMatrix<S>(M).ldlt().solve(Wr.transpose());
+      const ConstraintMatrix<S> G = Wr * Y;
+      Eigen::Map<RowMajor>(C, n, Eigen::Index(rows.size())) = Y * G.ldlt().solve(ConstraintMatrix<S>::Identity(G.rows(), G.cols()));
+    };
   };
-  const auto factor = [&](const std::vector<int>& rows) {
-    mass(t, static_cast<const S*>(x), M.data());
-    jacobian(t, static_cast<const S*>(x), W.data());
-    ConstraintMatrix<S> Wr(static_cast<Eigen::Index>(rows.size()), n);
-    for (std::size_t i = 0; i < rows.size(); ++i) Wr.row(Eigen::Index(i)) = W.row(rows[i]);
-    const ConstraintMatrix<S> Md = M;
-    Correction c;
-    c.Y = Md.ldlt().solve(Wr.transpose());
-    c.G.compute(Wr * c.Y);
-    return c;
-  };
-  const auto selected = [](const ConstraintVector<S>& v, const std::vector<int>& rows) {
-    ConstraintVector<S> out(static_cast<Eigen::Index>(rows.size()));
-    for (std::size_t i = 0; i < rows.size(); ++i) out[Eigen::Index(i)] = v[rows[i]];
-    return out;
-  };
-
-  int iterations = 0;
-  if (!position_rows.empty()) {
-    // Simplified Newton (HLW IV.4): W and M frozen at the step's end point.
-    const Correction c = factor(position_rows);
-    using std::abs;
-    for (; iterations < max_iterations;) {
-      residuals(t, static_cast<const S*>(x), f.data(), phi.data());
-      const ConstraintVector<S> dq = c.Y * c.G.solve(selected(f, position_rows));
-      S dq_norm(0), q_norm(0);
-      for (int k = 0; k < n; ++k) {
-        x[k] -= dq[k];
-        dq_norm = abs(dq[k]) > dq_norm ? abs(dq[k]) : dq_norm;
-        q_norm = abs(x[k]) > q_norm ? abs(x[k]) : q_norm;
-      }
-      ++iterations;
-      if (dq_norm <= S(5) * Eigen::NumTraits<S>::epsilon() * (S(1) + q_norm)) break;
-    }
-  }
-  // φ is linear in u: one step puts it on φ = 0 (to round-off).
-  const Correction c = factor(velocity_rows);
-  residuals(t, static_cast<const S*>(x), f.data(), phi.data());
-  const ConstraintVector<S> du = c.Y * c.G.solve(selected(phi, velocity_rows));
-  for (int k = 0; k < n; ++k) x[layout.velocity_offset + k] -= du[k];
-  return iterations;
+  return project_by_corrections(t, x, layout, projected, holonomic, residuals, correction(true), correction(false),
+                                max_iterations);
 }
 
 }  // namespace eomc::runtime
