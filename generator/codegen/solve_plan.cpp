@@ -185,6 +185,15 @@ std::vector<std::vector<ex>> solve_saddle(StraightLine& code, const SolvePlan& p
     return x;
 }
 
+// K's lower triangle from a system's outputs: M (n², row-major) first, W (m × n) from `w_at` on.
+std::function<ex(std::size_t, std::size_t)> saddle_lower(const Block& system, std::size_t n, std::size_t w_at) {
+    return [&system, n, w_at](std::size_t i, std::size_t j) -> ex {
+        if (i < n) return system.outputs[i * n + j];
+        if (j < n) return system.outputs[w_at + (i - n) * n + j];
+        return 0;
+    };
+}
+
 // The operation counts of a straight-line solve appended to a system: the solve's own temporaries
 // from `first` on and its outputs, then what is left after pruning.
 void count_solve(Block& result, std::size_t system_ops, std::size_t first) {
@@ -364,11 +373,7 @@ Block solve_saddle_point(const Block& system, const SolvePlan& plan, std::size_t
         throw std::logic_error("solve_saddle_point: the system has " + std::to_string(system.outputs.size()) +
                                " outputs for M, f, W and r");
     const auto out = [&](std::size_t k) { return system.outputs[k]; };
-    const auto lower = [&](std::size_t i, std::size_t j) -> ex {
-        if (i < n) return out(i * n + j);                                 // M
-        if (j < n) return out(n * n + n + (i - n) * n + j);               // W
-        return 0;
-    };
+    const auto lower = saddle_lower(system, n, n * n + n);
     std::vector<std::vector<ex>> rhs(n + m, std::vector<ex>(1));
     for (std::size_t k = 0; k < n; ++k) rhs[k][0] = out(n * n + k);
     for (std::size_t a = 0; a < m; ++a) rhs[n + a][0] = out(n * n + n + m * n + a);
@@ -400,11 +405,7 @@ Block saddle_point_correction(const Block& system, const SolvePlan& plan, std::s
     if (system.outputs.size() != n * n + m * n)
         throw std::logic_error("saddle_point_correction: the system has " + std::to_string(system.outputs.size()) +
                                " outputs for M and W");
-    const auto lower = [&](std::size_t i, std::size_t j) -> ex {
-        if (i < n) return system.outputs[i * n + j];
-        if (j < n) return system.outputs[n * n + (i - n) * n + j];
-        return 0;
-    };
+    const auto lower = saddle_lower(system, n, n * n);
     // K [du; μ] = [0; e_j]: M du + Wᵀμ = 0 and W du = e_j, so du = M⁻¹Wᵀ(W M⁻¹ Wᵀ)⁻¹ e_j.
     std::vector<std::vector<ex>> unit(n + m, std::vector<ex>(m, 0));
     for (std::size_t a = 0; a < m; ++a) unit[n + a][a] = 1;
