@@ -109,6 +109,26 @@ std::size_t bit_length(const GiNaC::numeric& integer) {
     return integer.is_zero() ? 0 : std::size_t(GiNaC::numeric(GiNaC::abs(integer)).int_length());
 }
 
+// The bits of the numbers a power would raise when `e` is its base: a number, and the numeric
+// factors of a product, a power of a number counting as its base's bits times its exponent.
+GiNaC::numeric number_bits(const GiNaC::ex& e) {
+    if (GiNaC::is_a<GiNaC::numeric>(e)) {
+        const GiNaC::numeric& n = GiNaC::ex_to<GiNaC::numeric>(e);
+        if (!n.is_rational() || GiNaC::abs(n) == 1) return 0;  // ±1 raised is ±1
+        return long(std::max(bit_length(n.numer()), bit_length(n.denom())));
+    }
+    if (GiNaC::is_a<GiNaC::power>(e) && GiNaC::is_a<GiNaC::numeric>(e.op(0)) && GiNaC::is_a<GiNaC::numeric>(e.op(1))) {
+        const GiNaC::numeric& k = GiNaC::ex_to<GiNaC::numeric>(e.op(1));
+        return k.is_rational() ? number_bits(e.op(0)) * GiNaC::abs(k) : GiNaC::numeric(0);
+    }
+    if (GiNaC::is_a<GiNaC::mul>(e)) {
+        GiNaC::numeric sum = 0;
+        for (const GiNaC::ex& factor : e) sum += number_bits(factor);
+        return sum;
+    }
+    return 0;
+}
+
 // One expression, by recursive descent over
 //   sum     := product { ('+' | '-') product }
 //   product := signed { ('*' | '/') signed }
@@ -269,13 +289,12 @@ private:
             const GiNaC::numeric limit = GiNaC::numeric(2).power(53);
             if (GiNaC::abs(k.numer()) > limit || k.denom() > limit)
                 fail(op, "the exponent is too large (numerator and denominator must not exceed 2^53)");
-            if (GiNaC::is_a<GiNaC::numeric>(base)) {
-                const GiNaC::numeric& b = GiNaC::ex_to<GiNaC::numeric>(base);
-                const std::size_t bits = std::max(bit_length(b.numer()), bit_length(b.denom()));
-                // The exact result has about |k|·bits bits; beyond that it is no physical constant.
-                if (bits > 1 && GiNaC::abs(k.numer()) * GiNaC::numeric(long(bits)) > GiNaC::numeric(long(max_power_bits)))
-                    fail(op, fmt::format("the power of numbers would have more than {} bits", max_power_bits));
-            }
+            // GiNaC raises every number in the base: 10^k, and also (10·m)^k = 10^k·m^k and
+            // (√2·m)^k = 2^(k/2)·m^k. The exact result has about |k|·bits bits; beyond the cap it
+            // is no physical constant.
+            const GiNaC::numeric bits = number_bits(base);
+            if (GiNaC::abs(k) * bits > GiNaC::numeric(long(max_power_bits)))
+                fail(op, fmt::format("the power of numbers would have more than {} bits", max_power_bits));
         }
         if (const char* why = undefined_power(base, exponent)) fail(op, fmt::format("the value is undefined ({})", why));
         return evaluated(op, [&] { return GiNaC::pow(base, exponent); });
