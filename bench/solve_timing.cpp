@@ -17,6 +17,8 @@
 #include <Eigen/Core>
 #include <eomc/runtime/constraint_projection.hpp>
 #include <eomc/runtime/constraints.hpp>
+#include <eomc/runtime/program/control.hpp>
+#include <eomc/runtime/program/reduced_control.hpp>
 #include <eomc/runtime/version.hpp>
 
 #include <cstdio>

@@ -2,12 +2,14 @@
 // Meshchersky's problem (Mei ch. 3): a particle kept at constant speed 3 on a vertical circle R = 1 by ideal controls; |F| = 18.81 at the bottom, 0.81 at the top
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 2 coordinates, as the first-order system x =
-// (q, q̇), ẋ = (q̇, M⁻¹f). M u̇ = f + D λ, Ā u̇ = c is solved at run time
-// (runtime/program/control.hpp). No jacobian() (eomc generate --jacobian adds it).
+// (q, q̇), ẋ = (q̇, M⁻¹f). M u̇ = f + D λ, Ā u̇ = c: z = M⁻¹f, Y = M⁻¹D, G =
+// Ā Y and h = c − Ā z in straight-line code, G λ = h by LU with partial pivoting at run
+// time. Solve of M u̇ = f: diagonal (u̇_k = f_k / M_kk). M is constant (parameters only). No
+// jacobian() (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
 //   forcing                           1 ->       1 (0 temporaries)
-//   mass_matrix + forcing + programs       33 ->      29 (4 temporaries)
+//   mass_matrix + forcing + programs, reduced       82 ->      49 (10 temporaries)
 //   explicit rates                    0 ->       0 (0 temporaries)
 //   program residuals                18 ->      18 (0 temporaries)
 //   invariants                        0 ->       0 (0 temporaries)
@@ -17,9 +19,8 @@
 
 #include <array>
 #include <cmath>
-#include <Eigen/Core>
-#include <eomc/runtime/constraints.hpp>
-#include <eomc/runtime/program/control.hpp>
+#include <eomc/runtime/constraint_projection.hpp>
+#include <eomc/runtime/program/reduced_control.hpp>
 
 #if __has_include(<eomc/runtime/version.hpp>)
 #include <eomc/runtime/version.hpp>
@@ -142,11 +143,12 @@ struct BasicMeshcherskyCircle {
 
 
  private:
-    // M, f, the programs' Ā (m × n_velocities) and c, and the control directions D (n_velocities × k),
-    // all row-major, together: they share most of their subexpressions.
+    using ReducedLayout_ = eomc::runtime::program::ReducedLayout<n_velocities, n_programs>;
+
+    // z = M⁻¹f, Y = M⁻¹D, G = Ā Y, h = c − Ā z and D (row-major, ReducedLayout_): M's solve and
+    // Ā M⁻¹ in straight-line code; G λ = h is left to a pivoted LU at run time.
     template <class S>
-    static void mass_forcing_and_programs_(S t, const S* x, S* out_M, S* out_f, S* out_A, S* out_c, S* out_D,
-                                           const Parameters& p) {
+    static void reduced_programs_(S t, const S* x, S* out, const Parameters& p) {
         (void)t;
         const S x_ = x[0];
         const S y = x[1];
@@ -160,22 +162,28 @@ struct BasicMeshcherskyCircle {
         const S w1 = S(2)*y;
         const S w2 = y_dot*y_dot;
         const S w3 = x_dot*x_dot;
-        out_M[0] = m;
-        out_M[1] = S(0);
-        out_M[2] = S(0);
-        out_M[3] = m;
-        out_f[0] = S(0);
-        out_f[1] = -g*m;
-        out_A[0] = w0;
-        out_A[1] = w1;
-        out_A[2] = x_dot;
-        out_A[3] = y_dot;
-        out_c[0] = -S(2)*w2 - S(4.00000000000000000e+00)*y*y_dot - S(4.00000000000000000e+00)*x_*x_ + S(4.00000000000000000e+00)*R*R - S(2)*w3 - S(4.00000000000000000e+00)*x_*x_dot - S(4.00000000000000000e+00)*y*y;
-        out_c[1] = -S(1.50000000000000000e+00)*w2 + S(1.50000000000000000e+00)*v0*v0 - S(1.50000000000000000e+00)*w3;
-        out_D[0] = w0;
-        out_D[1] = x_dot;
-        out_D[2] = w1;
-        out_D[3] = y_dot;
+        const S w5 = S(1)/m;
+        const S w6 = w0*w5;
+        const S w7 = w5*x_dot;
+        const S w8 = -g;
+        const S w9 = w1*w5;
+        const S w10 = w5*y_dot;
+        out[0] = S(0);
+        out[1] = w8;
+        out[2] = w6;
+        out[3] = w7;
+        out[4] = w9;
+        out[5] = w10;
+        out[6] = w1*w9 + w0*w6;
+        out[7] = w1*w10 + w0*w7;
+        out[8] = w9*y_dot + w6*x_dot;
+        out[9] = w7*x_dot + w10*y_dot;
+        out[10] = -S(2)*w2 - S(4.00000000000000000e+00)*y*y_dot - w1*w8 - S(4.00000000000000000e+00)*x_*x_ + S(4.00000000000000000e+00)*R*R - S(2)*w3 - S(4.00000000000000000e+00)*x_*x_dot - S(4.00000000000000000e+00)*y*y;
+        out[11] = -S(1.50000000000000000e+00)*w2 + S(1.50000000000000000e+00)*v0*v0 - S(1.50000000000000000e+00)*w3 - w8*y_dot;
+        out[12] = w0;
+        out[13] = x_dot;
+        out[14] = w1;
+        out[15] = y_dot;
     }
 
     // The rates given in closed form (everything outside the velocity block).
@@ -189,43 +197,29 @@ struct BasicMeshcherskyCircle {
         dxdt[1] = y_dot;
     }
 
-    template <class S>
-    struct ControlMatrices_ {
-        eomc::runtime::program::Matrix<S> M, A, D;
-        eomc::runtime::program::Vector<S> f, c;
-    };
-
-    template <class S>
-    static ControlMatrices_<S> control_matrices_(S t, const S* x, const Parameters& p) {
-        using RowMajor = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-        RowMajor M(n_velocities, n_velocities), A(n_programs, n_velocities), D(n_velocities, n_program_controls);
-        eomc::runtime::program::Vector<S> f(n_velocities), c(n_programs);
-        mass_forcing_and_programs_(t, x, M.data(), f.data(), A.data(), c.data(), D.data(), p);
-        return {M, A, D, f, c};
-    }
-
     // ẋ from M u̇ = f + D λ, Ā u̇ = c; λ and Q_c = D λ too where lambda and control are not null.
     template <class S>
     static void controlled_rates_(S t, const S* x, S* dxdt, S* lambda, S* control, const Parameters& p) {
-        const auto [M, A, D, f, c] = control_matrices_(t, x, p);
-        (void)D;
-        eomc::runtime::program::Vector<S> udot, multipliers, generalized;
+        std::array<S, ReducedLayout_::size> reduced;
+        std::array<S, n_velocities> udot, generalized;
+        std::array<S, n_programs> multipliers;
+        reduced_programs_(t, x, reduced.data(), p);
+        eomc::runtime::program::reduced_control_solve<n_velocities, n_programs>(reduced.data(), udot.data(),
+                                                                              multipliers.data(), generalized.data());
         explicit_rates_(t, x, dxdt, p);
-        eomc::runtime::program::control_solve<S>(M, f, A, D, c, udot, multipliers, generalized);
-        for (int k = 0; k < n_velocities; ++k) dxdt[velocity_offset + k] = udot[k];
+        for (int k = 0; k < n_velocities; ++k) dxdt[velocity_offset + k] = udot[std::size_t(k)];
         if (lambda)
-            for (int a = 0; a < n_program_controls; ++a) lambda[a] = multipliers[a];
+            for (int a = 0; a < n_programs; ++a) lambda[a] = multipliers[std::size_t(a)];
         if (control)
-            for (int k = 0; k < n_velocities; ++k) control[k] = generalized[k];
+            for (int k = 0; k < n_velocities; ++k) control[k] = generalized[std::size_t(k)];
     }
 
     // det(Ā M⁻¹ D): where it vanishes no control in these directions realises the programs.
     template <class S>
     static S control_determinant_(S t, const S* x, const Parameters& p) {
-        const auto [M, A, D, f, c] = control_matrices_(t, x, p);
-        (void)f;
-        (void)c;
-        return eomc::runtime::program::control_determinant<S>(M, A, D);
+        std::array<S, ReducedLayout_::size> reduced;
+        reduced_programs_(t, x, reduced.data(), p);
+        return eomc::runtime::program::reduced_control_determinant<n_velocities, n_programs>(reduced.data());
     }
 
     template <class S>

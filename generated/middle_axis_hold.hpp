@@ -3,12 +3,14 @@
 //
 // The Euler-Poisson equations of a heavy rigid body about a fixed point: x = (ω, γ) in body
 // axes, I ω̇ = (Iω + k) × ω + P γ × r_c, γ̇ = γ × ω; project() keeps |γ| = 1. M
-// u̇ = f + D λ, Ā u̇ = c is solved at run time (runtime/program/control.hpp). No
-// jacobian() (eomc generate --jacobian adds it).
+// u̇ = f + D λ, Ā u̇ = c: z = M⁻¹f, Y = M⁻¹D, G = Ā Y and h = c − Ā z in
+// straight-line code, G λ = h by LU with partial pivoting at run time. Solve of M u̇ = f:
+// diagonal (u̇_k = f_k / M_kk). M is constant (numbers only): its factors were computed at
+// generation time. No jacobian() (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
 //   forcing                           5 ->       5 (0 temporaries)
-//   mass_matrix + forcing + programs        7 ->       7 (0 temporaries)
+//   mass_matrix + forcing + programs, reduced       15 ->       8 (4 temporaries)
 //   explicit rates                    9 ->       9 (0 temporaries)
 //   program residuals                 0 ->       0 (0 temporaries)
 //   invariants                        0 ->       0 (0 temporaries)
@@ -18,9 +20,8 @@
 
 #include <array>
 #include <cmath>
-#include <Eigen/Core>
-#include <eomc/runtime/constraints.hpp>
-#include <eomc/runtime/program/control.hpp>
+#include <eomc/runtime/constraint_projection.hpp>
+#include <eomc/runtime/program/reduced_control.hpp>
 
 #if __has_include(<eomc/runtime/version.hpp>)
 #include <eomc/runtime/version.hpp>
@@ -161,42 +162,42 @@ struct BasicMiddleAxisHold {
 
 
  private:
-    // M, f, the programs' Ā (m × n_velocities) and c, and the control directions D (n_velocities × k),
-    // all row-major, together: they share most of their subexpressions.
+    using ReducedLayout_ = eomc::runtime::program::ReducedLayout<n_velocities, n_programs>;
+
+    // z = M⁻¹f, Y = M⁻¹D, G = Ā Y, h = c − Ā z and D (row-major, ReducedLayout_): M's solve and
+    // Ā M⁻¹ in straight-line code; G λ = h is left to a pivoted LU at run time.
     template <class S>
-    static void mass_forcing_and_programs_(S t, const S* x, S* out_M, S* out_f, S* out_A, S* out_c, S* out_D,
-                                           const Parameters& p) {
+    static void reduced_programs_(S t, const S* x, S* out, const Parameters& p) {
         (void)t;
         (void)p;
         const S p_ = x[0];
         const S q = x[1];
         const S r = x[2];
-        out_M[0] = S(2);
-        out_M[1] = S(0);
-        out_M[2] = S(0);
-        out_M[3] = S(0);
-        out_M[4] = S(3);
-        out_M[5] = S(0);
-        out_M[6] = S(0);
-        out_M[7] = S(0);
-        out_M[8] = S(5);
-        out_f[0] = -S(2)*q*r;
-        out_f[1] = S(3)*p_*r;
-        out_f[2] = -p_*q;
-        out_A[0] = S(1);
-        out_A[1] = S(0);
-        out_A[2] = S(0);
-        out_A[3] = S(0);
-        out_A[4] = S(0);
-        out_A[5] = S(1);
-        out_c[0] = -S(2.00000000000000000e+00)*p_;
-        out_c[1] = -S(2.00000000000000000e+00)*r;
-        out_D[0] = S(1);
-        out_D[1] = S(0);
-        out_D[2] = S(0);
-        out_D[3] = S(0);
-        out_D[4] = S(0);
-        out_D[5] = S(1);
+        const S w2 = -p_*q;
+        const S w3 = -q*r;
+        const S w4 = p_*r;
+        const S w5 = S(1)/S(5)*w2;
+        out[0] = w3;
+        out[1] = w4;
+        out[2] = w5;
+        out[3] = S(1)/S(2);
+        out[4] = S(0);
+        out[5] = S(0);
+        out[6] = S(0);
+        out[7] = S(0);
+        out[8] = S(1)/S(5);
+        out[9] = S(1)/S(2);
+        out[10] = S(0);
+        out[11] = S(0);
+        out[12] = S(1)/S(5);
+        out[13] = -S(2.00000000000000000e+00)*p_ - w3;
+        out[14] = -S(2.00000000000000000e+00)*r - w5;
+        out[15] = S(1);
+        out[16] = S(0);
+        out[17] = S(0);
+        out[18] = S(0);
+        out[19] = S(0);
+        out[20] = S(1);
     }
 
     // The rates given in closed form (everything outside the velocity block).
@@ -215,43 +216,29 @@ struct BasicMiddleAxisHold {
         dxdt[5] = gamma1*q - gamma2*p_;
     }
 
-    template <class S>
-    struct ControlMatrices_ {
-        eomc::runtime::program::Matrix<S> M, A, D;
-        eomc::runtime::program::Vector<S> f, c;
-    };
-
-    template <class S>
-    static ControlMatrices_<S> control_matrices_(S t, const S* x, const Parameters& p) {
-        using RowMajor = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-        RowMajor M(n_velocities, n_velocities), A(n_programs, n_velocities), D(n_velocities, n_program_controls);
-        eomc::runtime::program::Vector<S> f(n_velocities), c(n_programs);
-        mass_forcing_and_programs_(t, x, M.data(), f.data(), A.data(), c.data(), D.data(), p);
-        return {M, A, D, f, c};
-    }
-
     // ẋ from M u̇ = f + D λ, Ā u̇ = c; λ and Q_c = D λ too where lambda and control are not null.
     template <class S>
     static void controlled_rates_(S t, const S* x, S* dxdt, S* lambda, S* control, const Parameters& p) {
-        const auto [M, A, D, f, c] = control_matrices_(t, x, p);
-        (void)D;
-        eomc::runtime::program::Vector<S> udot, multipliers, generalized;
+        std::array<S, ReducedLayout_::size> reduced;
+        std::array<S, n_velocities> udot, generalized;
+        std::array<S, n_programs> multipliers;
+        reduced_programs_(t, x, reduced.data(), p);
+        eomc::runtime::program::reduced_control_solve<n_velocities, n_programs>(reduced.data(), udot.data(),
+                                                                              multipliers.data(), generalized.data());
         explicit_rates_(t, x, dxdt, p);
-        eomc::runtime::program::control_solve<S>(M, f, A, D, c, udot, multipliers, generalized);
-        for (int k = 0; k < n_velocities; ++k) dxdt[velocity_offset + k] = udot[k];
+        for (int k = 0; k < n_velocities; ++k) dxdt[velocity_offset + k] = udot[std::size_t(k)];
         if (lambda)
-            for (int a = 0; a < n_program_controls; ++a) lambda[a] = multipliers[a];
+            for (int a = 0; a < n_programs; ++a) lambda[a] = multipliers[std::size_t(a)];
         if (control)
-            for (int k = 0; k < n_velocities; ++k) control[k] = generalized[k];
+            for (int k = 0; k < n_velocities; ++k) control[k] = generalized[std::size_t(k)];
     }
 
     // det(Ā M⁻¹ D): where it vanishes no control in these directions realises the programs.
     template <class S>
     static S control_determinant_(S t, const S* x, const Parameters& p) {
-        const auto [M, A, D, f, c] = control_matrices_(t, x, p);
-        (void)f;
-        (void)c;
-        return eomc::runtime::program::control_determinant<S>(M, A, D);
+        std::array<S, ReducedLayout_::size> reduced;
+        reduced_programs_(t, x, reduced.data(), p);
+        return eomc::runtime::program::reduced_control_determinant<n_velocities, n_programs>(reduced.data());
     }
 
     template <class S>

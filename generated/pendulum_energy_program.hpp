@@ -2,12 +2,14 @@
 // A pendulum driven to the energy level h by one torque (Mei ch. 3): phi = H - h, phi_dot + kappa phi = 0
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 1 coordinate, as the first-order system x =
-// (q, q̇), ẋ = (q̇, M⁻¹f). M u̇ = f + D λ, Ā u̇ = c is solved at run time
-// (runtime/program/control.hpp). No jacobian() (eomc generate --jacobian adds it).
+// (q, q̇), ẋ = (q̇, M⁻¹f). M u̇ = f + D λ, Ā u̇ = c: z = M⁻¹f, Y = M⁻¹D, G =
+// Ā Y and h = c − Ā z in straight-line code, G λ = h by LU with partial pivoting at run
+// time. Solve of M u̇ = f: identity (M = I, u̇ = f; no solve at run time). No jacobian()
+// (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
 //   forcing                           2 ->       2 (0 temporaries)
-//   mass_matrix + forcing + programs       12 ->      11 (1 temporaries)
+//   mass_matrix + forcing + programs, reduced       24 ->      13 (2 temporaries)
 //   explicit rates                    0 ->       0 (0 temporaries)
 //   program residuals                 6 ->       6 (0 temporaries)
 //   invariants                        0 ->       0 (0 temporaries)
@@ -17,9 +19,8 @@
 
 #include <array>
 #include <cmath>
-#include <Eigen/Core>
-#include <eomc/runtime/constraints.hpp>
-#include <eomc/runtime/program/control.hpp>
+#include <eomc/runtime/constraint_projection.hpp>
+#include <eomc/runtime/program/reduced_control.hpp>
 
 #if __has_include(<eomc/runtime/version.hpp>)
 #include <eomc/runtime/version.hpp>
@@ -136,11 +137,12 @@ struct BasicPendulumEnergyProgram {
 
 
  private:
-    // M, f, the programs' Ā (m × n_velocities) and c, and the control directions D (n_velocities × k),
-    // all row-major, together: they share most of their subexpressions.
+    using ReducedLayout_ = eomc::runtime::program::ReducedLayout<n_velocities, n_programs>;
+
+    // z = M⁻¹f, Y = M⁻¹D, G = Ā Y, h = c − Ā z and D (row-major, ReducedLayout_): M's solve and
+    // Ā M⁻¹ in straight-line code; G λ = h is left to a pivoted LU at run time.
     template <class S>
-    static void mass_forcing_and_programs_(S t, const S* x, S* out_M, S* out_f, S* out_A, S* out_c, S* out_D,
-                                           const Parameters& p) {
+    static void reduced_programs_(S t, const S* x, S* out, const Parameters& p) {
         (void)t;
         using std::cos;
         using std::sin;
@@ -149,11 +151,12 @@ struct BasicPendulumEnergyProgram {
         const S g = S(p.g);
         const S h = S(p.h);
         const S w0 = sin(theta);
-        out_M[0] = S(1);
-        out_f[0] = -g*w0;
-        out_A[0] = theta_dot;
-        out_c[0] = h + g*cos(theta) - g*theta_dot*w0 - S(1)/S(2)*theta_dot*theta_dot;
-        out_D[0] = S(1);
+        const S w1 = -g*w0;
+        out[0] = w1;
+        out[1] = S(1);
+        out[2] = theta_dot;
+        out[3] = h + g*cos(theta) - g*theta_dot*w0 - theta_dot*w1 - S(1)/S(2)*theta_dot*theta_dot;
+        out[4] = S(1);
     }
 
     // The rates given in closed form (everything outside the velocity block).
@@ -165,43 +168,29 @@ struct BasicPendulumEnergyProgram {
         dxdt[0] = theta_dot;
     }
 
-    template <class S>
-    struct ControlMatrices_ {
-        eomc::runtime::program::Matrix<S> M, A, D;
-        eomc::runtime::program::Vector<S> f, c;
-    };
-
-    template <class S>
-    static ControlMatrices_<S> control_matrices_(S t, const S* x, const Parameters& p) {
-        using RowMajor = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-        RowMajor M(n_velocities, n_velocities), A(n_programs, n_velocities), D(n_velocities, n_program_controls);
-        eomc::runtime::program::Vector<S> f(n_velocities), c(n_programs);
-        mass_forcing_and_programs_(t, x, M.data(), f.data(), A.data(), c.data(), D.data(), p);
-        return {M, A, D, f, c};
-    }
-
     // ẋ from M u̇ = f + D λ, Ā u̇ = c; λ and Q_c = D λ too where lambda and control are not null.
     template <class S>
     static void controlled_rates_(S t, const S* x, S* dxdt, S* lambda, S* control, const Parameters& p) {
-        const auto [M, A, D, f, c] = control_matrices_(t, x, p);
-        (void)D;
-        eomc::runtime::program::Vector<S> udot, multipliers, generalized;
+        std::array<S, ReducedLayout_::size> reduced;
+        std::array<S, n_velocities> udot, generalized;
+        std::array<S, n_programs> multipliers;
+        reduced_programs_(t, x, reduced.data(), p);
+        eomc::runtime::program::reduced_control_solve<n_velocities, n_programs>(reduced.data(), udot.data(),
+                                                                              multipliers.data(), generalized.data());
         explicit_rates_(t, x, dxdt, p);
-        eomc::runtime::program::control_solve<S>(M, f, A, D, c, udot, multipliers, generalized);
-        for (int k = 0; k < n_velocities; ++k) dxdt[velocity_offset + k] = udot[k];
+        for (int k = 0; k < n_velocities; ++k) dxdt[velocity_offset + k] = udot[std::size_t(k)];
         if (lambda)
-            for (int a = 0; a < n_program_controls; ++a) lambda[a] = multipliers[a];
+            for (int a = 0; a < n_programs; ++a) lambda[a] = multipliers[std::size_t(a)];
         if (control)
-            for (int k = 0; k < n_velocities; ++k) control[k] = generalized[k];
+            for (int k = 0; k < n_velocities; ++k) control[k] = generalized[std::size_t(k)];
     }
 
     // det(Ā M⁻¹ D): where it vanishes no control in these directions realises the programs.
     template <class S>
     static S control_determinant_(S t, const S* x, const Parameters& p) {
-        const auto [M, A, D, f, c] = control_matrices_(t, x, p);
-        (void)f;
-        (void)c;
-        return eomc::runtime::program::control_determinant<S>(M, A, D);
+        std::array<S, ReducedLayout_::size> reduced;
+        reduced_programs_(t, x, reduced.data(), p);
+        return eomc::runtime::program::reduced_control_determinant<n_velocities, n_programs>(reduced.data());
     }
 
     template <class S>

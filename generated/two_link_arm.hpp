@@ -2,12 +2,14 @@
 // A two-link arm in a horizontal plane on theta1 = Omega t, theta2 = c2 by one torque per joint (computed torque, Mei ch. 3): tau1 = 0, tau2 = m2 l1 l2 Omega^2 sin(theta2)
 //
 // Lagrange's equations M(q,t) q̈ = f(q,q̇,t) of 2 coordinates, as the first-order system x =
-// (q, q̇), ẋ = (q̇, M⁻¹f). M u̇ = f + D λ, Ā u̇ = c is solved at run time
-// (runtime/program/control.hpp). No jacobian() (eomc generate --jacobian adds it).
+// (q, q̇), ẋ = (q̇, M⁻¹f). M u̇ = f + D λ, Ā u̇ = c: z = M⁻¹f, Y = M⁻¹D, G =
+// Ā Y and h = c − Ā z in straight-line code, G λ = h by LU with partial pivoting at run
+// time. Solve of M u̇ = f: unrolled LDLᵀ in straight-line code (n_velocities = 2 ≤ 16).
+// No jacobian() (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                      24 ->      16 (4 temporaries)
 //   forcing                          14 ->      13 (1 temporaries)
-//   mass_matrix + forcing + programs       51 ->      42 (5 temporaries)
+//   mass_matrix + forcing + programs, reduced       87 ->      59 (20 temporaries)
 //   explicit rates                    0 ->       0 (0 temporaries)
 //   program residuals                 4 ->       4 (0 temporaries)
 //   invariants                        0 ->       0 (0 temporaries)
@@ -17,9 +19,8 @@
 
 #include <array>
 #include <cmath>
-#include <Eigen/Core>
-#include <eomc/runtime/constraints.hpp>
-#include <eomc/runtime/program/control.hpp>
+#include <eomc/runtime/constraint_projection.hpp>
+#include <eomc/runtime/program/reduced_control.hpp>
 
 #if __has_include(<eomc/runtime/version.hpp>)
 #include <eomc/runtime/version.hpp>
@@ -157,11 +158,12 @@ struct BasicTwoLinkArm {
 
 
  private:
-    // M, f, the programs' Ā (m × n_velocities) and c, and the control directions D (n_velocities × k),
-    // all row-major, together: they share most of their subexpressions.
+    using ReducedLayout_ = eomc::runtime::program::ReducedLayout<n_velocities, n_programs>;
+
+    // z = M⁻¹f, Y = M⁻¹D, G = Ā Y, h = c − Ā z and D (row-major, ReducedLayout_): M's solve and
+    // Ā M⁻¹ in straight-line code; G λ = h is left to a pivoted LU at run time.
     template <class S>
-    static void mass_forcing_and_programs_(S t, const S* x, S* out_M, S* out_f, S* out_A, S* out_c, S* out_D,
-                                           const Parameters& p) {
+    static void reduced_programs_(S t, const S* x, S* out, const Parameters& p) {
         using std::cos;
         using std::sin;
         const S theta1 = x[0];
@@ -179,22 +181,37 @@ struct BasicTwoLinkArm {
         const S w2 = cos(theta2);
         const S w3 = l2*m2*(l2 + l1*w2);
         const S w4 = sin(theta2);
-        out_M[0] = m1*w0 + m2*(w0 + w1 + S(2)*l1*l2*w2);
-        out_M[1] = w3;
-        out_M[2] = w3;
-        out_M[3] = m2*w1;
-        out_f[0] = l1*l2*m2*theta2_dot*w4*(theta2_dot + S(2)*theta1_dot);
-        out_f[1] = -l1*l2*m2*w4*theta1_dot*theta1_dot;
-        out_A[0] = S(1);
-        out_A[1] = S(0);
-        out_A[2] = S(0);
-        out_A[3] = S(1);
-        out_c[0] = -S(9.00000000000000000e+00)*theta1 + S(4.00000000000000000e+00)*Omega - S(4.00000000000000000e+00)*theta1_dot + S(9.00000000000000000e+00)*Omega*t;
-        out_c[1] = -S(4.00000000000000000e+00)*theta2_dot - S(9.00000000000000000e+00)*theta2 + S(9.00000000000000000e+00)*c2;
-        out_D[0] = S(1);
-        out_D[1] = S(0);
-        out_D[2] = S(0);
-        out_D[3] = S(1);
+        const S w5 = l1*l2*m2*theta2_dot*w4*(theta2_dot + S(2)*theta1_dot);
+        const S w6 = -l1*l2*m2*w4*theta1_dot*theta1_dot;
+        const S w7 = m1*w0 + m2*(w0 + w1 + S(2)*l1*l2*w2);
+        const S w8 = m2*w1;
+        const S w9 = S(1)/w7;
+        const S w10 = w3*w9;
+        const S w11 = w8 - w10*w3;
+        const S w12 = S(1)/w11;
+        const S w13 = w6 - w10*w5;
+        const S w14 = w12*w13;
+        const S w15 = -w10;
+        const S w16 = w12*w15;
+        const S w17 = w5*w9 - w10*w14;
+        const S w18 = w9 - w10*w16;
+        const S w19 = -w10*w12;
+        out[0] = w17;
+        out[1] = w14;
+        out[2] = w18;
+        out[3] = w19;
+        out[4] = w16;
+        out[5] = w12;
+        out[6] = w18;
+        out[7] = w19;
+        out[8] = w16;
+        out[9] = w12;
+        out[10] = -S(9.00000000000000000e+00)*theta1 + S(4.00000000000000000e+00)*Omega - w17 - S(4.00000000000000000e+00)*theta1_dot + S(9.00000000000000000e+00)*Omega*t;
+        out[11] = -w14 - S(4.00000000000000000e+00)*theta2_dot - S(9.00000000000000000e+00)*theta2 + S(9.00000000000000000e+00)*c2;
+        out[12] = S(1);
+        out[13] = S(0);
+        out[14] = S(0);
+        out[15] = S(1);
     }
 
     // The rates given in closed form (everything outside the velocity block).
@@ -208,43 +225,29 @@ struct BasicTwoLinkArm {
         dxdt[1] = theta2_dot;
     }
 
-    template <class S>
-    struct ControlMatrices_ {
-        eomc::runtime::program::Matrix<S> M, A, D;
-        eomc::runtime::program::Vector<S> f, c;
-    };
-
-    template <class S>
-    static ControlMatrices_<S> control_matrices_(S t, const S* x, const Parameters& p) {
-        using RowMajor = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-        RowMajor M(n_velocities, n_velocities), A(n_programs, n_velocities), D(n_velocities, n_program_controls);
-        eomc::runtime::program::Vector<S> f(n_velocities), c(n_programs);
-        mass_forcing_and_programs_(t, x, M.data(), f.data(), A.data(), c.data(), D.data(), p);
-        return {M, A, D, f, c};
-    }
-
     // ẋ from M u̇ = f + D λ, Ā u̇ = c; λ and Q_c = D λ too where lambda and control are not null.
     template <class S>
     static void controlled_rates_(S t, const S* x, S* dxdt, S* lambda, S* control, const Parameters& p) {
-        const auto [M, A, D, f, c] = control_matrices_(t, x, p);
-        (void)D;
-        eomc::runtime::program::Vector<S> udot, multipliers, generalized;
+        std::array<S, ReducedLayout_::size> reduced;
+        std::array<S, n_velocities> udot, generalized;
+        std::array<S, n_programs> multipliers;
+        reduced_programs_(t, x, reduced.data(), p);
+        eomc::runtime::program::reduced_control_solve<n_velocities, n_programs>(reduced.data(), udot.data(),
+                                                                              multipliers.data(), generalized.data());
         explicit_rates_(t, x, dxdt, p);
-        eomc::runtime::program::control_solve<S>(M, f, A, D, c, udot, multipliers, generalized);
-        for (int k = 0; k < n_velocities; ++k) dxdt[velocity_offset + k] = udot[k];
+        for (int k = 0; k < n_velocities; ++k) dxdt[velocity_offset + k] = udot[std::size_t(k)];
         if (lambda)
-            for (int a = 0; a < n_program_controls; ++a) lambda[a] = multipliers[a];
+            for (int a = 0; a < n_programs; ++a) lambda[a] = multipliers[std::size_t(a)];
         if (control)
-            for (int k = 0; k < n_velocities; ++k) control[k] = generalized[k];
+            for (int k = 0; k < n_velocities; ++k) control[k] = generalized[std::size_t(k)];
     }
 
     // det(Ā M⁻¹ D): where it vanishes no control in these directions realises the programs.
     template <class S>
     static S control_determinant_(S t, const S* x, const Parameters& p) {
-        const auto [M, A, D, f, c] = control_matrices_(t, x, p);
-        (void)f;
-        (void)c;
-        return eomc::runtime::program::control_determinant<S>(M, A, D);
+        std::array<S, ReducedLayout_::size> reduced;
+        reduced_programs_(t, x, reduced.data(), p);
+        return eomc::runtime::program::reduced_control_determinant<n_velocities, n_programs>(reduced.data());
     }
 
     template <class S>

@@ -543,10 +543,70 @@ Rates emit_constrained_rates(const KernelIR& ir, const LocalNames& names) {
     return r;
 }
 
+// Whether a kernel's programs are reduced in straight-line code (codegen/solve_plan.hpp,
+// reduce_programs) rather than solved on Eigen.
+bool straight_line_programs(const KernelIR& ir) { return !ir.reduced_programs.outputs.empty(); }
+
+// The straight-line path of emit_controlled_rates: M's solve and Ā M⁻¹ in generated code, the m × m
+// G λ = h by runtime/program/reduced_control.hpp, with no Eigen.
+Rates emit_reduced_controlled_rates(const KernelIR& ir, const LocalNames& names) {
+    const std::size_t m = ir.program_names.size();
+    Rates r;
+    r.includes = "#include <eomc/runtime/constraint_projection.hpp>\n#include <eomc/runtime/program/reduced_control.hpp>\n";
+    r.rhs = "controlled_rates_(t, x, dxdt, static_cast<S*>(nullptr), static_cast<S*>(nullptr), p);";
+    r.jacobian = "// The rates go through the control solve: differenced, not derived.\n"
+                 "eomc::runtime::central_difference_jacobian(t, x, out, n_state,\n"
+                 "                                           [&p](S tau, const S* y, S* dydt) { rhs(tau, y, dydt, p); });";
+    std::vector<std::string> rates;
+    for (std::size_t i : ir.explicit_index) rates.push_back(fmt::format("dxdt[{}]", i));
+    r.private_part = fmt::format(
+        "\n private:\n"
+        "    using ReducedLayout_ = eomc::runtime::program::ReducedLayout<n_velocities, n_programs>;\n\n"
+        "    // z = M⁻¹f, Y = M⁻¹D, G = Ā Y, h = c − Ā z and D (row-major, ReducedLayout_): M's solve and\n"
+        "    // Ā M⁻¹ in straight-line code; G λ = h is left to a pivoted LU at run time.\n"
+        "    template <class S>\n"
+        "    static void reduced_programs_(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n\n"
+        "    // The rates given in closed form (everything outside the velocity block).\n"
+        "    template <class S>\n"
+        "    static void explicit_rates_(S t, const S* x, S* dxdt, const Parameters& p) {{\n{}\n    }}\n\n"
+        "    // ẋ from M u̇ = f + D λ, Ā u̇ = c; λ and Q_c = D λ too where lambda and control are not null.\n"
+        "    template <class S>\n"
+        "    static void controlled_rates_(S t, const S* x, S* dxdt, S* lambda, S* control, const Parameters& p) {{\n"
+        "        std::array<S, ReducedLayout_::size> reduced;\n"
+        "        std::array<S, n_velocities> udot, generalized;\n"
+        "        std::array<S, n_programs> multipliers;\n"
+        "        reduced_programs_(t, x, reduced.data(), p);\n"
+        "        eomc::runtime::program::reduced_control_solve<n_velocities, n_programs>(reduced.data(), udot.data(),\n"
+        "                                                                              multipliers.data(), generalized.data());\n"
+        "        explicit_rates_(t, x, dxdt, p);\n"
+        "        for (int k = 0; k < n_velocities; ++k) dxdt[velocity_offset + k] = udot[std::size_t(k)];\n"
+        "        if (lambda)\n"
+        "            for (int a = 0; a < n_programs; ++a) lambda[a] = multipliers[std::size_t(a)];\n"
+        "        if (control)\n"
+        "            for (int k = 0; k < n_velocities; ++k) control[k] = generalized[std::size_t(k)];\n"
+        "    }}\n\n"
+        "    // det(Ā M⁻¹ D): where it vanishes no control in these directions realises the programs.\n"
+        "    template <class S>\n"
+        "    static S control_determinant_(S t, const S* x, const Parameters& p) {{\n"
+        "        std::array<S, ReducedLayout_::size> reduced;\n"
+        "        reduced_programs_(t, x, reduced.data(), p);\n"
+        "        return eomc::runtime::program::reduced_control_determinant<n_velocities, n_programs>(reduced.data());\n"
+        "    }}\n\n"
+        "    template <class S>\n"
+        "    static void program_residuals_(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n",
+        indent(function_body(ir, names, ir.reduced_programs, indexed("out", ir.reduced_programs.outputs.size())), 8),
+        indent((rates.empty() ? "(void)dxdt;\n" : std::string()) + function_body(ir, names, ir.explicit_rates, rates), 8),
+        indent(function_body(ir, names, ir.program_residuals, indexed("out", 2 * m)), 8));
+    r.table = table_row("mass_matrix + forcing + programs, reduced", ir.reduced_programs) +
+              table_row("explicit rates", ir.explicit_rates) + table_row("program residuals", ir.program_residuals);
+    return r;
+}
+
 // rhs() and jacobian() of a kernel with programs (Mei ch. 3): u̇, λ and Q_c = D λ from M u̇ = f + D λ,
 // Ā u̇ = c (runtime/program/control.hpp; Udwadia–Kalaba for dependent ideal programs), ∂ẋ/∂x by
 // central differences of rhs.
 Rates emit_controlled_rates(const KernelIR& ir, const LocalNames& names) {
+    if (straight_line_programs(ir)) return emit_reduced_controlled_rates(ir, names);
     const std::size_t nu = ir.n_velocities, m = ir.program_names.size(), k = ir.program_columns.size();
     Rates r;
     r.includes = "#include <Eigen/Core>\n#include <eomc/runtime/constraints.hpp>\n#include <eomc/runtime/program/control.hpp>\n";
@@ -1162,6 +1222,10 @@ std::string emit_header(const KernelIR& ir, const EmitOptions& options) {
                                          "velocities first: the Schur complement), and so are the projection's corrections."
                                    : !ir.constraint_names.empty()
                                        ? "M u̇ − Wᵀλ = f, W u̇ = r is solved at run time (the Schur complement on Eigen's LDLT)."
+                                   : straight_line_programs(ir)
+                                       ? "M u̇ = f + D λ, Ā u̇ = c: z = M⁻¹f, Y = M⁻¹D, G = Ā Y and h = c − Ā z in straight-line "
+                                         "code, G λ = h by LU with partial pivoting at run time. " +
+                                             describe(ir.program_plan, nu)
                                    : !ir.program_names.empty()
                                        ? "M u̇ = f + D λ, Ā u̇ = c is solved at run time (runtime/program/control.hpp)."
                                    : ir.explicit_solution ? "u̇ is solved in closed form (n_velocities ≤ 2)."

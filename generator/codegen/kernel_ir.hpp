@@ -155,6 +155,11 @@ struct KernelIR {
     bool program_redundant = false;       // dependent ideal programs: Udwadia–Kalaba
     Block mass_forcing_and_programs;      // M (n_velocities², row-major), f, Ā (m × n_velocities), c (m), D (n_velocities × k)
     Block program_residuals;              // 2m: ω and ω̇, or φ and 0
+    // Where M's solve fits straight-line code and the programs are not redundant: z, Y = M⁻¹D,
+    // G = Ā Y, h = c − Ā z and D (codegen/solve_plan.hpp, reduce_programs), G λ = h left to the
+    // runtime's pivoted LU (runtime/program/reduced_control.hpp). Empty: the Eigen path.
+    SolvePlan program_plan;
+    Block reduced_programs;
 };
 
 // Common-subexpression elimination over all outputs of one function.

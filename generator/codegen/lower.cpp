@@ -208,6 +208,16 @@ void lower_programs(KernelIR& ir, const mechanics::FirstOrderForm& form, const s
         for (const auto& column : columns) all.push_back(column[i]);
     ir.mass_forcing_and_programs = eliminate_common_subexpressions(all, prefix);
     ir.program_residuals = eliminate_common_subexpressions(residuals, prefix);
+
+    // M⁻¹ and Ā in straight-line code where M's solve fits it; Udwadia–Kalaba (dependent ideal
+    // programs) and larger M keep the runtime's Eigen path (runtime/program/control.hpp).
+    if (ir.program_redundant || ir.program_columns.size() != ir.program_names.size()) return;
+    std::vector<ex> varying{ir.t};
+    for (const auto& s : ir.state) varying.push_back(s.symbol);
+    ir.program_plan = plan_solve(form.mass_matrix, varying);
+    if (ir.program_plan.method == SolvePlan::Method::eigen_llt || ir.program_plan.method == SolvePlan::Method::none) return;
+    ir.reduced_programs = reduce_programs(ir.mass_forcing_and_programs, ir.program_plan, nu, ir.program_names.size(),
+                                          ir.program_columns.size(), prefix);
 }
 
 }  // namespace

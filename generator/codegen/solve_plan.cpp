@@ -194,17 +194,22 @@ std::function<ex(std::size_t, std::size_t)> saddle_lower(const Block& system, st
     };
 }
 
-// The operation counts of a straight-line solve appended to a system: the solve's own temporaries
-// from `first` on and its outputs, then what is left after pruning.
+// A straight-line solve's operation counts: as derived (the system's, then `solve_ops` of the
+// solve's own), and what is left after pruning.
+void count_outputs(Block& out, std::size_t system_ops, std::size_t solve_ops) {
+    prune(out);
+    out.ops_before = system_ops + solve_ops;
+    out.ops_after = 0;
+    for (const auto& t : out.temporaries) out.ops_after += count_operations(t.value);
+    for (const ex& e : out.outputs) out.ops_after += count_operations(e);
+}
+
+// The same where the solve's own operations are its temporaries from `first` on and its outputs.
 void count_solve(Block& result, std::size_t system_ops, std::size_t first) {
     std::size_t solve_ops = 0;
     for (std::size_t k = first; k < result.temporaries.size(); ++k) solve_ops += count_operations(result.temporaries[k].value);
     for (const ex& e : result.outputs) solve_ops += count_operations(e);
-    prune(result);
-    result.ops_before = system_ops + solve_ops;
-    result.ops_after = 0;
-    for (const auto& t : result.temporaries) result.ops_after += count_operations(t.value);
-    for (const ex& e : result.outputs) result.ops_after += count_operations(e);
+    count_outputs(result, system_ops, solve_ops);
 }
 
 }  // namespace
@@ -252,11 +257,81 @@ SolvePlan plan_solve(const GiNaC::matrix& M, const std::vector<ex>& varying) {
     return plan;
 }
 
+namespace {
+
+// X = M⁻¹B in straight-line code appended to `code`, `plan` being plan_solve's for M: `m_at(i, j)`
+// gives M's entries, `rhs_at(i, c)` B's (n × columns). What the solve reads is named first, so that
+// its operations stay the system's; `solve_ops` gets the solve's own. `free_of_solve[i][c]` says
+// where M_kk cancelled from f_k (no more than f_k, which the system counts).
+std::vector<std::vector<ex>> solve_mass(StraightLine& code, const SolvePlan& plan, std::size_t n, std::size_t columns,
+                                        const std::function<ex(std::size_t, std::size_t)>& m_at,
+                                        const std::function<ex(std::size_t, std::size_t)>& rhs_at,
+                                        std::vector<std::vector<bool>>& free_of_solve, std::size_t& solve_ops) {
+    using Method = SolvePlan::Method;
+    std::vector<std::vector<ex>> x(n, std::vector<ex>(columns));
+    free_of_solve.assign(n, std::vector<bool>(columns, false));
+    solve_ops = 0;
+    if (plan.method == Method::identity) {
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t c = 0; c < columns; ++c) x[i][c] = rhs_at(i, c);
+        return x;
+    }
+    std::vector<std::vector<ex>> a(n, std::vector<ex>(n)), b(n, std::vector<ex>(columns));
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t c = 0; c < columns; ++c) b[i][c] = code.name(rhs_at(i, c));
+    for (const auto& block : plan.blocks)
+        for (std::size_t r = 0; r < block.size(); ++r)
+            for (std::size_t s = 0; s <= r; ++s) a[block[r]][block[s]] = code.name(m_at(block[r], block[s]));
+    const std::size_t first = code.size();
+    for (const auto& block : plan.blocks) {
+        if (block.size() == 1) {
+            const std::size_t i = block[0];
+            if (a[i][i].is_zero())
+                throw EmitError(fmt::format("the mass matrix is singular: its diagonal entry {0} is zero and row {0} "
+                                            "has no other entry",
+                                            i));
+            // M_kk's factors cancel from f_k's where both are products at the top (a particle's
+            // m from m·g, so a constant M costs nothing at run time); otherwise one division per
+            // entry, several right-hand sides sharing one reciprocal. GiNaC's product cancels
+            // m·g·m⁻¹ by itself; M_kk ≠ 0 is the plan's premise either way.
+            const ex inverse = GiNaC::pow(m_at(i, i), -1);
+            ex scale;
+            for (std::size_t c = 0; c < columns; ++c) {
+                const ex cancelled = rhs_at(i, c) * inverse;
+                if (count_operations(cancelled) <= count_operations(rhs_at(i, c))) {
+                    x[i][c] = cancelled;
+                    free_of_solve[i][c] = true;
+                    continue;
+                }
+                if (scale.is_zero()) scale = columns == 1 ? GiNaC::pow(a[i][i], -1) : code.reciprocal(a[i][i]);
+                x[i][c] = b[i][c] * scale;
+            }
+            continue;
+        }
+        std::vector<std::vector<ex>> ab(block.size(), std::vector<ex>(block.size())), bb;
+        for (std::size_t r = 0; r < block.size(); ++r) {
+            for (std::size_t s = 0; s <= r; ++s) ab[r][s] = a[block[r]][block[s]];
+            bb.push_back(b[block[r]]);
+        }
+        solve_dense(code, block, ab, bb, x);
+    }
+    for (std::size_t k = first; k < code.size(); ++k) solve_ops += count_operations(code.block().temporaries[k].value);
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t c = 0; c < columns; ++c)
+            if (!free_of_solve[i][c]) solve_ops += count_operations(x[i][c]);
+    return x;
+}
+
+void require_straight_line(const SolvePlan& plan, const char* who) {
+    if (plan.method == SolvePlan::Method::none || plan.method == SolvePlan::Method::eigen_llt)
+        throw std::logic_error(std::string(who) + ": no straight-line solve for this plan");
+}
+
+}  // namespace
+
 Block solve_block(const Block& system, const SolvePlan& plan, std::size_t n, std::size_t columns,
                   const std::string& prefix) {
-    using Method = SolvePlan::Method;
-    if (plan.method == Method::none || plan.method == Method::eigen_llt)
-        throw std::logic_error("solve_block: no straight-line solve for this plan");
+    require_straight_line(plan, "solve_block");
     if (system.outputs.size() != n * n + n * columns)
         throw std::logic_error("solve_block: the system has " + std::to_string(system.outputs.size()) +
                                " outputs for M and " + std::to_string(columns) + " right-hand sides of size " +
@@ -264,70 +339,63 @@ Block solve_block(const Block& system, const SolvePlan& plan, std::size_t n, std
     Block bare = system;
     bare.outputs.clear();
     StraightLine code(std::move(bare), prefix);
-    const auto m = [&](std::size_t i, std::size_t j) { return system.outputs[i * n + j]; };
-    const auto rhs = [&](std::size_t i, std::size_t c) { return system.outputs[n * n + i * columns + c]; };
-    std::vector<std::vector<ex>> x(n, std::vector<ex>(columns));
-    // Entries where M_kk cancelled from f_k: they cost no more than f_k, which the system counts.
-    std::vector<std::vector<bool>> free_of_solve(n, std::vector<bool>(columns, false));
-
+    std::vector<std::vector<bool>> free_of_solve;
     std::size_t solve_ops = 0;
-    if (plan.method == Method::identity) {
-        for (std::size_t i = 0; i < n; ++i)
-            for (std::size_t c = 0; c < columns; ++c) x[i][c] = rhs(i, c);
-    } else {
-        // What the solve reads becomes a temporary first, so that its operations stay M's and B's.
-        std::vector<std::vector<ex>> a(n, std::vector<ex>(n)), b(n, std::vector<ex>(columns));
-        for (std::size_t i = 0; i < n; ++i)
-            for (std::size_t c = 0; c < columns; ++c) b[i][c] = code.name(rhs(i, c));
-        for (const auto& block : plan.blocks)
-            for (std::size_t r = 0; r < block.size(); ++r)
-                for (std::size_t s = 0; s <= r; ++s) a[block[r]][block[s]] = code.name(m(block[r], block[s]));
-        const std::size_t first = code.size();
-        for (const auto& block : plan.blocks) {
-            if (block.size() == 1) {
-                const std::size_t i = block[0];
-                if (a[i][i].is_zero())
-                    throw EmitError(fmt::format("the mass matrix is singular: its diagonal entry {0} is zero and row {0} "
-                                                "has no other entry",
-                                                i));
-                // M_kk's factors cancel from f_k's where both are products at the top (a particle's
-                // m from m·g, so a constant M costs nothing at run time); otherwise one division per
-                // entry, several right-hand sides sharing one reciprocal. GiNaC's product cancels
-                // m·g·m⁻¹ by itself; M_kk ≠ 0 is the plan's premise either way.
-                const ex inverse = GiNaC::pow(m(i, i), -1);
-                ex scale;
-                for (std::size_t c = 0; c < columns; ++c) {
-                    const ex cancelled = rhs(i, c) * inverse;
-                    if (count_operations(cancelled) <= count_operations(rhs(i, c))) {
-                        x[i][c] = cancelled;
-                        free_of_solve[i][c] = true;
-                        continue;
-                    }
-                    if (scale.is_zero()) scale = columns == 1 ? GiNaC::pow(a[i][i], -1) : code.reciprocal(a[i][i]);
-                    x[i][c] = b[i][c] * scale;
-                }
-                continue;
-            }
-            std::vector<std::vector<ex>> ab(block.size(), std::vector<ex>(block.size())), bb;
-            for (std::size_t r = 0; r < block.size(); ++r) {
-                for (std::size_t s = 0; s <= r; ++s) ab[r][s] = a[block[r]][block[s]];
-                bb.push_back(b[block[r]]);
-            }
-            solve_dense(code, block, ab, bb, x);
-        }
-        for (std::size_t k = first; k < code.size(); ++k) solve_ops += count_operations(code.block().temporaries[k].value);
-    }
+    const auto x = solve_mass(
+        code, plan, n, columns, [&](std::size_t i, std::size_t j) { return system.outputs[i * n + j]; },
+        [&](std::size_t i, std::size_t c) { return system.outputs[n * n + i * columns + c]; }, free_of_solve, solve_ops);
     Block& out = code.block();
     for (std::size_t i = 0; i < n; ++i)
-        for (std::size_t c = 0; c < columns; ++c) {
-            out.outputs.push_back(x[i][c]);
-            if (plan.method != Method::identity && !free_of_solve[i][c]) solve_ops += count_operations(x[i][c]);
+        for (std::size_t c = 0; c < columns; ++c) out.outputs.push_back(x[i][c]);
+    count_outputs(out, system.ops_before, solve_ops);
+    return std::move(out);
+}
+
+Block reduce_programs(const Block& system, const SolvePlan& plan, std::size_t n, std::size_t m, std::size_t k,
+                      const std::string& prefix) {
+    require_straight_line(plan, "reduce_programs");
+    if (system.outputs.size() != n * n + n + m * n + m + n * k)
+        throw std::logic_error("reduce_programs: the system has " + std::to_string(system.outputs.size()) +
+                               " outputs for M, f, Ā, c and D");
+    const std::size_t f_at = n * n, a_at = f_at + n, c_at = a_at + m * n, d_at = c_at + m;
+    Block bare = system;
+    bare.outputs.clear();
+    StraightLine code(std::move(bare), prefix);
+    std::vector<std::vector<bool>> free_of_solve;
+    std::size_t solve_ops = 0;
+    // [z | Y] = M⁻¹ [f | D]: column 0 is f, columns 1 … k are D's.
+    const auto zy = solve_mass(
+        code, plan, n, 1 + k, [&](std::size_t i, std::size_t j) { return system.outputs[i * n + j]; },
+        [&](std::size_t i, std::size_t c) { return c == 0 ? system.outputs[f_at + i] : system.outputs[d_at + i * k + c - 1]; },
+        free_of_solve, solve_ops);
+    // G = Ā Y and h = c − Ā z read every entry of z, Y and Ā several times: each is named once.
+    const std::size_t first = code.size();
+    std::vector<std::vector<ex>> x(n, std::vector<ex>(1 + k));
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t c = 0; c <= k; ++c) x[i][c] = code.name(zy[i][c]);
+    std::vector<ex> A(m * n);
+    for (std::size_t e = 0; e < m * n; ++e) A[e] = code.name(system.outputs[a_at + e]);
+    Block& out = code.block();
+    for (std::size_t i = 0; i < n; ++i) out.outputs.push_back(x[i][0]);
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t b = 0; b < k; ++b) out.outputs.push_back(x[i][1 + b]);
+    std::vector<ex> products;
+    for (std::size_t a = 0; a < m; ++a)
+        for (std::size_t b = 0; b < k; ++b) {
+            ex g = 0;
+            for (std::size_t i = 0; i < n; ++i) g += A[a * n + i] * x[i][1 + b];
+            products.push_back(g);
         }
-    prune(out);
-    out.ops_before = system.ops_before + solve_ops;
-    out.ops_after = 0;
-    for (const auto& t : out.temporaries) out.ops_after += count_operations(t.value);
-    for (const ex& e : out.outputs) out.ops_after += count_operations(e);
+    for (std::size_t a = 0; a < m; ++a) {
+        ex h = system.outputs[c_at + a];
+        for (std::size_t i = 0; i < n; ++i) h -= A[a * n + i] * x[i][0];
+        products.push_back(h);
+    }
+    for (std::size_t e = first; e < out.temporaries.size(); ++e) solve_ops += count_operations(out.temporaries[e].value);
+    for (const ex& e : products) solve_ops += count_operations(e);
+    out.outputs.insert(out.outputs.end(), products.begin(), products.end());
+    for (std::size_t e = 0; e < n * k; ++e) out.outputs.push_back(system.outputs[d_at + e]);
+    count_outputs(out, system.ops_before, solve_ops);
     return std::move(out);
 }
 
@@ -367,8 +435,7 @@ SolvePlan plan_saddle_point(const GiNaC::matrix& M, const std::vector<ex>& W, st
 
 Block solve_saddle_point(const Block& system, const SolvePlan& plan, std::size_t n, std::size_t m,
                          const std::string& prefix) {
-    if (plan.method == SolvePlan::Method::none || plan.method == SolvePlan::Method::eigen_llt)
-        throw std::logic_error("solve_saddle_point: no straight-line solve for this plan");
+    require_straight_line(plan, "solve_saddle_point");
     if (system.outputs.size() != n * n + n + m * n + m)
         throw std::logic_error("solve_saddle_point: the system has " + std::to_string(system.outputs.size()) +
                                " outputs for M, f, W and r");
@@ -400,8 +467,7 @@ Block solve_saddle_point(const Block& system, const SolvePlan& plan, std::size_t
 
 Block saddle_point_correction(const Block& system, const SolvePlan& plan, std::size_t n, std::size_t m,
                               const std::string& prefix) {
-    if (plan.method == SolvePlan::Method::none || plan.method == SolvePlan::Method::eigen_llt)
-        throw std::logic_error("saddle_point_correction: no straight-line solve for this plan");
+    require_straight_line(plan, "saddle_point_correction");
     if (system.outputs.size() != n * n + m * n)
         throw std::logic_error("saddle_point_correction: the system has " + std::to_string(system.outputs.size()) +
                                " outputs for M and W");

@@ -36,6 +36,17 @@ SolvePlan plan_solve(const GiNaC::matrix& M, const std::vector<GiNaC::ex>& varyi
 Block solve_block(const Block& system, const SolvePlan& plan, std::size_t n, std::size_t columns,
                   const std::string& prefix);
 
+// Programs beside M u̇ = f (Mei ch. 3): M u̇ = f + D λ, Ā u̇ = c, Ā m × n, D n × k. With z = M⁻¹f and
+// Y = M⁻¹D, Ā u̇ = c becomes G λ = h with G = Ā Y (m × k) and h = c − Ā z, and u̇ = z + Y λ. `system`
+// computes M (n²), f (n), Ā (m × n), c (m) and D (n × k, row-major), the layout of
+// mass_forcing_and_programs; `plan` is plan_solve's for M. The result computes z (n), Y (n × k),
+// G (m × k), h (m) and D (n × k), all row-major, in straight-line code. G is in general neither
+// symmetric nor definite (D ≠ Āᵀ for a non-ideal control), so G λ = h is left to the run time's
+// pivoted solve (runtime/program/reduced_control.hpp), which also gives det G, the realisability
+// indicator.
+Block reduce_programs(const Block& system, const SolvePlan& plan, std::size_t n, std::size_t m, std::size_t k,
+                      const std::string& prefix);
+
 // Constraint rows beside M u̇ = f: M u̇ − Wᵀλ = f, W u̇ = r is the saddle-point system
 //     [M  Wᵀ] [ u̇ ]   [f]
 //     [W  0 ] [−λ ] = [r]

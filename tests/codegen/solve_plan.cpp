@@ -462,3 +462,85 @@ BOOST_AUTO_TEST_CASE(matrices_it_cannot_solve_are_refused_at_generation_time) {
     const auto plan = codegen::plan_solve(GiNaC::matrix{{2, a * (q + 1)}, {a * q + a, 2}}, {q});
     BOOST_TEST(int(plan.method) == int(Method::unrolled_ldlt));
 }
+
+namespace {
+
+// The reduction of programs M u̇ = f + D λ, Ā u̇ = c (reduce_programs) over symbols for M (where the
+// pattern has entries), f, Ā, c and D, bound to exact integers: z, Y, G, h and D against GiNaC's
+// exact M⁻¹, and the λ and u̇ they give against the exact solve of [[M, −D], [Ā, 0]] (u̇, λ) = (f, c).
+void check_programs_exact(const GiNaC::matrix& M_values, std::size_t m, std::mt19937& gen) {
+    const std::size_t n = M_values.rows(), k = m;
+    const SymbolicSystem s = symbolic_system(M_values, 1);  // M then f = b_i_0
+    codegen::Block system = s.block;
+    std::vector<GiNaC::symbol> a_sym, c_sym, d_sym;
+    for (std::size_t e = 0; e < m * n; ++e) system.outputs.push_back(a_sym.emplace_back("a_" + std::to_string(e)));
+    for (std::size_t e = 0; e < m; ++e) system.outputs.push_back(c_sym.emplace_back("c_" + std::to_string(e)));
+    for (std::size_t e = 0; e < n * k; ++e) system.outputs.push_back(d_sym.emplace_back("d_" + std::to_string(e)));
+    const codegen::SolvePlan plan = varying_plan(s);
+    const codegen::Block reduced = codegen::reduce_programs(system, plan, n, m, k, "w");
+    BOOST_TEST_REQUIRE(reduced.outputs.size() == n + n * k + m * k + m + n * k);
+
+    // Ā and D random with |det(Ā M⁻¹ D)| > 0 (redrawn otherwise), f and c random.
+    std::uniform_int_distribution<int> entry(-5, 5);
+    GiNaC::matrix A{unsigned(m), unsigned(n)}, D{unsigned(n), unsigned(k)}, f{unsigned(n), 1}, c{unsigned(m), 1};
+    const GiNaC::matrix Minv = M_values.inverse();
+    do {
+        for (std::size_t i = 0; i < m; ++i)
+            for (std::size_t j = 0; j < n; ++j) A(unsigned(i), unsigned(j)) = entry(gen);
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t j = 0; j < k; ++j) D(unsigned(i), unsigned(j)) = entry(gen);
+    } while (A.mul(Minv).mul(D).determinant().is_zero());
+    GiNaC::exmap values;
+    for (std::size_t i = 0; i < n; ++i) {
+        for (std::size_t j = 0; j <= i; ++j) values[s.m[i][j]] = M_values(unsigned(i), unsigned(j));
+        values[s.b[i][0]] = f(unsigned(i), 0) = entry(gen);
+    }
+    for (std::size_t i = 0; i < m; ++i) {
+        for (std::size_t j = 0; j < n; ++j) values[a_sym[i * n + j]] = A(unsigned(i), unsigned(j));
+        values[c_sym[i]] = c(unsigned(i), 0) = entry(gen);
+    }
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = 0; j < k; ++j) values[d_sym[i * k + j]] = D(unsigned(i), unsigned(j));
+
+    const GiNaC::matrix z = Minv.mul(f), Y = Minv.mul(D), G = A.mul(Y), h = c.sub(A.mul(z));
+    const auto got = evaluate(reduced, values);
+    std::size_t at = 0;
+    const auto expect = [&](const GiNaC::matrix& X, const char* what) {
+        for (unsigned i = 0; i < X.rows(); ++i)
+            for (unsigned j = 0; j < X.cols(); ++j, ++at)
+                BOOST_TEST((got[at] - X(i, j)).is_zero(), what << "(" << i << ", " << j << ") = " << got[at] << ", exactly "
+                                                               << X(i, j));
+    };
+    expect(z, "z");
+    expect(Y, "Y");
+    expect(G, "G");
+    expect(h, "h");
+    expect(D, "D");
+
+    // λ = G⁻¹h and u̇ = z + Y λ solve the bordered system.
+    GiNaC::matrix K{unsigned(n + m), unsigned(n + k)}, rhs{unsigned(n + m), 1};
+    for (std::size_t i = 0; i < n; ++i) {
+        for (std::size_t j = 0; j < n; ++j) K(unsigned(i), unsigned(j)) = M_values(unsigned(i), unsigned(j));
+        for (std::size_t j = 0; j < k; ++j) K(unsigned(i), unsigned(n + j)) = -D(unsigned(i), unsigned(j));
+        rhs(unsigned(i), 0) = f(unsigned(i), 0);
+    }
+    for (std::size_t i = 0; i < m; ++i) {
+        for (std::size_t j = 0; j < n; ++j) K(unsigned(n + i), unsigned(j)) = A(unsigned(i), unsigned(j));
+        rhs(unsigned(n + i), 0) = c(unsigned(i), 0);
+    }
+    const GiNaC::matrix exact = K.inverse().mul(rhs), lambda = G.inverse().mul(h), udot = z.add(Y.mul(lambda));
+    for (std::size_t i = 0; i < n; ++i) BOOST_TEST((udot(unsigned(i), 0) - exact(unsigned(i), 0)).is_zero(), "u̇_" << i);
+    for (std::size_t a = 0; a < m; ++a)
+        BOOST_TEST((lambda(unsigned(a), 0) - exact(unsigned(n + a), 0)).is_zero(), "λ_" << a);
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(the_reduction_of_programs_is_exact_in_exact_arithmetic) {
+    std::mt19937 gen(3261126);
+    for (std::size_t n = 1; n <= 6; ++n)
+        for (std::size_t m = 1; m <= std::min<std::size_t>(n, 3); ++m) check_programs_exact(random_spd(n, one_block(n), gen), m, gen);
+    // Diagonal and block-diagonal M take their own paths through the same reduction.
+    check_programs_exact(random_spd(4, {{0}, {1}, {2}, {3}}, gen), 2, gen);
+    check_programs_exact(random_spd(5, {{0, 2}, {1}, {3, 4}}, gen), 3, gen);
+}
