@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstdint>
@@ -39,6 +40,31 @@ namespace {
 // code is compiled (DESIGN, habit 11).
 std::vector<std::string> common_flags() {
     return {"-std=c++20", "-O2", "-ffp-contract=off", "-I", EOMC_KERNEL_RUNTIME_INCLUDE, "-I", EOMC_KERNEL_EIGEN_INCLUDE};
+}
+
+// The SHA-256 of every file under the runtime's include directory (relative path and bytes, in
+// path order), once per process: a kernel's object depends on those headers, and a runtime
+// changed without a version bump (a fix while developing) must not reuse the objects built
+// against the old one. Unreadable files are hashed as such: the key still changes with them.
+const std::string& runtime_headers_digest() {
+    static const std::string digest = [] {
+        std::vector<fs::path> files;
+        std::error_code ec;
+        const fs::path root(EOMC_KERNEL_RUNTIME_INCLUDE);
+        for (fs::recursive_directory_iterator it(root, ec), end; !ec && it != end; it.increment(ec))
+            if (it->is_regular_file(ec)) files.push_back(it->path());
+        std::sort(files.begin(), files.end());
+        std::string all = ec ? "unlisted: " + ec.message() + '\0' : std::string();
+        for (const auto& file : files) {
+            all += file.lexically_relative(root).generic_string() + '\0';
+            std::ifstream in(file, std::ios::binary);
+            std::ostringstream bytes;
+            bytes << in.rdbuf();
+            all += (in ? sha256_hex(bytes.str()) : std::string("unreadable")) + '\0';
+        }
+        return sha256_hex(all);
+    }();
+    return digest;
 }
 
 void write_file(const fs::path& path, const std::string& text) {
@@ -237,7 +263,7 @@ std::string describe_status(int status) {
 std::string cache_key(const CompileRequest& request) {
     // Everything that determines the bytes of the output, each part NUL-terminated so that
     // moving text from one part to the next changes the key.
-    std::string key = "eomc build cache 3";
+    std::string key = "eomc build cache 4";
     key += '\0';
     key += compiler();
     key += '\0';
@@ -246,7 +272,7 @@ std::string cache_key(const CompileRequest& request) {
     key += "libraries";
     key += '\0';
     for (const auto& l : request.libraries) key += l + '\0';
-    key += "runtime " + std::to_string(EOMC_RUNTIME_VERSION) + '\0';
+    key += "runtime " + std::to_string(EOMC_RUNTIME_VERSION) + ' ' + runtime_headers_digest() + '\0';
     for (const auto& file : request.files) {
         key += file.name + '\0';
         key += file.text + '\0';
