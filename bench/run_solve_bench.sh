@@ -6,7 +6,8 @@
 # paired), and the g++ -O2 CPU time of a translation unit that includes the kernel and calls rhs
 # (what a kernel costs `eomc simulate` to compile, less the adapter), before and after.
 #
-# usage: bench/run_solve_bench.sh BASE [OUT_DIR]      (run from the repository root)
+# usage: [ONLY=kernel] bench/run_solve_bench.sh BASE [OUT_DIR]      (run from the repository root)
+# A kernel not at BASE is skipped (stderr says so); ONLY runs one kernel.
 # Prints a markdown table; the headers and binaries stay in OUT_DIR (default /tmp/eomc_solve_bench).
 set -eu
 base=$1
@@ -31,6 +32,11 @@ for entry in leo_j2:LeoJ2:identity leo_drag:LeoDrag:identity damped_particle:Dam
     [ "$path" = programs ] && says="G = Ā Y and h = c − Ā z in straight-line code"
     # The banner as one line (the emitter wraps it).
     sed -n '/^#pragma once/q; s|^// *||p' "generated/$name.hpp" | tr '\n' ' ' | grep -q "$says" || { echo "generated/$name.hpp: the banner does not say $says" >&2; exit 1; }
+    if [ -n "${ONLY:-}" ] && [ "$name" != "$ONLY" ]; then continue; fi
+    if ! git cat-file -e "$base:generated/$name.hpp" 2>/dev/null; then
+        echo "generated/$name.hpp is not at $base: skipped" >&2
+        continue
+    fi
     git show "$base:generated/$name.hpp" > "$out/before/$name.hpp"
     cp "generated/$name.hpp" "$out/after/$name.hpp"
     g++ $flags -I"$out" -DBEFORE_HEADER="\"before/$name.hpp\"" -DAFTER_HEADER="\"after/$name.hpp\"" -DMODEL="$struct" \

@@ -147,7 +147,8 @@ struct KernelIR {
     Block contact_time_rates;
 
     // Programs realised by controls (mechanics/control/rows.hpp; empty: nothing is emitted and the
-    // kernel keeps its bytes): M u̇ = f + D λ, Ā u̇ = c, solved at run time (runtime/program/control.hpp).
+    // kernel keeps its bytes): M u̇ = f + D λ, Ā u̇ = c, reduced in straight-line code (reduced_programs
+    // below) or solved at run time on Eigen (runtime/program/control.hpp).
     // output_names then has program_<name> …, lambda_<column> …, Qc_<coordinate> … after the user's.
     std::vector<std::string> program_names;
     std::vector<double> program_laws;     // 4 per program: configuration (1 or 0), α, β, κ

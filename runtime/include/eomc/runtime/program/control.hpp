@@ -10,6 +10,9 @@
 // 1996, ch. 2): the minimiser of Gauss's (u̇ − z)ᵀ M (u̇ − z) subject to Ā u̇ = c, here through
 // M = L Lᵀ, u̇ = z + L⁻ᵀ (Ā L⁻ᵀ)⁺ (c − Ā z), which is the book's M^{−1/2} form with L in place of
 // the symmetric root (the minimiser does not depend on the factor).
+//
+// Kernels whose M fits the generator's straight-line solve reduce the programs themselves and use
+// reduced_control.hpp instead; this Eigen path serves dependent ideal programs and larger M.
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
