@@ -10,7 +10,7 @@
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
 //   forcing                           5 ->       5 (0 temporaries)
-//   mass_matrix + forcing + programs, reduced      513 ->     201 (23 temporaries)
+//   programs, reduced               492 ->     201 (23 temporaries)
 //   explicit rates                   32 ->      32 (0 temporaries)
 //   program residuals               126 ->      81 (3 temporaries)
 //   invariants                        0 ->       0 (0 temporaries)

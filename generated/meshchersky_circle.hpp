@@ -9,7 +9,7 @@
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
 //   forcing                           1 ->       1 (0 temporaries)
-//   mass_matrix + forcing + programs, reduced       82 ->      49 (10 temporaries)
+//   programs, reduced                78 ->      49 (10 temporaries)
 //   explicit rates                    0 ->       0 (0 temporaries)
 //   program residuals                18 ->      18 (0 temporaries)
 //   invariants                        0 ->       0 (0 temporaries)

@@ -10,7 +10,7 @@
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
 //   forcing                           5 ->       5 (0 temporaries)
-//   mass_matrix + forcing + programs, reduced       15 ->       8 (4 temporaries)
+//   programs, reduced                12 ->       8 (4 temporaries)
 //   explicit rates                    9 ->       9 (0 temporaries)
 //   program residuals                 0 ->       0 (0 temporaries)
 //   invariants                        0 ->       0 (0 temporaries)

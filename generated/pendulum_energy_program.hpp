@@ -9,7 +9,7 @@
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
 //   forcing                           2 ->       2 (0 temporaries)
-//   mass_matrix + forcing + programs, reduced       24 ->      13 (2 temporaries)
+//   programs, reduced                23 ->      13 (2 temporaries)
 //   explicit rates                    0 ->       0 (0 temporaries)
 //   program residuals                 6 ->       6 (0 temporaries)
 //   invariants                        0 ->       0 (0 temporaries)

@@ -9,7 +9,7 @@
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                      24 ->      16 (4 temporaries)
 //   forcing                          14 ->      13 (1 temporaries)
-//   mass_matrix + forcing + programs, reduced       87 ->      59 (20 temporaries)
+//   programs, reduced                81 ->      59 (20 temporaries)
 //   explicit rates                    0 ->       0 (0 temporaries)
 //   program residuals                 4 ->       4 (0 temporaries)
 //   invariants                        0 ->       0 (0 temporaries)

@@ -597,7 +597,7 @@ Rates emit_reduced_controlled_rates(const KernelIR& ir, const LocalNames& names)
         indent(function_body(ir, names, ir.reduced_programs, indexed("out", ir.reduced_programs.outputs.size())), 8),
         indent((rates.empty() ? "(void)dxdt;\n" : std::string()) + function_body(ir, names, ir.explicit_rates, rates), 8),
         indent(function_body(ir, names, ir.program_residuals, indexed("out", 2 * m)), 8));
-    r.table = table_row("mass_matrix + forcing + programs, reduced", ir.reduced_programs) +
+    r.table = table_row("programs, reduced", ir.reduced_programs) +
               table_row("explicit rates", ir.explicit_rates) + table_row("program residuals", ir.program_residuals);
     return r;
 }

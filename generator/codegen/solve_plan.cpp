@@ -368,8 +368,8 @@ Block reduce_programs(const Block& system, const SolvePlan& plan, std::size_t n,
         code, plan, n, 1 + k, [&](std::size_t i, std::size_t j) { return system.outputs[i * n + j]; },
         [&](std::size_t i, std::size_t c) { return c == 0 ? system.outputs[f_at + i] : system.outputs[d_at + i * k + c - 1]; },
         free_of_solve, solve_ops);
-    // G = Ā Y and h = c − Ā z read every entry of z, Y and Ā several times: each is named once.
-    const std::size_t first = code.size();
+    // G = Ā Y and h = c − Ā z read every entry of z, Y and Ā several times: each is named once (their
+    // operations are counted already, the solve's or the system's).
     std::vector<std::vector<ex>> x(n, std::vector<ex>(1 + k));
     for (std::size_t i = 0; i < n; ++i)
         for (std::size_t c = 0; c <= k; ++c) x[i][c] = code.name(zy[i][c]);
@@ -391,7 +391,6 @@ Block reduce_programs(const Block& system, const SolvePlan& plan, std::size_t n,
         for (std::size_t i = 0; i < n; ++i) h -= A[a * n + i] * x[i][0];
         products.push_back(h);
     }
-    for (std::size_t e = first; e < out.temporaries.size(); ++e) solve_ops += count_operations(out.temporaries[e].value);
     for (const ex& e : products) solve_ops += count_operations(e);
     out.outputs.insert(out.outputs.end(), products.begin(), products.end());
     for (std::size_t e = 0; e < n * k; ++e) out.outputs.push_back(system.outputs[d_at + e]);
