@@ -1,5 +1,6 @@
 #include "codegen/cpp_emitter.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -311,6 +312,67 @@ std::vector<std::string> indexed(const std::string& array, std::size_t count, st
     std::vector<std::string> out;
     for (std::size_t k = 0; k < count; ++k) out.push_back(fmt::format("{}[{}]", array, k + offset));
     return out;
+}
+
+// A straight-line function past this many operations is emitted in parts, each with only the
+// temporaries its outputs need. g++'s register allocation grows faster than linearly with one
+// function's size: the 12-link 3-D chain's Jacobian terms (30k operations, 1394 temporaries) took
+// 19 s CPU at -O2 as one function. The parts recompute the temporaries they share; the Jacobian,
+// the one place this applies, is called once per implicit step (bench/RESULTS.md).
+constexpr std::size_t operations_per_part = 4000;
+
+// The outputs [first, last) of `block` with the temporaries they reach.
+Block part_of(const Block& block, std::size_t first, std::size_t last) {
+    Block part;
+    part.outputs.assign(block.outputs.begin() + std::ptrdiff_t(first), block.outputs.begin() + std::ptrdiff_t(last));
+    std::set<ex, GiNaC::ex_is_less> needed;
+    for (const ex& o : part.outputs) collect_symbols(o, needed);
+    for (auto it = block.temporaries.rbegin(); it != block.temporaries.rend(); ++it) {
+        if (!needed.count(it->symbol)) continue;
+        collect_symbols(it->value, needed);
+        part.temporaries.push_back(*it);
+    }
+    std::reverse(part.temporaries.begin(), part.temporaries.end());
+    return part;
+}
+
+// A private function's body, and the parts it calls when it is too large for one (above). The
+// parts are `name` + "part<k>_" with the same `parameters`, called with `arguments`; `arrays`
+// are the output arrays among the parameters (a part writing none of one voids it).
+struct SplitBody {
+    std::string body;   // the function's body
+    std::string parts;  // the parts' definitions, for the private section ("" when not split)
+};
+
+SplitBody split_function(const KernelIR& ir, const LocalNames& names, const Block& block,
+                         const std::vector<std::string>& targets, Inputs inputs, const std::string& name,
+                         const std::string& parameters, const std::string& arguments,
+                         const std::vector<std::string>& arrays) {
+    const std::size_t count = (block.ops_after + operations_per_part - 1) / operations_per_part;
+    if (count < 2 || block.outputs.size() < 2) return {function_body(ir, names, block, targets, inputs), ""};
+    SplitBody split;
+    const std::size_t n = block.outputs.size(), parts = std::min(count, n);
+    for (std::size_t k = 0; k < parts; ++k) {
+        const std::size_t first = k * n / parts, last = (k + 1) * n / parts;
+        std::string unused;
+        for (const auto& array : arrays)
+            if (std::none_of(targets.begin() + std::ptrdiff_t(first), targets.begin() + std::ptrdiff_t(last),
+                             [&](const std::string& target) { return target.rfind(array + "[", 0) == 0; }))
+                unused += "(void)" + array + ";\n";
+        const std::vector<std::string> part_targets(targets.begin() + std::ptrdiff_t(first),
+                                                    targets.begin() + std::ptrdiff_t(last));
+        split.parts += fmt::format(
+            "\n    // Outputs {} to {} of {}.\n"
+            "    template <class S>\n"
+            "    static void {}part{}_({}) {{\n{}\n    }}\n",
+            first, last - 1, name, name, k, parameters,
+            indent(unused + function_body(ir, names, part_of(block, first, last), part_targets, inputs), 8));
+        split.body += fmt::format("{}part{}_({});\n", name, k, arguments);
+    }
+    split.body = fmt::format("// {} operations after CSE: in {} parts (operations_per_part).\n", block.ops_after, parts) +
+                 split.body;
+    split.body.pop_back();
+    return split;
 }
 
 // Names as string literals: identifiers only, so that nothing needs escaping.
@@ -697,6 +759,9 @@ Rates emit_straight_line_rates(const KernelIR& ir, const LocalNames& names) {
               table_row("M⁻¹ (jacobian terms)", ir.solved_jacobian_terms) +
               table_row("explicit rates jacobian", ir.explicit_rates_jacobian);
     const auto [rates, rate_rows] = explicit_rate_targets(ir);
+    const SplitBody velocity_jacobian =
+        split_function(ir, names, ir.solved_jacobian_terms, indexed("out", nu * N), {true}, "velocity_jacobian_",
+                       "S t, const S* x, const S* acc, S* out, const Parameters& p", "t, x, acc, out, p", {"out"});
     r.private_part = fmt::format(
         "\n private:\n"
         "    // u̇ = M⁻¹f to out[0 .. n_velocities): M and f together (they share most of their\n"
@@ -708,13 +773,13 @@ Rates emit_straight_line_rates(const KernelIR& ir, const LocalNames& names) {
         "    static void explicit_rates_(S t, const S* x, S* dxdt, const Parameters& p) {{\n{}\n    }}\n\n"
         "    // M⁻¹G, G = ∂f/∂x − (∂M/∂x) u̇ with u̇ = acc, row-major n_velocities × n_state.\n"
         "    template <class S>\n"
-        "    static void velocity_jacobian_(S t, const S* x, const S* acc, S* out, const Parameters& p) {{\n{}\n    }}\n\n"
+        "    static void velocity_jacobian_(S t, const S* x, const S* acc, S* out, const Parameters& p) {{\n{}\n    }}\n{}\n"
         "    // The rows of ∂ẋ/∂x of the closed-form rates.\n"
         "    template <class S>\n"
         "    static void explicit_rates_jacobian_(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n",
         indent(function_body(ir, names, ir.solved_rates, indexed("out", nu)), 8),
         indent(function_body(ir, names, ir.explicit_rates, rates), 8),
-        indent(function_body(ir, names, ir.solved_jacobian_terms, indexed("out", nu * N), {true}), 8),
+        indent(velocity_jacobian.body, 8), velocity_jacobian.parts,
         indent(function_body(ir, names, ir.explicit_rates_jacobian, rate_rows), 8));
     return r;
 }
@@ -792,15 +857,17 @@ Rates emit_rates(const KernelIR& ir, const LocalNames& names) {
         indent(function_body(ir, names, ir.mass_and_forcing, mf), 8),
         indent(function_body(ir, names, ir.explicit_rates, rates), 8));
     if (!ir.has_jacobian) return r;
+    const SplitBody terms = split_function(ir, names, ir.mass_and_jacobian_terms, mg, {true}, "mass_matrix_and_jacobian_terms_",
+                                           "S t, const S* x, const S* acc, S* out_M, S* out_G, const Parameters& p",
+                                           "t, x, acc, out_M, out_G, p", {"out_M", "out_G"});
     r.private_part += fmt::format(
         "\n    // M and G = ∂f/∂x − (∂M/∂x) u̇, with u̇ = acc, both row-major.\n"
         "    template <class S>\n"
-        "    static void mass_matrix_and_jacobian_terms_(S t, const S* x, const S* acc, S* out_M, S* out_G, const Parameters& p) {{\n{}\n    }}\n\n"
+        "    static void mass_matrix_and_jacobian_terms_(S t, const S* x, const S* acc, S* out_M, S* out_G, const Parameters& p) {{\n{}\n    }}\n{}\n"
         "    // The rows of ∂ẋ/∂x of the closed-form rates.\n"
         "    template <class S>\n"
         "    static void explicit_rates_jacobian_(S t, const S* x, S* out, const Parameters& p) {{\n{}\n    }}\n",
-        indent(function_body(ir, names, ir.mass_and_jacobian_terms, mg, {true}), 8),
-        indent(function_body(ir, names, ir.explicit_rates_jacobian, rate_rows), 8));
+        indent(terms.body, 8), terms.parts, indent(function_body(ir, names, ir.explicit_rates_jacobian, rate_rows), 8));
     return r;
 }
 

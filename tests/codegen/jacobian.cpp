@@ -1,7 +1,7 @@
-// The generated `jacobian` of every bundled kernel (n ≤ 2: q̈ solved in closed form) and of a
-// 4-link pendulum generated at build time (n > 2: M q̈ = f solved by the unrolled LDLᵀ of
-// codegen/solve_plan.hpp, J from G = ∂f/∂x − (∂M/∂x)·q̈) against central finite differences of
-// the generated `rhs`, at random states.
+// The generated `jacobian` of every bundled kernel (n ≤ 2: q̈ solved in closed form) and of
+// pendulums generated at build time (n > 2: M q̈ = f solved by the unrolled LDLᵀ of
+// codegen/solve_plan.hpp up to 16 links, by Eigen's LLT past them, J from G = ∂f/∂x − (∂M/∂x)·q̈)
+// against central finite differences of the generated `rhs`, at random states.
 //
 // Bound. Everything is evaluated in long double (the kernels are templated on the scalar), so
 // round-off is ~1e-19 relative and the truncation error of the central difference dominates:
@@ -19,14 +19,19 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <fstream>
 #include <limits>
 #include <random>
+#include <sstream>
+#include <string>
 
 #include "bead_on_hoop.hpp"
 #include "disk_tube_ball.hpp"
 #include "double_pendulum.hpp"
 #include "foucault_pendulum.hpp"
-#include "four_link_pendulum.hpp"  // generated at build time (eomc_add_model)
+#include "four_link_pendulum.hpp"  // generated at build time (eomc_add_model), as the next two
+#include "seventeen_link_pendulum.hpp"
+#include "ten_link_pendulum.hpp"
 #include "kepler_orbit.hpp"
 
 namespace models = eomc::models;
@@ -108,3 +113,23 @@ BOOST_AUTO_TEST_CASE(double_pendulum) { check_model<models::DoublePendulum>(50);
 BOOST_AUTO_TEST_CASE(foucault_pendulum) { check_model<models::FoucaultPendulum>(50); }
 BOOST_AUTO_TEST_CASE(kepler_orbit) { check_model<models::KeplerOrbit>(50); }
 BOOST_AUTO_TEST_CASE(four_link_pendulum) { check_model<models::FourLinkPendulum>(50); }
+
+// Jacobians past operations_per_part (codegen/cpp_emitter.cpp) come in parts, each with the
+// temporaries its outputs need: the unrolled LDLᵀ path (10 links) and Eigen's LLT path (17).
+std::string generated_header(const std::string& scene) {
+    std::ifstream in(std::string(EOMC_MODELS_DIR) + "/" + scene + ".hpp");
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+BOOST_AUTO_TEST_CASE(ten_link_pendulum_in_parts) {
+    BOOST_TEST(generated_header("ten_link_pendulum").find("static void velocity_jacobian_part1_(") != std::string::npos);
+    check_model<models::TenLinkPendulum>(5);
+}
+
+BOOST_AUTO_TEST_CASE(seventeen_link_pendulum_in_parts) {
+    BOOST_TEST(generated_header("seventeen_link_pendulum").find("static void mass_matrix_and_jacobian_terms_part2_(") !=
+               std::string::npos);
+    check_model<models::SeventeenLinkPendulum>(3);
+}
