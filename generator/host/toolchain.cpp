@@ -42,16 +42,17 @@ std::vector<std::string> common_flags() {
     return {"-std=c++20", "-O2", "-ffp-contract=off", "-I", EOMC_KERNEL_RUNTIME_INCLUDE, "-I", EOMC_KERNEL_EIGEN_INCLUDE};
 }
 
-// The SHA-256 of every file under the runtime's include directory (relative path and bytes, in
-// path order), once per process: a kernel's object depends on those headers, and a runtime
-// changed without a version bump (a fix while developing) must not reuse the objects built
-// against the old one. Unreadable files are hashed as such: the key still changes with them.
+// The SHA-256 of every file under eomc/ in the runtime's include directory (relative path and
+// bytes, in path order; eomc/ alone, should that directory ever be a shared one), once per
+// process: a kernel's object depends on those headers, and a runtime changed without a version
+// bump (a fix while developing) must not reuse the objects built against the old one. Unreadable
+// files are hashed as such: the key still changes with them.
 const std::string& runtime_headers_digest() {
     static const std::string digest = [] {
         std::vector<fs::path> files;
         std::error_code ec;
         const fs::path root(EOMC_KERNEL_RUNTIME_INCLUDE);
-        for (fs::recursive_directory_iterator it(root, ec), end; !ec && it != end; it.increment(ec))
+        for (fs::recursive_directory_iterator it(root / "eomc", ec), end; !ec && it != end; it.increment(ec))
             if (it->is_regular_file(ec)) files.push_back(it->path());
         std::sort(files.begin(), files.end());
         std::string all = ec ? "unlisted: " + ec.message() + '\0' : std::string();
