@@ -124,13 +124,19 @@ BOOST_AUTO_TEST_CASE(random_systems_meet_the_backward_error_and_determinant_boun
     BOOST_TEST(exchanged > total / 2);
 }
 
-BOOST_AUTO_TEST_CASE(a_singular_g_has_determinant_zero_and_non_finite_multipliers) {
+BOOST_AUTO_TEST_CASE(a_singular_g_has_determinant_zero_and_non_finite_multipliers_a_tiny_one_does_not) {
     // Rows (1, 2) and (2, 4): after one exchange the second pivot is 2 − ½·4 = 0 exactly.
     std::array<double, 4> G{1, 2, 2, 4};
     std::array<double, 2> h{1, 1};
     BOOST_TEST(program::lu_solve_in_place<2>(G, h) == 0.0);
     BOOST_TEST(!std::isfinite(h[0]));
     BOOST_TEST(!std::isfinite(h[1]));
+    // Regular but tiny: det underflows to 0, the solve does not.
+    std::array<double, 4> T{1e-200, 0, 0, 1e-200};
+    std::array<double, 2> t{1e-200, 2e-200};
+    BOOST_TEST(program::lu_solve_in_place<2>(T, t) == 0.0);
+    BOOST_TEST(t[0] == 1.0);
+    BOOST_TEST(t[1] == 2.0);
     // A zero column: no pivot at the first step.
     std::array<double, 4> Z{0, 1, 0, 1};
     std::array<int, 2> swaps{};

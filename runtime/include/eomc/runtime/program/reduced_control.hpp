@@ -54,10 +54,12 @@ template <int m, class S>
 S lu_solve_in_place(std::array<S, std::size_t(m * m)>& G, std::array<S, std::size_t(m)>& h) {
   std::array<int, std::size_t(m)> swaps{};
   const S det = lu_factor<m>(G, swaps);
-  if (det == S(0)) {
-    for (auto& v : h) v = v / det;
-    return det;
-  }
+  // Singular where a pivot is zero (lu_factor stopped there), not where det underflowed.
+  for (int j = 0; j < m; ++j)
+    if (G[std::size_t(j * m + j)] == S(0)) {
+      for (auto& v : h) v = v / S(0);
+      return S(0);
+    }
   const auto at = [&G](int i, int j) { return G[std::size_t(i * m + j)]; };
   // The exchanges moved whole rows, multipliers included: L is in the final row order, so P h comes
   // first, then L y = P h.
