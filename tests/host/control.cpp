@@ -65,6 +65,31 @@ constraint = "th1 - 3/10"
 erugin = )toml" + law + "\n";
 }
 
+// The attitude slew of scenes/attitude_slew.toml, turned by `angle` (a constant, or a function of t)
+// with Omega = 0.5, program i's torque about body axis order[i].
+std::string attitude_slew_scene(const std::string& angle, const std::array<int, 3>& order) {
+    std::string toml = R"toml([scene]
+name = "attitude_slew"
+[parameters]
+slew = 1.0
+Omega = 0.5
+[rigid_body]
+inertia = ["2", "3", "5"]
+weight = "0"
+formulation = "quaternion"
+[rigid_body.initial]
+omega = [0.0, 0.0, 0.0]
+attitude = { zxz = [0.0, 0.6, 0.0] }
+)toml";
+    const std::string c = "cos((" + angle + ")/2)", s = "sin((" + angle + ")/2)";
+    const std::string rows[3] = {c + "*e1 + " + s + "*e2", c + "*e2 - " + s + "*e1", c + "*e3 - " + s + "*e0"};
+    const char* axes[3] = {"[1, 0, 0]", "[0, 1, 0]", "[0, 0, 1]"};
+    for (std::size_t i = 0; i < 3; ++i)
+        toml += "[[program]]\nname = \"err" + std::to_string(i + 1) + "\"\nconstraint = \"" + rows[i] +
+                "\"\nerugin = { alpha = 1.0, beta = 2.0 }\ncontrol = { moment = " + axes[order[i]] + " }\n";
+    return toml;
+}
+
 }  // namespace
 
 // ω0 = 0.21, ω̇0 = 0, α = 1, β = 2: ω(1) = 0.0316206166806364, ω(3) = −0.000480793741620832.
@@ -287,54 +312,35 @@ BOOST_AUTO_TEST_CASE(open_loop_residual_drifts_closed_loop_holds_it) {
 // Ā M⁻¹ D has its large entries off the diagonal and the run-time LU must exchange rows at more
 // than its first step.
 BOOST_AUTO_TEST_CASE(attitude_slew_follows_erugins_law_per_component) {
-    for (const std::array<int, 3> order : {std::array<int, 3>{0, 1, 2}, std::array<int, 3>{2, 0, 1}}) {
-    const auto scene = [&order](const std::string& angle) {
-        std::string toml = R"toml([scene]
-name = "attitude_slew"
-[parameters]
-slew = 1.0
-Omega = 0.5
-[rigid_body]
-inertia = ["2", "3", "5"]
-weight = "0"
-formulation = "quaternion"
-[rigid_body.initial]
-omega = [0.0, 0.0, 0.0]
-attitude = { zxz = [0.0, 0.6, 0.0] }
-)toml";
-        const std::string c = "cos((" + angle + ")/2)", s = "sin((" + angle + ")/2)";
-        const std::string rows[3] = {c + "*e1 + " + s + "*e2", c + "*e2 - " + s + "*e1", c + "*e3 - " + s + "*e0"};
-        const char* axes[3] = {"[1, 0, 0]", "[0, 1, 0]", "[0, 0, 1]"};
-        for (int i = 0; i < 3; ++i)
-            toml += "[[program]]\nname = \"err" + std::to_string(i + 1) + "\"\nconstraint = \"" + rows[i] +
-                    "\"\nerugin = { alpha = 1.0, beta = 2.0 }\ncontrol = { moment = " + axes[order[std::size_t(i)]] + " }\n";
-        return toml;
-    };
     using eomc::runtime::program::erugin_configuration;
     const double a = std::sin(0.3), b = std::cos(0.3);
     const std::array<double, 3> fixed0{std::cos(0.5) * a, -std::sin(0.5) * a, -std::sin(0.5) * b};
     const std::array<double, 3> turning0{a, 0, 0}, turning_rate0{0, -0.25 * a, -0.25 * b};
-    for (double t_end : {1.0, 3.0, 6.0}) {
-        const auto fixed = run(scene("slew"), t_end);
-        const auto turning = run(scene("Omega*t"), t_end);
-        BOOST_TEST_REQUIRE(fixed.programs.size() == 3u);
-        for (std::size_t i = 0; i < 3; ++i) {
-            const std::string name = "program_err" + std::to_string(i + 1);
-            const double want = erugin_configuration(1.0, 2.0, fixed0[i], 0.0, t_end);
-            BOOST_TEST(std::abs(fixed.value(name) - want) < tolerance, name << " = " << fixed.value(name) << ", " << want);
-            const double turn = erugin_configuration(1.0, 2.0, turning0[i], turning_rate0[i], t_end);
-            BOOST_TEST(std::abs(turning.value(name) - turn) < tolerance, name << " = " << turning.value(name) << ", " << turn);
-            BOOST_TEST(fixed.programs[i].max_departure < tolerance);
-            BOOST_TEST(turning.programs[i].max_departure < tolerance);
+    for (const std::array<int, 3> order : {std::array<int, 3>{0, 1, 2}, std::array<int, 3>{2, 0, 1}})
+        for (double t_end : {1.0, 3.0, 6.0}) {
+            BOOST_TEST_CONTEXT("torque axes " << order[0] << order[1] << order[2] << ", t = " << t_end) {
+                const auto fixed = run(attitude_slew_scene("slew", order), t_end);
+                const auto turning = run(attitude_slew_scene("Omega*t", order), t_end);
+                BOOST_TEST_REQUIRE(fixed.programs.size() == 3u);
+                for (std::size_t i = 0; i < 3; ++i) {
+                    const std::string name = "program_err" + std::to_string(i + 1);
+                    const double want = erugin_configuration(1.0, 2.0, fixed0[i], 0.0, t_end);
+                    BOOST_TEST(std::abs(fixed.value(name) - want) < tolerance,
+                               name << " = " << fixed.value(name) << ", " << want);
+                    const double turn = erugin_configuration(1.0, 2.0, turning0[i], turning_rate0[i], t_end);
+                    BOOST_TEST(std::abs(turning.value(name) - turn) < tolerance,
+                               name << " = " << turning.value(name) << ", " << turn);
+                    BOOST_TEST(fixed.programs[i].max_departure < tolerance);
+                    BOOST_TEST(turning.programs[i].max_departure < tolerance);
+                }
+                if (t_end == 6.0) {
+                    // At the target to the decayed error: e = q_d ⊗ δq ≈ q_d (δ0 > 0 throughout), |e − q_d| ≤
+                    // |δ_v| + O(|δ_v|²), and each |δ_i(6)| ≤ e⁻⁶ (1 + 1/√3) |δ_i(0)| ≤ 1.8e-3.
+                    BOOST_TEST(std::abs(fixed.value("e0") - std::cos(0.5)) < 2e-3);
+                    BOOST_TEST(std::abs(fixed.value("e3") - std::sin(0.5)) < 2e-3);
+                }
+            }
         }
-        if (t_end == 6.0) {
-            // At the target to the decayed error: e = q_d ⊗ δq ≈ q_d (δ0 > 0 throughout), |e − q_d| ≤
-            // |δ_v| + O(|δ_v|²), and each |δ_i(6)| ≤ e⁻⁶ (1 + 1/√3) |δ_i(0)| ≤ 1.8e-3.
-            BOOST_TEST(std::abs(fixed.value("e0") - std::cos(0.5)) < 2e-3);
-            BOOST_TEST(std::abs(fixed.value("e3") - std::sin(0.5)) < 2e-3);
-        }
-    }
-    }
 }
 
 // A program beside a [[constraint]] row at run time: the bead kept at speed v0 = 3 on the circle
