@@ -46,11 +46,17 @@ std::vector<ex> solve_explicitly(const GiNaC::matrix& M, const std::vector<ex>& 
 
 const GiNaC::symbol& as_symbol(const ex& e) { return GiNaC::ex_to<GiNaC::symbol>(e); }
 
+// What makes a matrix non-constant for the solve plans: t and the state.
+std::vector<ex> varying_symbols(const KernelIR& ir) {
+    std::vector<ex> varying{ir.t};
+    for (const auto& s : ir.state) varying.push_back(s.symbol);
+    return varying;
+}
+
 // How rhs and jacobian solve M u̇ = f, from M's structure (codegen/solve_plan.hpp), and the
 // straight-line solve appended to the blocks they evaluate (M and f; M and G).
 void lower_solve(KernelIR& ir, const GiNaC::matrix& M, const std::string& prefix) {
-    std::vector<ex> varying{ir.t};
-    for (const auto& s : ir.state) varying.push_back(s.symbol);
+    const std::vector<ex> varying = varying_symbols(ir);
     ir.solve_plan = plan_solve(M, varying);
     if (ir.solve_plan.method == SolvePlan::Method::eigen_llt) return;
     ir.solved_rates = solve_block(ir.mass_and_forcing, ir.solve_plan, ir.n_velocities, 1, prefix);
@@ -108,8 +114,7 @@ void lower_constraints(KernelIR& ir, const mechanics::FirstOrderForm& form, cons
 
     // The saddle-point solve and the projection's corrections in straight-line code where the
     // coupled unknowns fit; otherwise the runtime's Schur complement (runtime/constraints.hpp).
-    std::vector<ex> varying{ir.t};
-    for (const auto& s : ir.state) varying.push_back(s.symbol);
+    const std::vector<ex> varying = varying_symbols(ir);
     ir.constraint_plan = plan_saddle_point(form.mass_matrix, W, m, varying);
     if (ir.constraint_plan.method == SolvePlan::Method::eigen_llt) return;
     ir.solved_constraints = solve_saddle_point(ir.mass_forcing_and_constraints, ir.constraint_plan, nu, m, prefix);
@@ -212,8 +217,7 @@ void lower_programs(KernelIR& ir, const mechanics::FirstOrderForm& form, const s
     // M⁻¹ and Ā in straight-line code where M's solve fits it; Udwadia–Kalaba (dependent ideal
     // programs) and larger M keep the runtime's Eigen path (runtime/program/control.hpp).
     if (ir.program_redundant || ir.program_columns.size() != ir.program_names.size()) return;
-    std::vector<ex> varying{ir.t};
-    for (const auto& s : ir.state) varying.push_back(s.symbol);
+    const std::vector<ex> varying = varying_symbols(ir);
     ir.program_plan = plan_solve(form.mass_matrix, varying);
     if (ir.program_plan.method == SolvePlan::Method::eigen_llt || ir.program_plan.method == SolvePlan::Method::none) return;
     ir.reduced_programs = reduce_programs(ir.mass_forcing_and_programs, ir.program_plan, nu, ir.program_names.size(),

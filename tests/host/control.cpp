@@ -67,27 +67,8 @@ erugin = )toml" + law + "\n";
 
 // The attitude slew of scenes/attitude_slew.toml, turned by `angle` (a constant, or a function of t)
 // with Omega = 0.5, program i's torque about body axis order[i].
-std::string attitude_slew_scene(const std::string& angle, const std::array<int, 3>& order) {
-    std::string toml = R"toml([scene]
-name = "attitude_slew"
-[parameters]
-slew = 1.0
-Omega = 0.5
-[rigid_body]
-inertia = ["2", "3", "5"]
-weight = "0"
-formulation = "quaternion"
-[rigid_body.initial]
-omega = [0.0, 0.0, 0.0]
-attitude = { zxz = [0.0, 0.6, 0.0] }
-)toml";
-    const std::string c = "cos((" + angle + ")/2)", s = "sin((" + angle + ")/2)";
-    const std::string rows[3] = {c + "*e1 + " + s + "*e2", c + "*e2 - " + s + "*e1", c + "*e3 - " + s + "*e0"};
-    const char* axes[3] = {"[1, 0, 0]", "[0, 1, 0]", "[0, 0, 1]"};
-    for (std::size_t i = 0; i < 3; ++i)
-        toml += "[[program]]\nname = \"err" + std::to_string(i + 1) + "\"\nconstraint = \"" + rows[i] +
-                "\"\nerugin = { alpha = 1.0, beta = 2.0 }\ncontrol = { moment = " + axes[order[i]] + " }\n";
-    return toml;
+std::string attitude_slew_scene(const std::string& angle, const std::array<std::size_t, 3>& order) {
+    return test_support::attitude_scene("attitude_slew", "slew = 1.0\nOmega = 0.5\n", test_support::slew_rows(angle), order);
 }
 
 }  // namespace
@@ -316,7 +297,7 @@ BOOST_AUTO_TEST_CASE(attitude_slew_follows_erugins_law_per_component) {
     const double a = std::sin(0.3), b = std::cos(0.3);
     const std::array<double, 3> fixed0{std::cos(0.5) * a, -std::sin(0.5) * a, -std::sin(0.5) * b};
     const std::array<double, 3> turning0{a, 0, 0}, turning_rate0{0, -0.25 * a, -0.25 * b};
-    for (const std::array<int, 3> order : {std::array<int, 3>{0, 1, 2}, std::array<int, 3>{2, 0, 1}})
+    for (const std::array<std::size_t, 3> order : {std::array<std::size_t, 3>{0, 1, 2}, std::array<std::size_t, 3>{2, 0, 1}})
         for (double t_end : {1.0, 3.0, 6.0}) {
             BOOST_TEST_CONTEXT("torque axes " << order[0] << order[1] << order[2] << ", t = " << t_end) {
                 const auto fixed = run(attitude_slew_scene("slew", order), t_end);

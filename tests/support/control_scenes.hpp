@@ -2,6 +2,8 @@
 // scene, and the tests at each stage (mechanics: λ symbolically; host: λ along a run) check them.
 #pragma once
 
+#include <array>
+#include <cstddef>
 #include <string>
 
 namespace test_support {
@@ -36,6 +38,33 @@ constraint = "(x_dot^2 + y_dot^2 - v0^2)/2"
 erugin = { kappa = 3 }
 control = { x = "-y", y = "x" }
 )toml";
+}
+
+// A free body I = (2, 3, 5) at rest, turned 0.6 rad about the space x axis (scenes/attitude_slew.toml),
+// with three Erugin programs (α = 1, β = 2) err1..err3 on the given `rows` and program i driven by
+// the torque about body axis axes[i]. `parameters` are the [parameters] lines.
+inline std::string attitude_scene(const std::string& name, const std::string& parameters,
+                                  const std::array<std::string, 3>& rows, const std::array<std::size_t, 3>& axes = {0, 1, 2}) {
+    std::string toml = "[scene]\nname = \"" + name + "\"\n[parameters]\n" + parameters + R"toml([rigid_body]
+inertia = ["2", "3", "5"]
+weight = "0"
+formulation = "quaternion"
+[rigid_body.initial]
+omega = [0.0, 0.0, 0.0]
+attitude = { zxz = [0.0, 0.6, 0.0] }
+)toml";
+    const char* moments[3] = {"[1, 0, 0]", "[0, 1, 0]", "[0, 0, 1]"};
+    for (std::size_t i = 0; i < 3; ++i)
+        toml += "[[program]]\nname = \"err" + std::to_string(i + 1) + "\"\nconstraint = \"" + rows[i] +
+                "\"\nerugin = { alpha = 1.0, beta = 2.0 }\ncontrol = { moment = " + moments[axes[i]] + " }\n";
+    return toml;
+}
+
+// The rows of the attitude slew to a turn `angle` about the space z axis: the vector part of the
+// error quaternion q_d* ⊗ e, q_d = (cos(angle/2), 0, 0, sin(angle/2)).
+inline std::array<std::string, 3> slew_rows(const std::string& angle) {
+    const std::string c = "cos((" + angle + ")/2)", s = "sin((" + angle + ")/2)";
+    return {c + "*e1 + " + s + "*e2", c + "*e2 - " + s + "*e1", c + "*e3 - " + s + "*e0"};
 }
 
 }  // namespace test_support

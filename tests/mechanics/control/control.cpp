@@ -476,27 +476,9 @@ erugin = { alpha = 1, beta = 200 }
 // round-off only: relative 1e-12.
 namespace {
 std::string attitude_scene(const std::string& target) {
-    std::string toml = R"toml([scene]
-name = "attitude"
-[parameters]
-slew = 1.0
-[rigid_body]
-inertia = ["2", "3", "5"]
-weight = "0"
-formulation = "quaternion"
-[rigid_body.initial]
-omega = [0.0, 0.0, 0.0]
-attitude = { zxz = [0.0, 0.6, 0.0] }
-)toml";
-    const char* axes[3] = {"[1, 0, 0]", "[0, 1, 0]", "[0, 0, 1]"};
-    for (int i = 0; i < 3; ++i)
-        toml += "[[program]]\nname = \"err" + std::to_string(i + 1) + "\"\nconstraint = \"" +
-                std::string(target == "identity" ? std::array{"e1", "e2", "e3"}[std::size_t(i)]
-                                                 : std::array{"cos(slew/2)*e1 + sin(slew/2)*e2",
-                                                              "cos(slew/2)*e2 - sin(slew/2)*e1",
-                                                              "cos(slew/2)*e3 - sin(slew/2)*e0"}[std::size_t(i)]) +
-                "\"\nerugin = { alpha = 1.0, beta = 2.0 }\ncontrol = { moment = " + axes[i] + " }\n";
-    return toml;
+    return test_support::attitude_scene(
+        "attitude", "slew = 1.0\n",
+        target == "identity" ? std::array<std::string, 3>{"e1", "e2", "e3"} : test_support::slew_rows("slew"));
 }
 
 // λ at a state of the rigid body (ω, e), the parameters at their defaults.
