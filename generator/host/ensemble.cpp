@@ -16,6 +16,7 @@
 #include "eomc/runtime/errors.hpp"
 #include "host/ensemble_batch.hpp"
 #include "host/kernel_loader.hpp"
+#include "host/simulate/output.hpp"
 
 namespace eomc::host {
 
@@ -109,34 +110,6 @@ void run_batch(const SimulationRequest& proto, const KernelLibrary& lib, const E
     for (std::size_t j : alone) out[j] = run_member(proto, lib, spec, names, observe, indices[j], refusals[j]);
 }
 
-// Members done out of all, on stderr when it is a terminal; silent under ~1 s; erased at the end.
-class EnsembleProgress {
-public:
-    EnsembleProgress(bool wanted, std::size_t total) : enabled_(wanted && ::isatty(STDERR_FILENO)), total_(total) {}
-    ~EnsembleProgress() {
-        if (drawn_) std::fputs("\r\033[K", stderr);
-    }
-    void update(std::size_t done) {
-        if (!enabled_) return;
-        const auto now = Clock::now();
-        if (now - start_ < std::chrono::seconds(1) || now - last_ < std::chrono::milliseconds(100)) return;
-        last_ = now;
-        constexpr int width = 30;
-        const double fraction = total_ ? static_cast<double>(done) / static_cast<double>(total_) : 1.0;
-        const int filled = static_cast<int>(fraction * width);
-        std::fprintf(stderr, "\r[%s%s] %3d%%  %zu / %zu runs", std::string(filled, '#').c_str(),
-                     std::string(width - filled, ' ').c_str(), static_cast<int>(fraction * 100), done, total_);
-        std::fflush(stderr);
-        drawn_ = true;
-    }
-
-private:
-    bool enabled_;
-    std::size_t total_;
-    Clock::time_point start_ = Clock::now(), last_{};
-    bool drawn_ = false;
-};
-
 }  // namespace
 
 EnsembleResult run_ensemble(const EnsembleRequest& request) {
@@ -181,7 +154,9 @@ EnsembleResult run_ensemble(const EnsembleRequest& request) {
     result.threads = threads;
     std::vector<std::optional<InputError>> refusals(mine);
     std::atomic<std::size_t> next{0}, done{0};
-    EnsembleProgress progress(request.progress, mine);
+    // Members done out of all.
+    ProgressBar progress(
+        request.progress, double(mine), [](double done, double all) { return fmt::format("{} / {} runs", done, all); }, 1);
     const auto start = Clock::now();
     // Each thread takes the next index (the next batch of `lanes`); every member writes its own
     // slot, so the order in which they finish changes nothing.

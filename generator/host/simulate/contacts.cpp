@@ -144,7 +144,7 @@ void check_contact_run(const Run& run, const runtime::contact::ContactSystem<dou
                                      "output ({}), not {}; or use contact method moreau_jean",
                                      scene,
                                      runtime::integrator_list(
-                                         [](const auto& i) { return !i.fixed_step() && i.dense_output; }, ", "),
+                                         [](const auto& i) { return !i.fixed_step() && i.dense_output; }, ", ", " or "),
                                      s.method->name));
     }
 }

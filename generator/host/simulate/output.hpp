@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdio>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -55,20 +56,27 @@ private:
 };
 
 // A one-line bar on stderr, for people watching a terminal: silent for runs under ~1 s,
-// redrawn at most 10 times a second, erased when done (also when the run fails).
+// redrawn at most 10 times a second, erased when done (also when the run fails). `label(done,
+// total)` is the text after the bar; the clock is read every `check_every` calls (reading it every
+// step would cost more than a small kernel's step).
 class ProgressBar {
 public:
+    using Label = std::function<std::string(double done, double total)>;
+    ProgressBar(bool wanted, double total, Label label, unsigned check_every);
+    // A run's time: "t = 1.5 / 10".
     ProgressBar(bool wanted, double t_end);
     ProgressBar(const ProgressBar&) = delete;
     ProgressBar& operator=(const ProgressBar&) = delete;
     ~ProgressBar();
 
-    void update(double t);
+    void update(double done);
 
 private:
     using Clock = std::chrono::steady_clock;
     bool enabled_;
-    double t_end_;
+    double total_;
+    Label label_;
+    unsigned check_every_;
     Clock::time_point start_ = Clock::now(), last_{};
     unsigned calls_ = 0;
     bool drawn_ = false;

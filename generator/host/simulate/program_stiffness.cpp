@@ -61,7 +61,7 @@ std::vector<std::string> program_stiffness_warnings(const model::Model& model, c
                     "{:.3g}, lower the gains, or use {} (A-stable)",
                     p.name, gains(p), method.name, step, law, complex_text(lambda), complex_text(z), method.name,
                     std::abs(stability(method, z)), h_max,
-                    runtime::integrator_list([](const auto& i) { return i.implicit() && i.fixed_step(); }, ", ")));
+                    runtime::integrator_list([](const auto& i) { return i.implicit() && i.fixed_step(); }, ", ", " or ")));
                 break;
             }
         } else if (!method.fixed_step() && method.stability_limited()) {
@@ -75,7 +75,7 @@ std::vector<std::string> program_stiffness_warnings(const model::Model& model, c
                     "{:.4g}, so the step-size control holds h below about {:g}/|lambda| = {:.3g} and the run to "
                     "t = {:g} costs about {:.3g} steps; lower the gains or use {} (A-stable) with a fixed --step",
                     p.name, gains(p), method.name, law, fastest, boundary, boundary / fastest, t_end, steps,
-                    runtime::integrator_list([](const auto& i) { return i.implicit() && i.fixed_step(); }, ", ")));
+                    runtime::integrator_list([](const auto& i) { return i.implicit() && i.fixed_step(); }, ", ", " or ")));
         }
     }
     return out;

@@ -108,7 +108,7 @@ void check_separable(const runtime::IntegratorInfo& method, const SourcePos& whe
                                             method.name, scene_name,
                                             runtime::integrator_list([](const runtime::IntegratorInfo& i) {
                                                 return i.symplectic && !i.needs_separable;
-                                            }, ", ")));
+                                            }, ", ", " or ")));
 }
 
 // --set NAME=VALUE: a parameter, or the initial value of a state component ("q", "q_dot").

@@ -53,7 +53,7 @@ void extend_by_transition_matrix(const Run& run, State<double>& x, std::vector<s
                          fmt::format("the {} integrator steps q and q̇ by the acceleration alone and cannot carry "
                                      "the variational equations; use {}",
                                      method.name,
-                                     runtime::integrator_list([](const auto& i) { return !i.needs_separable; })));
+                                     runtime::integrator_list([](const auto& i) { return !i.needs_separable; }, ", ", " or ")));
     const std::size_t n = x.size();
     x.resize(n + n * n, 0.0);
     for (std::size_t i = 0; i < n; ++i) {

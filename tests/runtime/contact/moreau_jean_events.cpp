@@ -45,6 +45,7 @@ struct Recorded {
   std::vector<double> times;
   double last_lambda = 0.0;
   bool last_active = false;
+  double last_u = 0.0, last_u_before = 0.0;  // the velocity at the last observed point and the one before
   int observed_after_event = 0;  // observer calls that saw the state after each event's step
 };
 
@@ -54,8 +55,10 @@ Recorded run(const rc::ContactSystem<double>& sys, double y0, double v0, double 
   std::size_t seen = 0;
   rt::integrate_moreau_jean<double>(
       sys, 0.0, t_end, h, theta, x,
-      [&](double t, const rt::State<double>&, const Vec& lambda, const std::vector<bool>& active) {
+      [&](double t, const rt::State<double>& xs, const Vec& lambda, const std::vector<bool>& active) {
         r.times.push_back(t);
+        r.last_u_before = r.last_u;
+        r.last_u = xs[1];
         r.last_lambda = lambda[0];
         r.last_active = active[0];
         if (r.events.size() > seen) {
@@ -72,11 +75,10 @@ Recorded run(const rc::ContactSystem<double>& sys, double y0, double v0, double 
 
 // The bouncing ball, h0 = 2, g = 9.81, e = 0.7, m = 2: the k-th impact at
 // t_k = t_1 (1 + 2e (1 − e^(k−1)) / (1 − e)), t_1 = √(2 h0 / g), with the speed v_k = g t_1 e^(k−1).
-// Over an impact step Moreau–Jean's law gives u⁺ = −e u⁻ exactly (Newton's law on the step's start
-// velocity), P = m((1 + e) v − g h) and T⁺ − T⁻ = −½ m (1 − e²) v²; Carnot's loss of the impulsive
-// Δu = P/m differs from that by m (1 − e) v g h at most (expanding ((1 + e) v − g h)²). The step
-// holding the impact is resolved to h: |t − t_k| ≤ h while the flights are long (before the Zeno
-// point t_∞ = t_1 (1 + e)/(1 − e) the intervals shrink to below h).
+// Over an impact step from u⁻ = −v Moreau–Jean's law gives u⁺ = −e u⁻ exactly (Newton's law on the
+// step's start velocity), so u_free = −v − g h, P = m((1 + e) v + g h) and T⁺ − T⁻ = −½ m (1 − e²) v²;
+// Carnot's loss of the impulsive Δu = P/m is −½ m ((1 − e)/(1 + e)) ((1 + e) v + g h)², below the
+// measured change by m (1 − e) g h (v + g h / (2 (1 + e))): gravity's work over the impact step.
 BOOST_AUTO_TEST_CASE(bouncing_ball_impacts_then_rest_with_lambda_mg) {
   const double g = 9.81, h0 = 2.0, e = 0.7, m = 2.0, h = 1e-4;
   const auto sys = particle_on_floor(m, e, [&](double) { return -m * g; });
@@ -99,10 +101,10 @@ BOOST_AUTO_TEST_CASE(bouncing_ball_impacts_then_rest_with_lambda_mg) {
       }
       BOOST_TEST(std::abs(ev.rate_after + e * ev.rate_before) <= 64 * eps * std::abs(ev.rate_before));
       const double v = -ev.rate_before;
-      BOOST_TEST(std::abs(ev.impulse - m * ((1 + e) * v - g * h)) <= 64 * eps * m * v);
+      BOOST_TEST(std::abs(ev.impulse - m * ((1 + e) * v + g * h)) <= 64 * eps * m * v);
       BOOST_TEST(std::abs(ev.energy_change + 0.5 * m * (1 - e * e) * v * v) <= 64 * eps * m * v * v);
-      BOOST_TEST(ev.carnot < 0.0);
-      BOOST_TEST(std::abs(ev.carnot - ev.energy_change) <= m * (1 - e) * v * g * h * (1 + 1e-9));
+      const double gravity_work = m * (1 - e) * g * h * (v + g * h / (2 * (1 + e)));
+      BOOST_TEST(std::abs(ev.carnot - ev.energy_change + gravity_work) <= 64 * eps * m * v * v);
     }
   }
   BOOST_TEST(k >= 10);  // the long flights, then the accumulation
@@ -116,9 +118,13 @@ BOOST_AUTO_TEST_CASE(bouncing_ball_impacts_then_rest_with_lambda_mg) {
   BOOST_TEST_MESSAGE("contact at " << last.t << ", Zeno point " << zeno);
   BOOST_TEST(last.t <= zeno + 0.01);
   BOOST_TEST(last.t >= t1 * (1 + 2 * e * (1 - std::pow(e, 9)) / (1 - e)));
-  // At rest the step's impulse carries the weight: P = m g h, λ = P/h = m g.
+  // At rest the step's impulse carries the weight and stops what velocity is left: P = m (g h +
+  // (1 + e) |u|), u the rounding-level velocity at rest; λ = P / (t_{k+1} − t_k), the step as the
+  // difference of the two times near t_end (a relative error of 2 ε t_end / h).
   BOOST_TEST(r.last_active);
-  BOOST_TEST(std::abs(r.last_lambda - m * g) <= 64 * eps * m * g);
+  BOOST_TEST(std::abs(r.last_u) <= 1e-12);
+  BOOST_TEST(std::abs(r.last_lambda - m * g) <=
+             m * (1 + e) * std::abs(r.last_u_before) / h + m * g * (4 * eps * 5.0 / h + 64 * eps));
   // The step that enters contact ends a bounce slower than 2 g h: P ≤ m ((1 + e) 2 g h + g h).
   BOOST_TEST(last.lambda > 0.0);
   BOOST_TEST(last.lambda <= m * g * (3 + 2 * e) * (1 + 1e-9));
@@ -132,18 +138,26 @@ BOOST_AUTO_TEST_CASE(bouncing_ball_impacts_then_rest_with_lambda_mg) {
 // while a t < m g, with λ = m g − a t, and separating at t = m g / a. Moreau–Jean holds u = 0 while
 // the step's impulse is positive: P = h (m g − a t_θ) > 0; the separation is reported at the end of
 // the first step with P = 0, within one step of the closed form. No impact: it starts at rest.
+// (The scheme's active-set prediction g + γ h ġ ≤ 0 misses a gap that rounding has left a few
+// ulps above zero: such a step is free, and the next one back in contact. Those one-step
+// separations are the scheme's, reported as they happen; the physics is the first contact and the
+// last separation.)
 BOOST_AUTO_TEST_CASE(block_lifted_off_the_floor_separates_at_mg_over_a) {
   const double g = 9.81, m = 1.5, a = 4.0, h = 1e-3;
   const auto sys = particle_on_floor(m, 0.0, [&](double t) { return -m * g + a * t; });
   const Recorded r = run(sys, 0.0, 0.0, 6.0, h);
-  BOOST_TEST_REQUIRE(r.events.size() == 2u);
-  BOOST_TEST((r.events[0].kind == rc::ContactEventKind::contact));
+  BOOST_TEST_REQUIRE(r.events.size() >= 2u);
+  BOOST_TEST_MESSAGE(r.events.size() << " events");
+  for (std::size_t i = 0; i < r.events.size(); ++i)  // contact and separation alternate, no impact
+    BOOST_TEST((r.events[i].kind == (i % 2 == 0 ? rc::ContactEventKind::contact : rc::ContactEventKind::separation)));
   BOOST_TEST(r.events[0].t == h);
   BOOST_TEST(std::abs(r.events[0].lambda - (m * g - a * h / 2)) <= 64 * eps * m * g);  // θ = 1/2: f at mid-step
-  BOOST_TEST((r.events[1].kind == rc::ContactEventKind::separation));
+  for (std::size_t i = 1; i + 1 < r.events.size(); i += 2)  // a separation inside the phase lasts one step
+    BOOST_TEST(r.events[i + 1].t - r.events[i].t <= h * (1 + 1e-9));
+  const rc::ContactEvent<double>& last = r.events.back();
   // The first step with P = 0 starts past m g / a − h/2 (f at mid-step), and is reported at its end.
-  BOOST_TEST(r.events[1].t >= m * g / a + h / 2 - 1e-12);
-  BOOST_TEST(r.events[1].t <= m * g / a + 1.5 * h + 1e-12);
+  BOOST_TEST(last.t >= m * g / a + h / 2 - 1e-12);
+  BOOST_TEST(last.t <= m * g / a + 1.5 * h + 1e-12);
   BOOST_TEST(!r.last_active);
   BOOST_TEST(r.last_lambda == 0.0);
 }

@@ -151,16 +151,18 @@ constexpr const IntegratorInfo* find_integrator(std::string_view name) {
 constexpr bool is_integrator(std::string_view name) { return find_integrator(name) != nullptr; }
 static_assert(is_integrator(default_integrator));
 
-// The names of the entries `keep` accepts, joined by `separator` ("rk4, dopri5, ..."), for
-// messages and --help.
+// The names of the entries `keep` accepts, joined by `separator` and the last two by
+// `last_separator` ("gl4, gl6 or gl8"; the separator when empty), for messages and --help.
 template <std::predicate<const IntegratorInfo&> Keep>
-std::string integrator_list(Keep keep, std::string_view separator = ", ") {
-  std::string out;
+std::string integrator_list(Keep keep, std::string_view separator = ", ", std::string_view last_separator = {}) {
+  std::vector<std::string_view> names;
   for (const IntegratorInfo& info : integrator_infos)
-    if (keep(info)) {
-      if (!out.empty()) out += separator;
-      out += info.name;
-    }
+    if (keep(info)) names.push_back(info.name);
+  std::string out;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (i > 0) out += i + 1 == names.size() && !last_separator.empty() ? last_separator : separator;
+    out += names[i];
+  }
   return out;
 }
 
