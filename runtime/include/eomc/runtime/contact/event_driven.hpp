@@ -82,6 +82,7 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -344,6 +345,404 @@ class ContactModel {
   Eigen::LDLT<Matrix<S>> ldlt_, Gc_;
 };
 
+
+// One run of integrate_event_driven (below; its arguments already validated): the state its phases
+// share (the model, the outcome, the active set, λ and u̇, the impact histories, the locator, the
+// checker, the counters) and its steps as member functions, in the order of the run: start(), then
+// first_step() and step() until t1 or a stop, then finish().
+template <template <class> class Stepper, class S, class Obs>
+class EventDrivenRun {
+ public:
+  EventDrivenRun(Stepper<S>& stepper, const ContactSystem<S>& sys, State<S>& x, S t0, S t1, const Tolerances& tol,
+                 Obs& observer, const EventDrivenOptions<S>& options, const Limits& limits)
+      : stepper_(stepper), x_(x), t1_(t1), tol_(tol), observer_(observer), options_(options), n_(sys.dof),
+        m_(static_cast<int>(sys.contacts.size())), n_events_(options.events.size()), model_(sys),
+        active_(std::size_t(m_), false), udot_(n_), lambda_(Vector<S>::Zero(m_)),
+        history_(std::size_t(m_), History{}), scene_values_(n_events_), checker_(limits), t_(t0),
+        hmax_(max_step(t0, t1, limits)) {}
+  EventDrivenRun(const EventDrivenRun&) = delete;
+  EventDrivenRun& operator=(const EventDrivenRun&) = delete;
+
+  EventDrivenOutcome<S> run() {
+    start();
+    out_.t = t1_;
+    if (t_ >= t1_) {
+      out_.active = active_;
+      out_.lambda = lambda_;
+      return std::move(out_);
+    }
+    evals0_ = stepper_.rhs_evals();
+    h_ = first_step(t_);
+    checker_.set_reference_step(h_);
+    while (t_ < t1_)
+      if (!step()) break;
+    return finish();
+  }
+
+ private:
+  // Per contact: its impact times and post-impact states since it last left a contact phase.
+  struct History {
+    std::vector<S> t;
+    State<S> x_last, x_prev;
+    S estimate = std::numeric_limits<S>::infinity();  // the last Zeno error estimate
+  };
+
+  static S inf_norm(const Vector<S>& v) { return v.size() ? S(v.cwiseAbs().maxCoeff()) : S(0); }
+  static S max_step(S t0, S t1, const Limits& limits) {
+    S hmax = t1 - t0;
+    if (limits.max_step > 0.0 && S(limits.max_step) < hmax) hmax = S(limits.max_step);
+    return hmax;
+  }
+
+  S gap_tol() const {
+    return options_.closed_gap > S(0) ? options_.closed_gap
+                                      : S(tol_.atol) + S(100) * eps_ * (S(1) + inf_norm(model_.q()));
+  }
+  S rate_tol(S scale) const {
+    return options_.resting_rate > S(0) ? options_.resting_rate
+                                        : S(1000) * eps_ * (S(1) + inf_norm(model_.u()) + scale);
+  }
+
+  void rates(S t, const State<S>& xs, State<S>& dx) {
+    model_.accelerations(t, xs, active_, udot_, lambda_);
+    for (int k = 0; k < n_; ++k) {
+      dx[std::size_t(k)] = xs[std::size_t(n_ + k)];
+      dx[std::size_t(n_ + k)] = udot_[k];
+    }
+  }
+  // The indicators: g_α of the open contacts, λ_α of the active ones, each event one going down;
+  // then the scene's event functions.
+  void indicators(S t, const State<S>& xs, State<S>& o) {
+    if (any_active_) model_.accelerations(t, xs, active_, udot_, lambda_);
+    else model_.gaps_only(t, xs);
+    for (int a = 0; a < m_; ++a) o[std::size_t(a)] = active_[std::size_t(a)] ? lambda_[a] : model_.g()[a];
+    if (n_events_ == 0) return;
+    options_.event_functions(t, xs, scene_values_);
+    for (std::size_t i = 0; i < n_events_; ++i) o[std::size_t(m_) + i] = scene_values_[i];
+  }
+  // rates and indicators as the callables the stepper and the locator take (by reference).
+  auto rates_function() {
+    return [this](S t, const State<S>& xs, State<S>& dx) { rates(t, xs, dx); };
+  }
+  auto indicator_functions() {
+    return [this](S t, const State<S>& xs, State<S>& o) { indicators(t, xs, o); };
+  }
+
+  ContactEvent<S>& record(ContactEventKind kind, int a, S t) {
+    ContactEvent<S> e;
+    e.kind = kind;
+    e.contact = std::size_t(a);
+    e.t = t;
+    out_.events.push_back(e);
+    return out_.events.back();
+  }
+
+  // The contact decision at (t, x): the closed, resting contacts (not `excluded`, which has just
+  // separated) enter the acceleration-level LCP; λ > 0 makes the active set.
+  void decide_mode(S t, State<S>& xs, int excluded) {
+    using std::abs;
+    model_.evaluate(t, xs);
+    const S gtol = gap_tol(), vtol = rate_tol(S(0));
+    std::vector<int> closed;
+    for (int a = 0; a < m_; ++a) {
+      if (a == excluded) continue;
+      const bool gap_closed = model_.kinematic(a) || abs(model_.g()[a]) <= gtol;
+      if (gap_closed && abs(model_.rate(a)) <= vtol) closed.push_back(a);
+    }
+    std::vector<bool> next(std::size_t(m_), false);
+    Vector<S> la;
+    if (!closed.empty()) {
+      Matrix<S> G;
+      Vector<S> c;
+      model_.delassus(closed, G, c);
+      la = solve_contact_lcp<S>(G, c);
+      for (std::size_t i = 0; i < closed.size(); ++i) next[std::size_t(closed[i])] = la[Eigen::Index(i)] > S(0);
+    }
+    for (int a = 0; a < m_; ++a) {
+      const std::size_t ia = std::size_t(a);
+      if (next[ia] && !active_[ia]) {
+        S lam = S(0);
+        for (std::size_t i = 0; i < closed.size(); ++i)
+          if (closed[i] == a) lam = la[Eigen::Index(i)];
+        record(ContactEventKind::contact, a, t).lambda = lam;
+        history_[ia].t.clear();
+        history_[ia].estimate = std::numeric_limits<S>::infinity();
+      } else if (!next[ia] && active_[ia] && a != excluded) {
+        record(ContactEventKind::separation, a, t);
+      }
+    }
+    active_ = next;
+    any_active_ = false;
+    for (bool on : active_) any_active_ = any_active_ || on;
+    model_.project(t, xs, active_);  // the bilateral rows and the active contacts
+  }
+
+  // Geometric accumulation of contact a's impacts: moves (t, x) to the limit and returns true.
+  bool zeno(S& t, State<S>& xs, int a) {
+    using std::abs;
+    History& hist = history_[std::size_t(a)];
+    const std::size_t k = hist.t.size(), need = std::size_t(options_.zeno_ratios) + 2;
+    if (!options_.detect_zeno || k < need) return false;
+    const auto interval = [&](std::size_t i) { return hist.t[i] - hist.t[i - 1]; };
+    S rmin = S(2), rmax = S(-1);
+    for (std::size_t i = k - std::size_t(options_.zeno_ratios); i < k; ++i) {
+      const S r = interval(i) / interval(i - 1);
+      rmin = r < rmin ? r : rmin;
+      rmax = r > rmax ? r : rmax;
+    }
+    const S r = interval(k - 1) / interval(k - 2), dt = interval(k - 1);
+    const S previous = hist.estimate;
+    hist.estimate = std::numeric_limits<S>::infinity();
+    if (!(rmin > S(0) && rmax < S(1) && rmax - rmin <= options_.zeno_rtol * (S(1) - r))) return false;
+    const S estimate = dt * (rmax - rmin) / ((S(1) - r) * (S(1) - r));
+    hist.estimate = estimate;
+    if (!(estimate <= S(tol_.rtol) * abs(hist.t[k - 1]) + S(tol_.atol) || estimate >= previous)) return false;
+    const S factor = r / (S(1) - r), t_inf = hist.t[k - 1] + dt * factor;
+    if (!(t_inf < t1_)) return false;
+    // The same series for every coordinate: x∞ = x_k + (x_k − x_{k−1}) r / (1 − r).
+    for (std::size_t i = 0; i < xs.size(); ++i) xs[i] = hist.x_last[i] + (hist.x_last[i] - hist.x_prev[i]) * factor;
+    std::vector<bool> on = active_;
+    on[std::size_t(a)] = true;
+    model_.evaluate(t_inf, xs);
+    model_.project(t_inf, xs, on);
+    ContactEvent<S>& e = record(ContactEventKind::zeno, a, t_inf);
+    e.ratio = r;
+    e.extrapolation_error = estimate;
+    t = t_inf;
+    hist.t.clear();
+    hist.estimate = std::numeric_limits<S>::infinity();
+    return true;
+  }
+
+  // Newton's impact law at (t, x) on the closed gaps, contact a having fired.
+  bool impact(S& t, State<S>& xs, int a) {
+    using std::abs;
+    if (++impacts_ > options_.max_impacts)
+      throw std::runtime_error("integrate_event_driven: more than max_impacts impacts (an undetected Zeno run?)");
+    model_.evaluate(t, xs);
+    const S gtol = gap_tol();
+    std::vector<int> set;
+    for (int c = 0; c < m_; ++c)
+      if (!model_.kinematic(c) && (c == a || abs(model_.g()[c]) <= gtol)) set.push_back(c);
+    const Matrix<S> Wi = model_.rows_of(set);
+    const Vector<S> wi = model_.time_rates_of(set);  // ∂g/∂t: ġ = W u + w (a moving wall)
+    const Vector<S> u_minus = model_.u(), rate_minus = Wi * u_minus + wi;
+    const Eigen::Index ns = Eigen::Index(set.size());
+    const auto restitution = [&](Eigen::Index i) { return model_.contact(set[std::size_t(i)]).restitution; };
+    Vector<S> P = Vector<S>::Zero(ns), u_plus = u_minus;
+    S carnot = S(0);
+    if (options_.sequential_impacts) {
+      // One-contact Newton impacts, the fastest approaching contact first, until none approaches
+      // beyond the rounding of its rate (64 ε (Σ_j |W_αj u_j| + |w_α|), as contact/impact.hpp).
+      const Matrix<S> Y = model_.solve_mass(Matrix<S>(Wi.transpose()));  // M̃⁻¹ W_Iᵀ
+      for (std::size_t count = 0;; ++count) {
+        const Vector<S> rate = Wi * u_plus + wi;
+        const Vector<S> noise = S(64) * eps_ * (Wi.cwiseAbs() * u_plus.cwiseAbs() + wi.cwiseAbs());
+        Eigen::Index i = -1;
+        for (Eigen::Index j = 0; j < ns; ++j)
+          if (rate[j] < -noise[j] && (i < 0 || rate[j] < rate[i])) i = j;
+        if (i < 0) break;
+        if (count >= options_.max_impacts)
+          throw std::runtime_error("integrate_event_driven: the sequential impact law did not end (inelastic collapse?)");
+        const S e = restitution(i), p = -(S(1) + e) * rate[i] / Wi.row(i).dot(Y.col(i));
+        const Vector<S> du = Y.col(i) * p;
+        carnot += -((S(1) - e) / (S(1) + e)) * model_.kinetic_energy(du) - p * wi[i];
+        u_plus += du;
+        P[i] += p;
+      }
+    } else {
+      const Matrix<S> G = Wi * model_.solve_mass(Matrix<S>(Wi.transpose()));
+      Vector<S> c(ns);
+      for (Eigen::Index i = 0; i < ns; ++i) c[i] = (S(1) + restitution(i)) * rate_minus[i];
+      P = solve_contact_lcp<S>(G, c);
+      const Vector<S> du = model_.solve_mass(Vector<S>(Wi.transpose() * P));
+      u_plus = u_minus + du;
+      const S e = model_.contact(a).restitution;
+      carnot = -((S(1) - e) / (S(1) + e)) * model_.kinetic_energy(du) - P.dot(wi);
+    }
+    const Vector<S> rate_plus = Wi * u_plus + wi;
+    const S dT = model_.kinetic_energy(u_plus) - model_.kinetic_energy(u_minus);
+    for (int k = 0; k < n_; ++k) xs[std::size_t(n_ + k)] = u_plus[k];
+    for (std::size_t i = 0; i < set.size(); ++i) {
+      const Eigen::Index ii = Eigen::Index(i);
+      if (set[i] != a && !(P[ii] > S(0))) continue;
+      ContactEvent<S>& ev = record(ContactEventKind::impact, set[i], t);
+      ev.rate_before = rate_minus[ii];
+      ev.rate_after = rate_plus[ii];
+      ev.impulse = P[ii];
+      ev.energy_change = dT;
+      ev.carnot = carnot;
+      History& hist = history_[std::size_t(set[i])];
+      hist.t.push_back(t);
+      hist.x_prev = std::move(hist.x_last);
+      hist.x_last = xs;
+    }
+    return zeno(t, xs, a);
+  }
+
+  // A located event of contact a at (t, x): a separation, or a gap closing (impact or graze).
+  void transition(S& t, State<S>& xs, int a) {
+    using std::abs;
+    if (active_[std::size_t(a)]) {
+      record(ContactEventKind::separation, a, t);
+      active_[std::size_t(a)] = false;
+      decide_mode(t, xs, a);
+      return;
+    }
+    model_.evaluate(t, xs);
+    const S v = model_.rate(a);
+    if (!model_.kinematic(a) && v < -rate_tol(abs(v))) impact(t, xs, a);
+    decide_mode(t, xs, -1);
+  }
+
+  void observe(S t, const State<S>& xs) {
+    if (options_.on_event)
+      for (; reported_ < out_.events.size(); ++reported_) options_.on_event(out_.events[reported_]);
+    if (any_active_) model_.accelerations(t, xs, active_, udot_, lambda_);
+    else lambda_.setZero(m_);
+    observer_(t, xs, static_cast<const Vector<S>&>(lambda_), static_cast<const std::vector<bool>&>(active_));
+  }
+
+  // The start: on the bilateral rows, approaching closed gaps collide, then the contact decision.
+  // The locator reads its signs there; the observer sees the state.
+  void start() {
+    using std::abs;
+    model_.project(t_, x_, active_);
+    model_.evaluate(t_, x_);
+    const S gtol = gap_tol();
+    for (int a = 0; a < m_; ++a)
+      if (!model_.kinematic(a) && abs(model_.g()[a]) <= gtol && model_.rate(a) < -rate_tol(S(0))) {
+        impact(t_, x_, a);
+        break;
+      }
+    decide_mode(t_, x_, -1);
+
+    std::vector<EventSpec> specs(std::size_t(m_), EventSpec{EventDirection::down, false, EventAction::edit, 0.0});
+    specs.insert(specs.end(), options_.events.begin(), options_.events.end());
+    locator_.emplace(std::move(specs));
+    auto g = indicator_functions();
+    locator_->start(g, t_, static_cast<const State<S>&>(x_));
+    checker_.check_state(t_, x_);
+    observe(t_, x_);
+  }
+
+  // The first step after a transition. A gap just opened by an impact closes again after about
+  // 2 ġ⁺ / |g̈|, which can be far shorter than what the error control would take from the smooth
+  // motion (a small bounce): a step over the whole flight would hold two sign changes of g and
+  // miss the next impact (events.hpp's limitation). The first step ends before the apex, ġ / |g̈|;
+  // from there the gap only falls, and one crossing per step is seen.
+  S first_step(S t_from) {
+    using std::abs;
+    auto f = rates_function();
+    checker_.check_derivative(t_from, stepper_.prepare(f, x_, t_from));
+    S h_first = initial_step(f, t_from, static_cast<const State<S>&>(x_), stepper_.derivative(), S(1),
+                             Stepper<S>::error_order, tol_, hmax_, extra_evals_);
+    model_.accelerations(t_from, x_, active_, udot_, lambda_);
+    const S gtol = gap_tol();
+    for (int a = 0; a < m_; ++a) {
+      if (active_[std::size_t(a)] || model_.kinematic(a) || !(abs(model_.g()[a]) <= gtol)) continue;
+      const S v = model_.rate(a), acc = S(model_.W().row(a).dot(udot_)) + model_.b()[a];
+      if (v > S(0) && acc < S(0) && v / -acc < h_first) h_first = v / -acc;
+    }
+    return h_first;
+  }
+
+  // One attempt of the main loop, from (t, x) with the step h. Returns false where the run ends: a
+  // terminal scene event, or a transition at t1.
+  bool step() {
+    if (checker_.underflows(t_, h_)) checker_.check_step_size(t_, h_);
+    checker_.count_attempt(t_);
+    if (h_ > hmax_) h_ = hmax_;
+    const bool last = t_ + h_ >= t1_;
+    if (last) h_ = t1_ - t_;
+    const S t_old = t_;
+    auto f = rates_function();
+    if (!stepper_.try_step(f, x_, t_, h_, tol_)) {
+      ++out_.stats.rejected;
+      return true;
+    }
+    ++out_.stats.accepted;
+    if (last) t_ = t1_;
+    checker_.check_state(t_, x_);
+    auto g = indicator_functions();
+    const auto dense = [&](S tau, State<S>& o) { stepper_.calc_state(tau, o); };
+    const bool interrupted = locator_->step(g, t_old, t_, static_cast<const State<S>&>(x_), dense, hits_);
+    scene_events();
+    if (out_.stopped) {
+      t_ = hits_.back().t;
+      x_ = hits_.back().x;
+      if (any_active_ || model_.bilateral() > 0) model_.project(t_, x_, active_);
+      observe(t_, x_);
+      return false;
+    }
+    if (!interrupted) {
+      if (any_active_ || model_.bilateral() > 0) model_.project(t_, x_, active_);
+      observe(t_, x_);
+      return true;
+    }
+    // A transition: the smooth phase ends at the event; the stepper starts afresh after it.
+    t_ = hits_.back().t;
+    x_ = hits_.back().x;
+    transition(t_, x_, int(hits_.back().index));
+    stepper_.reset();
+    locator_->restart(g, t_, static_cast<const State<S>&>(x_));
+    checker_.check_state(t_, x_);
+    observe(t_, x_);
+    if (t_ >= t1_) return false;
+    h_ = first_step(t_);
+    return true;
+  }
+
+  // The scene events of this step, in time order (a terminal one ends the list and the run).
+  void scene_events() {
+    for (EventHit<S>& hit : hits_) {
+      if (hit.index < std::size_t(m_)) continue;
+      hit.index -= std::size_t(m_);
+      if (any_active_) model_.accelerations(hit.t, hit.x, active_, udot_, lambda_);
+      else lambda_.setZero(m_);
+      if (options_.on_scene_event)
+        options_.on_scene_event(static_cast<const EventHit<S>&>(hit), static_cast<const Vector<S>&>(lambda_),
+                                static_cast<const std::vector<bool>&>(active_));
+      if (hit.terminal) {
+        out_.stopped = true;
+        out_.stopped_by = hit.index;
+      }
+    }
+  }
+
+  EventDrivenOutcome<S> finish() {
+    out_.stats.rhs_evals = stepper_.rhs_evals() - evals0_ + extra_evals_;
+    out_.t = t_;
+    out_.active = active_;
+    out_.lambda = lambda_;
+    return std::move(out_);
+  }
+
+  Stepper<S>& stepper_;
+  State<S>& x_;
+  const S t1_;
+  const Tolerances& tol_;
+  Obs& observer_;
+  const EventDrivenOptions<S>& options_;
+  const int n_, m_;
+  const std::size_t n_events_;
+  const S eps_ = std::numeric_limits<S>::epsilon();
+  ContactModel<S> model_;
+  EventDrivenOutcome<S> out_;
+  std::vector<bool> active_;  // the active set A
+  Vector<S> udot_, lambda_;
+  bool any_active_ = false;
+  std::size_t impacts_ = 0;   // impacts so far (max_impacts)
+  std::size_t reported_ = 0;  // the events passed to options.on_event
+  std::vector<History> history_;
+  State<S> scene_values_;                   // the scene's event functions at one point
+  std::optional<EventLocator<S>> locator_;  // made at the start, after the contact decision
+  NoProgressChecker<S> checker_;
+  std::vector<EventHit<S>> hits_;  // the events of the last step
+  S t_, h_ = S(0), hmax_;
+  std::size_t evals0_ = 0, extra_evals_ = 0;  // the stepper's count at the first step; initial_step's
+};
+
 }  // namespace detail
 
 // Integrates the system from (t0, x) to t1 > t0, x = (q, u) of 2n, through free flight, impacts,
@@ -359,9 +758,8 @@ EventDrivenOutcome<S> integrate_event_driven(Stepper<S>& stepper, const ContactS
                                              std::type_identity_t<S> t0, std::type_identity_t<S> t1,
                                              const Tolerances& tol, Obs&& observer,
                                              const EventDrivenOptions<S>& options = {}, const Limits& limits = {}) {
-  using std::abs;
   validate(tol);
-  const int n = sys.dof, m = static_cast<int>(sys.contacts.size());
+  const int n = sys.dof;
   if (n <= 0 || x.size() != std::size_t(2 * n))
     throw std::invalid_argument("integrate_event_driven: x must hold q and u, 2 dof values");
   if (!(t1 >= t0)) throw std::invalid_argument("integrate_event_driven: t1 must not precede t0");
@@ -369,341 +767,12 @@ EventDrivenOutcome<S> integrate_event_driven(Stepper<S>& stepper, const ContactS
   for (const Contact<S>& c : sys.contacts)
     if (!(c.restitution >= S(0) && c.restitution <= S(1)))
       throw std::invalid_argument("integrate_event_driven: restitution must lie in [0, 1]");
-  const std::size_t n_events = options.events.size();
   for (const EventSpec& spec : options.events)
     if (spec.effective_action() == EventAction::edit)
       throw std::invalid_argument("integrate_event_driven: scene events record or stop; they do not edit the state");
-  if (n_events > 0 && !options.event_functions)
+  if (!options.events.empty() && !options.event_functions)
     throw std::invalid_argument("integrate_event_driven: scene events need event_functions");
-
-  detail::ContactModel<S> model(sys);
-  EventDrivenOutcome<S> out;
-  std::vector<bool> active(std::size_t(m), false);
-  Vector<S> udot(n), lambda = Vector<S>::Zero(m);
-  const S eps = std::numeric_limits<S>::epsilon();
-  std::size_t impacts = 0;
-
-  // Per contact: its impact times and post-impact states since it last left a contact phase.
-  struct History {
-    std::vector<S> t;
-    State<S> x_last, x_prev;
-    S estimate = std::numeric_limits<S>::infinity();  // the last Zeno error estimate
-  };
-  std::vector<History> history(std::size_t(m), History{});
-
-  const auto inf_norm = [](const Vector<S>& v) { return v.size() ? S(v.cwiseAbs().maxCoeff()) : S(0); };
-  const auto gap_tol = [&]() {
-    return options.closed_gap > S(0) ? options.closed_gap
-                                     : S(tol.atol) + S(100) * eps * (S(1) + inf_norm(model.q()));
-  };
-  const auto rate_tol = [&](S scale) {
-    return options.resting_rate > S(0) ? options.resting_rate
-                                       : S(1000) * eps * (S(1) + inf_norm(model.u()) + scale);
-  };
-
-  const auto rates = [&](S t, const State<S>& xs, State<S>& dx) {
-    model.accelerations(t, xs, active, udot, lambda);
-    for (int k = 0; k < n; ++k) {
-      dx[std::size_t(k)] = xs[std::size_t(n + k)];
-      dx[std::size_t(n + k)] = udot[k];
-    }
-  };
-  bool any_active = false;
-  // The indicators: g_α of the open contacts, λ_α of the active ones, each event one going down;
-  // then the scene's event functions.
-  State<S> scene_values(n_events);
-  const auto indicators = [&](S t, const State<S>& xs, State<S>& o) {
-    if (any_active) model.accelerations(t, xs, active, udot, lambda);
-    else model.gaps_only(t, xs);
-    for (int a = 0; a < m; ++a) o[std::size_t(a)] = active[std::size_t(a)] ? lambda[a] : model.g()[a];
-    if (n_events == 0) return;
-    options.event_functions(t, xs, scene_values);
-    for (std::size_t i = 0; i < n_events; ++i) o[std::size_t(m) + i] = scene_values[i];
-  };
-  const auto record = [&](ContactEventKind kind, int a, S t) -> ContactEvent<S>& {
-    ContactEvent<S> e;
-    e.kind = kind;
-    e.contact = std::size_t(a);
-    e.t = t;
-    out.events.push_back(e);
-    return out.events.back();
-  };
-
-  // The contact decision at (t, x): the closed, resting contacts (not `excluded`, which has just
-  // separated) enter the acceleration-level LCP; λ > 0 makes the active set.
-  const auto decide_mode = [&](S t, State<S>& xs, int excluded) {
-    model.evaluate(t, xs);
-    const S gtol = gap_tol(), vtol = rate_tol(S(0));
-    std::vector<int> closed;
-    for (int a = 0; a < m; ++a) {
-      if (a == excluded) continue;
-      const bool gap_closed = model.kinematic(a) || abs(model.g()[a]) <= gtol;
-      if (gap_closed && abs(model.rate(a)) <= vtol) closed.push_back(a);
-    }
-    std::vector<bool> next(std::size_t(m), false);
-    Vector<S> la;
-    if (!closed.empty()) {
-      Matrix<S> G;
-      Vector<S> c;
-      model.delassus(closed, G, c);
-      la = detail::solve_contact_lcp<S>(G, c);
-      for (std::size_t i = 0; i < closed.size(); ++i) next[std::size_t(closed[i])] = la[Eigen::Index(i)] > S(0);
-    }
-    for (int a = 0; a < m; ++a) {
-      const std::size_t ia = std::size_t(a);
-      if (next[ia] && !active[ia]) {
-        S lam = S(0);
-        for (std::size_t i = 0; i < closed.size(); ++i)
-          if (closed[i] == a) lam = la[Eigen::Index(i)];
-        record(ContactEventKind::contact, a, t).lambda = lam;
-        history[ia].t.clear();
-        history[ia].estimate = std::numeric_limits<S>::infinity();
-      } else if (!next[ia] && active[ia] && a != excluded) {
-        record(ContactEventKind::separation, a, t);
-      }
-    }
-    active = next;
-    any_active = false;
-    for (bool on : active) any_active = any_active || on;
-    model.project(t, xs, active);  // the bilateral rows and the active contacts
-  };
-
-  // Geometric accumulation of contact a's impacts: moves (t, x) to the limit and returns true.
-  const auto zeno = [&](S& t, State<S>& xs, int a) {
-    History& hist = history[std::size_t(a)];
-    const std::size_t k = hist.t.size(), need = std::size_t(options.zeno_ratios) + 2;
-    if (!options.detect_zeno || k < need) return false;
-    const auto interval = [&](std::size_t i) { return hist.t[i] - hist.t[i - 1]; };
-    S rmin = S(2), rmax = S(-1);
-    for (std::size_t i = k - std::size_t(options.zeno_ratios); i < k; ++i) {
-      const S r = interval(i) / interval(i - 1);
-      rmin = r < rmin ? r : rmin;
-      rmax = r > rmax ? r : rmax;
-    }
-    const S r = interval(k - 1) / interval(k - 2), dt = interval(k - 1);
-    const S previous = hist.estimate;
-    hist.estimate = std::numeric_limits<S>::infinity();
-    if (!(rmin > S(0) && rmax < S(1) && rmax - rmin <= options.zeno_rtol * (S(1) - r))) return false;
-    const S estimate = dt * (rmax - rmin) / ((S(1) - r) * (S(1) - r));
-    hist.estimate = estimate;
-    if (!(estimate <= S(tol.rtol) * abs(hist.t[k - 1]) + S(tol.atol) || estimate >= previous)) return false;
-    const S factor = r / (S(1) - r), t_inf = hist.t[k - 1] + dt * factor;
-    if (!(t_inf < t1)) return false;
-    // The same series for every coordinate: x∞ = x_k + (x_k − x_{k−1}) r / (1 − r).
-    for (std::size_t i = 0; i < xs.size(); ++i) xs[i] = hist.x_last[i] + (hist.x_last[i] - hist.x_prev[i]) * factor;
-    std::vector<bool> on = active;
-    on[std::size_t(a)] = true;
-    model.evaluate(t_inf, xs);
-    model.project(t_inf, xs, on);
-    ContactEvent<S>& e = record(ContactEventKind::zeno, a, t_inf);
-    e.ratio = r;
-    e.extrapolation_error = estimate;
-    t = t_inf;
-    hist.t.clear();
-    hist.estimate = std::numeric_limits<S>::infinity();
-    return true;
-  };
-
-  // Newton's impact law at (t, x) on the closed gaps, contact a having fired.
-  const auto impact = [&](S& t, State<S>& xs, int a) {
-    if (++impacts > options.max_impacts)
-      throw std::runtime_error("integrate_event_driven: more than max_impacts impacts (an undetected Zeno run?)");
-    model.evaluate(t, xs);
-    const S gtol = gap_tol();
-    std::vector<int> set;
-    for (int c = 0; c < m; ++c)
-      if (!model.kinematic(c) && (c == a || abs(model.g()[c]) <= gtol)) set.push_back(c);
-    const Matrix<S> Wi = model.rows_of(set);
-    const Vector<S> wi = model.time_rates_of(set);  // ∂g/∂t: ġ = W u + w (a moving wall)
-    const Vector<S> u_minus = model.u(), rate_minus = Wi * u_minus + wi;
-    const Eigen::Index ns = Eigen::Index(set.size());
-    const auto restitution = [&](Eigen::Index i) { return model.contact(set[std::size_t(i)]).restitution; };
-    Vector<S> P = Vector<S>::Zero(ns), u_plus = u_minus;
-    S carnot = S(0);
-    if (options.sequential_impacts) {
-      // One-contact Newton impacts, the fastest approaching contact first, until none approaches
-      // beyond the rounding of its rate (64 ε (Σ_j |W_αj u_j| + |w_α|), as contact/impact.hpp).
-      const Matrix<S> Y = model.solve_mass(Matrix<S>(Wi.transpose()));  // M̃⁻¹ W_Iᵀ
-      for (std::size_t count = 0;; ++count) {
-        const Vector<S> rate = Wi * u_plus + wi;
-        const Vector<S> noise = S(64) * eps * (Wi.cwiseAbs() * u_plus.cwiseAbs() + wi.cwiseAbs());
-        Eigen::Index i = -1;
-        for (Eigen::Index j = 0; j < ns; ++j)
-          if (rate[j] < -noise[j] && (i < 0 || rate[j] < rate[i])) i = j;
-        if (i < 0) break;
-        if (count >= options.max_impacts)
-          throw std::runtime_error("integrate_event_driven: the sequential impact law did not end (inelastic collapse?)");
-        const S e = restitution(i), p = -(S(1) + e) * rate[i] / Wi.row(i).dot(Y.col(i));
-        const Vector<S> du = Y.col(i) * p;
-        carnot += -((S(1) - e) / (S(1) + e)) * model.kinetic_energy(du) - p * wi[i];
-        u_plus += du;
-        P[i] += p;
-      }
-    } else {
-      const Matrix<S> G = Wi * model.solve_mass(Matrix<S>(Wi.transpose()));
-      Vector<S> c(ns);
-      for (Eigen::Index i = 0; i < ns; ++i) c[i] = (S(1) + restitution(i)) * rate_minus[i];
-      P = detail::solve_contact_lcp<S>(G, c);
-      const Vector<S> du = model.solve_mass(Vector<S>(Wi.transpose() * P));
-      u_plus = u_minus + du;
-      const S e = model.contact(a).restitution;
-      carnot = -((S(1) - e) / (S(1) + e)) * model.kinetic_energy(du) - P.dot(wi);
-    }
-    const Vector<S> rate_plus = Wi * u_plus + wi;
-    const S dT = model.kinetic_energy(u_plus) - model.kinetic_energy(u_minus);
-    for (int k = 0; k < n; ++k) xs[std::size_t(n + k)] = u_plus[k];
-    for (std::size_t i = 0; i < set.size(); ++i) {
-      const Eigen::Index ii = Eigen::Index(i);
-      if (set[i] != a && !(P[ii] > S(0))) continue;
-      ContactEvent<S>& ev = record(ContactEventKind::impact, set[i], t);
-      ev.rate_before = rate_minus[ii];
-      ev.rate_after = rate_plus[ii];
-      ev.impulse = P[ii];
-      ev.energy_change = dT;
-      ev.carnot = carnot;
-      History& hist = history[std::size_t(set[i])];
-      hist.t.push_back(t);
-      hist.x_prev = std::move(hist.x_last);
-      hist.x_last = xs;
-    }
-    return zeno(t, xs, a);
-  };
-
-  // A located event of contact a at (t, x): a separation, or a gap closing (impact or graze).
-  const auto transition = [&](S& t, State<S>& xs, int a) {
-    if (active[std::size_t(a)]) {
-      record(ContactEventKind::separation, a, t);
-      active[std::size_t(a)] = false;
-      decide_mode(t, xs, a);
-      return;
-    }
-    model.evaluate(t, xs);
-    const S v = model.rate(a);
-    if (!model.kinematic(a) && v < -rate_tol(abs(v))) impact(t, xs, a);
-    decide_mode(t, xs, -1);
-  };
-
-  std::size_t reported = 0;
-  const auto observe = [&](S t, const State<S>& xs) {
-    if (options.on_event)
-      for (; reported < out.events.size(); ++reported) options.on_event(out.events[reported]);
-    if (any_active) model.accelerations(t, xs, active, udot, lambda);
-    else lambda.setZero(m);
-    observer(t, xs, static_cast<const Vector<S>&>(lambda), static_cast<const std::vector<bool>&>(active));
-  };
-
-  // The start: on the bilateral rows, approaching closed gaps collide, then the contact decision.
-  S t = t0;
-  {
-    model.project(t, x, active);
-    model.evaluate(t, x);
-    const S gtol = gap_tol();
-    for (int a = 0; a < m; ++a)
-      if (!model.kinematic(a) && abs(model.g()[a]) <= gtol && model.rate(a) < -rate_tol(S(0))) {
-        impact(t, x, a);
-        break;
-      }
-    decide_mode(t, x, -1);
-  }
-
-  std::vector<EventSpec> specs(std::size_t(m), EventSpec{EventDirection::down, false, EventAction::edit, 0.0});
-  specs.insert(specs.end(), options.events.begin(), options.events.end());
-  EventLocator<S> locator(specs);
-  locator.start(indicators, t, static_cast<const State<S>&>(x));
-  NoProgressChecker<S> checker(limits);
-  checker.check_state(t, x);
-  observe(t, x);
-  out.t = t1;
-  if (t >= t1) {
-    out.active = active;
-    out.lambda = lambda;
-    return out;
-  }
-
-  const std::size_t evals0 = stepper.rhs_evals();
-  std::size_t extra_evals = 0;
-  S hmax = t1 - t0;
-  if (limits.max_step > 0.0 && S(limits.max_step) < hmax) hmax = S(limits.max_step);
-  // The first step after a transition. A gap just opened by an impact closes again after about
-  // 2 ġ⁺ / |g̈|, which can be far shorter than what the error control would take from the smooth
-  // motion (a small bounce): a step over the whole flight would hold two sign changes of g and
-  // miss the next impact (events.hpp's limitation). The first step ends before the apex, ġ / |g̈|;
-  // from there the gap only falls, and one crossing per step is seen.
-  const auto first_step = [&](S t_from) {
-    checker.check_derivative(t_from, stepper.prepare(rates, x, t_from));
-    S h_first = initial_step(rates, t_from, static_cast<const State<S>&>(x), stepper.derivative(), S(1),
-                             Stepper<S>::error_order, tol, hmax, extra_evals);
-    model.accelerations(t_from, x, active, udot, lambda);
-    const S gtol = gap_tol();
-    for (int a = 0; a < m; ++a) {
-      if (active[std::size_t(a)] || model.kinematic(a) || !(abs(model.g()[a]) <= gtol)) continue;
-      const S v = model.rate(a), acc = S(model.W().row(a).dot(udot)) + model.b()[a];
-      if (v > S(0) && acc < S(0) && v / -acc < h_first) h_first = v / -acc;
-    }
-    return h_first;
-  };
-  S h = first_step(t);
-  checker.set_reference_step(h);
-  std::vector<EventHit<S>> hits;
-  const auto dense = [&](S tau, State<S>& o) { stepper.calc_state(tau, o); };
-
-  while (t < t1) {
-    if (checker.underflows(t, h)) checker.check_step_size(t, h);
-    checker.count_attempt(t);
-    if (h > hmax) h = hmax;
-    const bool last = t + h >= t1;
-    if (last) h = t1 - t;
-    const S t_old = t;
-    if (!stepper.try_step(rates, x, t, h, tol)) {
-      ++out.stats.rejected;
-      continue;
-    }
-    ++out.stats.accepted;
-    if (last) t = t1;
-    checker.check_state(t, x);
-    const bool interrupted = locator.step(indicators, t_old, t, static_cast<const State<S>&>(x), dense, hits);
-    // The scene events of this step, in time order (a terminal one ends the list and the run).
-    for (EventHit<S>& hit : hits) {
-      if (hit.index < std::size_t(m)) continue;
-      hit.index -= std::size_t(m);
-      if (any_active) model.accelerations(hit.t, hit.x, active, udot, lambda);
-      else lambda.setZero(m);
-      if (options.on_scene_event)
-        options.on_scene_event(static_cast<const EventHit<S>&>(hit), static_cast<const Vector<S>&>(lambda),
-                               static_cast<const std::vector<bool>&>(active));
-      if (hit.terminal) {
-        out.stopped = true;
-        out.stopped_by = hit.index;
-      }
-    }
-    if (out.stopped) {
-      t = hits.back().t;
-      x = hits.back().x;
-      if (any_active || model.bilateral() > 0) model.project(t, x, active);
-      observe(t, x);
-      break;
-    }
-    if (!interrupted) {
-      if (any_active || model.bilateral() > 0) model.project(t, x, active);
-      observe(t, x);
-      continue;
-    }
-    // A transition: the smooth phase ends at the event; the stepper starts afresh after it.
-    t = hits.back().t;
-    x = hits.back().x;
-    transition(t, x, int(hits.back().index));
-    stepper.reset();
-    locator.restart(indicators, t, static_cast<const State<S>&>(x));
-    checker.check_state(t, x);
-    observe(t, x);
-    if (t >= t1) break;
-    h = first_step(t);
-  }
-  out.stats.rhs_evals = stepper.rhs_evals() - evals0 + extra_evals;
-  out.t = t;
-  out.active = active;
-  out.lambda = lambda;
-  return out;
+  return detail::EventDrivenRun<Stepper, S, Obs>(stepper, sys, x, t0, t1, tol, observer, options, limits).run();
 }
 
 }  // namespace eomc::runtime::contact
