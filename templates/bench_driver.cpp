@@ -728,10 +728,10 @@ std::string format_setting(Kind kind, double setting) {
   return buf;
 }
 
-}  // namespace
+// --- the sweep ------------------------------------------------------------------------------------
 
-int main(int argc, char** argv) {
-  const Options o = parse(argc, argv);
+// The methods asked for (all by default), less those that cannot run this kernel (each with a note).
+std::vector<Method> chosen_methods(const Options& o) {
   std::vector<Method> methods;
   for (Method& m : all_methods()) {
     const bool wanted = o.methods.empty() || std::find(o.methods.begin(), o.methods.end(), m.name) != o.methods.end();
@@ -757,8 +757,11 @@ int main(int argc, char** argv) {
     if (std::none_of(all.begin(), all.end(), [&](const Method& m) { return name == m.name; }))
       usage("unknown method " + name);
   }
+  return methods;
+}
 
-  // The judged columns, and the measured invariants, by name.
+// The judged columns by name (a formulation's run), and the measured invariants (drift_measured).
+std::vector<Column> judged_columns(const Options& o) {
   std::vector<Column> columns;
   if (o.reference_only || o.reference_values) {
     for (const std::string& name : o.judged) {
@@ -775,6 +778,72 @@ int main(int argc, char** argv) {
       drift_measured[static_cast<std::size_t>(k)] = true;
     }
   }
+  return columns;
+}
+
+// What a method's runs are judged against: the reference solution, or a formulation's judged columns.
+struct Judge {
+  const Options& o;
+  const std::vector<Column>& columns;
+  const Reference& ref;
+  double round_off_region;  // errors this small are round-off
+
+  double error(const State& x) const {
+    return o.reference_values ? judged_error(x, o.t_end, columns, *o.reference_values) : error_of(x, ref);
+  }
+};
+
+// One CSV row per setting of a method that runs, a note for those that fail.
+void sweep(const Method& m, const Judge& judge, Progress& bar, std::size_t& done) {
+  const Options& o = judge.o;
+  const std::vector<double>& settings = m.kind == Kind::adaptive ? o.tolerances : o.steps;
+  std::size_t failures = 0;
+  std::string first_failure;
+  double best = std::numeric_limits<double>::infinity();
+  int stalled = 0;
+  bool stop = false;
+  for (double setting : settings) {
+    bar.show(done++, std::string(m.name) + " " + format_setting(m.kind, setting));
+    if (stop) continue;
+    Outcome out;
+    double error = 0.0, observed_s = 0.0;
+    try {
+      const auto start = Clock::now();
+      out = m.run(o.t_end, setting, true);
+      observed_s = seconds_since(start);
+      error = judge.error(out.x);
+      if (!std::isfinite(error)) throw std::runtime_error("non-finite final state");
+    } catch (const std::exception& e) {
+      // Too large a step (a fixed-step method blowing up, an implicit stage iteration that does
+      // not converge) or a controller that gives up: no row, a note.
+      if (failures++ == 0) first_failure = format_setting(m.kind, setting) + ": " + e.what();
+      continue;
+    }
+    const auto [seconds, reps] = time_runs([&] { (void)m.run(o.t_end, setting, false); }, o.min_time, o.repeats);
+    std::printf("%s,%s,%s,%.10g,%.17g,", m.name, m.library, m.kind == Kind::adaptive ? "tolerance" : "steps", setting,
+                error);
+    if (K::n_invariants > 0) std::printf("%.17g", out.drift);
+    std::printf(",%zu,%zu,%zu,%.9g,%d\n", out.evals, out.steps, out.rejected, seconds, reps);
+    std::fflush(stdout);
+    // A fixed-step sweep ends once the error has stopped falling in the round-off region (three
+    // settings in a row without halving it), or when a run gets slow.
+    if (m.kind == Kind::fixed) {
+      stalled = error < 0.5 * best || error > judge.round_off_region ? 0 : stalled + 1;
+      best = std::min(best, error);
+      if (stalled >= 3 || observed_s > o.max_run_time) stop = true;
+    }
+  }
+  if (failures > 0)
+    std::printf("# %s: %zu setting%s failed, the first (%s)\n", m.name, failures, failures == 1 ? "" : "s",
+                first_failure.c_str());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const Options o = parse(argc, argv);
+  const std::vector<Method> methods = chosen_methods(o);
+  const std::vector<Column> columns = judged_columns(o);
 
   if (o.reference_only) {
     try {
@@ -808,49 +877,7 @@ int main(int argc, char** argv) {
     for (const Q& v : *o.reference_values) scale = std::max(scale, static_cast<double>(abs(v)));
   else
     for (const Q& v : ref.x) scale = std::max(scale, static_cast<double>(abs(v)));
-  const double round_off_region = 1e-8 * scale;
-  for (const Method& m : methods) {
-    const std::vector<double>& settings = m.kind == Kind::adaptive ? o.tolerances : o.steps;
-    std::size_t failures = 0;
-    std::string first_failure;
-    double best = std::numeric_limits<double>::infinity();
-    int stalled = 0;
-    bool stop = false;
-    for (double setting : settings) {
-      bar.show(done++, std::string(m.name) + " " + format_setting(m.kind, setting));
-      if (stop) continue;
-      Outcome out;
-      double error = 0.0, observed_s = 0.0;
-      try {
-        const auto start = Clock::now();
-        out = m.run(o.t_end, setting, true);
-        observed_s = seconds_since(start);
-        error = o.reference_values ? judged_error(out.x, o.t_end, columns, *o.reference_values) : error_of(out.x, ref);
-        if (!std::isfinite(error)) throw std::runtime_error("non-finite final state");
-      } catch (const std::exception& e) {
-        // Too large a step (a fixed-step method blowing up, an implicit stage iteration that does
-        // not converge) or a controller that gives up: no row, a note.
-        if (failures++ == 0) first_failure = format_setting(m.kind, setting) + ": " + e.what();
-        continue;
-      }
-      const auto [seconds, reps] =
-          time_runs([&] { (void)m.run(o.t_end, setting, false); }, o.min_time, o.repeats);
-      std::printf("%s,%s,%s,%.10g,%.17g,", m.name, m.library, m.kind == Kind::adaptive ? "tolerance" : "steps", setting,
-                  error);
-      if (K::n_invariants > 0) std::printf("%.17g", out.drift);
-      std::printf(",%zu,%zu,%zu,%.9g,%d\n", out.evals, out.steps, out.rejected, seconds, reps);
-      std::fflush(stdout);
-      // A fixed-step sweep ends once the error has stopped falling in the round-off region (three
-      // settings in a row without halving it), or when a run gets slow.
-      if (m.kind == Kind::fixed) {
-        stalled = error < 0.5 * best || error > round_off_region ? 0 : stalled + 1;
-        best = std::min(best, error);
-        if (stalled >= 3 || observed_s > o.max_run_time) stop = true;
-      }
-    }
-    if (failures > 0)
-      std::printf("# %s: %zu setting%s failed, the first (%s)\n", m.name, failures, failures == 1 ? "" : "s",
-                  first_failure.c_str());
-  }
+  const Judge judge{o, columns, ref, 1e-8 * scale};
+  for (const Method& m : methods) sweep(m, judge, bar, done);
   return 0;
 }
