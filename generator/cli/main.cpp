@@ -26,6 +26,7 @@
 #include "host/pipeline.hpp"
 #include "host/rigid_bench.hpp"
 #include "host/simulate.hpp"
+#include "host/simulate/program_stiffness.hpp"
 #include "mechanics/control/control.hpp"
 #include "mechanics/inverse/inverse_problem.hpp"
 #include "mechanics/relative/equilibria.hpp"
@@ -268,9 +269,10 @@ void simulate_command(const Pipeline& p, Options& o, bool whole_job) {
     if (whole_job && o.simulate.output.empty()) o.simulate.output = (fs::path(o.out_dir) / (p.model.name + ".csv")).string();
     const host::SimulationRequest request = cli::simulation_request(p, header, o.simulate);
     cli::check_overrides_against_scene(o.scene_path, o.front, o.simulate.overrides);
-    host::check_separable(request.integrator, request.integrator_pos, ir.separable, ir.scene_name);
+    const host::RunSettings settings = host::resolve_settings(request);
+    host::check_separable(*settings.method, request.integrator_pos, ir.separable, ir.scene_name);
     // Gains too large for the explicit integrator chosen (Mei ch. 3): warned, the run still made.
-    for (const std::string& w : mechanics::stiffness_warnings(p.model, request.integrator, request.step, request.t_end))
+    for (const std::string& w : host::program_stiffness_warnings(p.model, *settings.method, settings.step, request.t_end))
         std::cerr << "eomc: warning: " << w << "\n";
     if (whole_job) {
         report::print_derivation(p.model, p.equations, report::DerivationFormat::text, std::cout, canonical(p));
@@ -323,7 +325,7 @@ void ensemble_command(const Pipeline& p, const Options& o) {
     host::check_names(r.spec, parameters, states, r.base.overrides);
     cli::check_overrides_against_scene(o.scene_path, o.front, o.simulate.overrides);
     cli::check_grid_against_scene(o.scene_path, o.front, o.simulate.overrides, r.spec);
-    host::check_separable(r.base.integrator, r.base.integrator_pos, ir.separable, ir.scene_name);
+    host::check_separable(*host::resolve_settings(r.base).method, r.base.integrator_pos, ir.separable, ir.scene_name);
     r.threads = o.ensemble.threads;
     r.batch = o.ensemble.batch;
     for (const auto& text : o.ensemble.observe) r.observe.push_back(host::parse_observation(text));
@@ -349,8 +351,8 @@ void ensemble_command(const Pipeline& p, const Options& o) {
 void bench_command(const Pipeline& p, const Options& o) {
     codegen::KernelIR ir;
     // The sweep runs every method of the catalogue.
-    const bool jacobian = std::any_of(scene::integrator_names.begin(), scene::integrator_names.end(),
-                                      [](std::string_view name) { return host::method_needs_jacobian(name); });
+    const bool jacobian = std::any_of(runtime::integrator_infos.begin(), runtime::integrator_infos.end(),
+                                      [](const runtime::IntegratorInfo& info) { return info.uses_jacobian; });
     const std::string header = host::kernel_header(p, nullptr, &ir, jacobian);
     host::BenchRequest r = cli::bench_request(p, header, ir, o.scene_path, o.out_dir, o.bench);
     const std::vector<std::string> formulations = cli::comma_list(o.bench.formulations);

@@ -10,7 +10,7 @@
 
 #include "codegen/cpp_emitter.hpp"
 #include "eomc/runtime/integrate.hpp"
-#include "eomc/runtime/registry.hpp"
+#include "eomc/runtime/registry_info.hpp"
 #include "model/model.hpp"
 #include "scene/scene.hpp"
 
@@ -97,7 +97,7 @@ void add_integration_options(CLI::App* cmd, SimulateOptions& o) {
                     fmt::format("{} (default: [simulate] integrator; {} need a separable system)",
                                 integrator_list(" | "),
                                 integrator_list([](const auto& i) { return i.needs_separable; })))
-        ->check(CLI::IsMember(std::vector<std::string>(scene::integrator_names.begin(), scene::integrator_names.end())));
+        ->check(CLI::IsMember(runtime::integrator_names_where([](const auto&) { return true; })));
     cmd->add_option("--rtol", o.rtol, fmt::format("relative tolerance ({})", integrator_list(adaptive)))
         ->check(decimal)->check(CLI::PositiveNumber);
     cmd->add_option("--atol", o.atol, fmt::format("absolute tolerance ({})", integrator_list(adaptive)))
@@ -107,15 +107,15 @@ void add_integration_options(CLI::App* cmd, SimulateOptions& o) {
     cmd->add_option("--contact-method", o.contact_method,
                     "unilateral rows: event_driven (impacts located, contact phases, Zeno) or moreau_jean (time "
                     "stepping at [simulate] step) (default: [contact] method)")
-        ->check(CLI::IsMember(std::vector<std::string>(scene::contact_method_names.begin(),
-                                                       scene::contact_method_names.end())));
+        ->check(CLI::IsMember(runtime::contact::contact_method_names()));
     cmd->add_option("--impact-law", o.impact_law,
                     "unilateral rows, event_driven: an impact on several closed contacts by Moreau's simultaneous "
                     "LCP or by sequential two-body impacts (default: [contact] impact_law, else simultaneous)")
-        ->check(CLI::IsMember(std::vector<std::string>(scene::impact_law_names.begin(), scene::impact_law_names.end())));
+        ->check(CLI::IsMember(runtime::contact::impact_law_names()));
     cmd->add_option("--compensated", o.compensated,
-                    "on | off: compensated (Kahan) summation of the state update (default: [simulate] compensated, "
-                    "else on for gl4-8, verlet, yoshida6, kahanli8 and off for the others)")
+                    fmt::format("on | off: compensated (Kahan) summation of the state update (default: [simulate] "
+                                "compensated, else on for {} and off for the others)",
+                                integrator_list([](const auto& i) { return i.compensated_by_default; })))
         ->check(CLI::IsMember({"on", "off"}));
     cmd->add_option("--set", o.overrides, "NAME=VALUE: a parameter, or an initial value (q, q_dot)");
     cmd->add_option("--cache-dir", o.cache_dir, "where compiled kernels are kept (default ~/.cache/eomc)");
@@ -162,7 +162,7 @@ host::SimulationRequest simulation_request(const host::Pipeline& p, const std::s
         r.contact_method = o.contact_method;
         r.contact_method_pos = SourcePos{"--contact-method"};
     } else {
-        r.contact_method = p.model.contact_method == model::ContactMethod::moreau_jean ? "moreau_jean" : "event_driven";
+        r.contact_method = runtime::contact::name(p.model.contact_method);
         r.contact_method_pos = p.model.contact_method_pos;
     }
     r.theta = p.model.theta;
@@ -170,7 +170,7 @@ host::SimulationRequest simulation_request(const host::Pipeline& p, const std::s
         r.impact_law = o.impact_law;
         r.impact_law_pos = SourcePos{"--impact-law"};
     } else {
-        r.impact_law = p.model.impact_law;
+        r.impact_law = runtime::contact::name(p.model.impact_law);
         r.impact_law_pos = p.model.impact_law_pos;
     }
     return r;
@@ -197,8 +197,11 @@ void add_ensemble_options(CLI::App* cmd, EnsembleOptions& o, bool sweep) {
     cmd->add_option("--observe", o.observe, "NAME=EXPR: a column of EXPR (the scene's syntax, over t, the parameters "
                                             "and the state) at each member's end; event:NAME: the time of its first "
                                             "NAME event (column t_NAME)");
-    cmd->add_flag("--batch", o.batch, "run the members a SIMD batch at a time through the kernel's batched rhs, in "
-                                      "lock step (rk4: the same rows as without; dopri5: one step size per batch)");
+    cmd->add_flag("--batch", o.batch,
+                  fmt::format("run the members a SIMD batch at a time through the kernel's batched rhs, in lock step "
+                              "({}; a fixed step gives the same rows as without, an adaptive one one step size per "
+                              "batch)",
+                              integrator_list([](const auto& i) { return i.batch; })));
     cmd->add_option("-o,--output", o.output, "one CSV row per member (inputs, status, final state, invariant drifts, "
                                              "events, message)");
     cmd->add_option("--format", o.format, "summary statistics as text | json")->check(CLI::IsMember({"text", "json"}));

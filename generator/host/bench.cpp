@@ -20,6 +20,8 @@
 
 #include "codegen/cpp_text.hpp"
 #include "codegen/templates.hpp"
+#include "host/bench_io.hpp"
+#include "host/bench_plot.hpp"
 #include "host/gnuplot.hpp"
 #include "eomc/runtime/registry.hpp"
 #include "host/toolchain.hpp"
@@ -30,19 +32,13 @@
 namespace eomc::host {
 
 namespace fs = std::filesystem;
+using namespace bench_io;
+using bench_plot::formulation_gnuplot_script;
+using bench_plot::gnuplot_script;
 
 namespace {
 
 std::vector<std::string> method_names() { return {bench_method_names.begin(), bench_method_names.end()}; }
-
-std::string join(const std::vector<std::string>& items, const char* separator = ", ") {
-    std::string out;
-    for (const auto& s : items) {
-        if (!out.empty()) out += separator;
-        out += s;
-    }
-    return out;
-}
 
 // Everything that can be checked before compiling, so that a typo costs no compile.
 void validate(const BenchRequest& r) {
@@ -86,182 +82,6 @@ std::string indent(const std::string& text, int spaces) {
     return out;
 }
 
-std::string number_list(const std::vector<double>& values) {
-    std::string out;
-    for (double v : values) {
-        if (!out.empty()) out += ',';
-        out += fmt::format("{:.17g}", v);
-    }
-    return out;
-}
-
-std::vector<std::string> split(const std::string& line, char separator) {
-    std::vector<std::string> out;
-    std::size_t start = 0;
-    for (;;) {
-        const std::size_t at = line.find(separator, start);
-        out.push_back(line.substr(start, at == std::string::npos ? std::string::npos : at - start));
-        if (at == std::string::npos) return out;
-        start = at + 1;
-    }
-}
-
-double parse_double(const std::string& s) {
-    if (s.empty()) return std::numeric_limits<double>::quiet_NaN();
-    std::size_t used = 0;
-    const double v = std::stod(s, &used);
-    if (used != s.size()) throw std::runtime_error("not a number: " + s);
-    return v;
-}
-
-BenchRow parse_row(const std::string& line, const std::string& formulation) {
-    const std::vector<std::string> f = split(line, ',');
-    if (f.size() != 11) throw std::runtime_error("the benchmark driver wrote a malformed row: " + line);
-    BenchRow r;
-    r.formulation = formulation;
-    r.method = f[0];
-    r.library = f[1];
-    r.kind = f[2];
-    r.setting = parse_double(f[3]);
-    r.error = parse_double(f[4]);
-    r.drift = parse_double(f[5]);
-    r.rhs_evals = std::stoull(f[6]);
-    r.steps = std::stoull(f[7]);
-    r.rejected = std::stoull(f[8]);
-    r.seconds = parse_double(f[9]);
-    r.repetitions = std::stoi(f[10]);
-    return r;
-}
-
-// --- the plot ------------------------------------------------------------------------------
-
-// Two panels, log-log, one curve per method against the median wall time of a run: the error of
-// the final state, and the largest relative drift of the invariants. Ours solid, odeint dashed.
-std::string gnuplot_script(const BenchRequest& request, const BenchResult& result, const std::string& terminal,
-                           const fs::path& output) {
-    static const char* colors[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",
-                                   "#bcbd22", "#17becf", "#ff7f0e", "#393b79", "#637939", "#843c39"};
-    std::vector<std::string> methods;
-    for (const auto& r : result.rows)
-        if (std::find(methods.begin(), methods.end(), r.method) == methods.end()) methods.push_back(r.method);
-
-    std::string s = fmt::format("set terminal {} size 1600,700 font ',10'\nset output {}\n", terminal,
-                                gnuplot_quoted(output.string()));
-    bool any_drift = false;
-    for (std::size_t m = 0; m < methods.size(); ++m) {
-        std::vector<const BenchRow*> rows;
-        for (const auto& r : result.rows)
-            if (r.method == methods[m]) rows.push_back(&r);
-        std::sort(rows.begin(), rows.end(), [](const BenchRow* a, const BenchRow* b) { return a->seconds < b->seconds; });
-        s += fmt::format("$m{} << EOD\n", m);
-        for (const BenchRow* r : rows) {
-            // Zeros have no place on a log scale: NaN leaves the point out.
-            const auto positive = [](double v) { return v > 0.0 && std::isfinite(v) ? fmt::format("{:.6g}", v) : "NaN"; };
-            s += fmt::format("{} {} {}\n", positive(r->seconds), positive(r->error), positive(r->drift));
-            any_drift = any_drift || (r->drift > 0.0 && std::isfinite(r->drift));
-        }
-        s += "EOD\n";
-    }
-    s += fmt::format("set multiplot layout 1,2 title {}\n",
-                     gnuplot_quoted(gnuplot_text(
-                         fmt::format("{}: work-precision over t = 0 .. {:.6g}", request.scene_name, request.t_end))));
-    s += "set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\nset grid\nset key bottom left font ',9'\n"
-         "set xlabel 'wall time per run (s, median)'\n";
-    auto plot = [&](const char* ylabel, int column) {
-        std::string p = fmt::format("set ylabel '{}'\nplot ", ylabel);
-        for (std::size_t m = 0; m < methods.size(); ++m) {
-            const std::string& library =
-                std::find_if(result.rows.begin(), result.rows.end(), [&](const BenchRow& r) { return r.method == methods[m]; })
-                    ->library;
-            p += fmt::format("{}$m{} using 1:{} with linespoints lw 1.5 pt {} dt {} lc rgb '{}' title '{}{}'",
-                             m ? ", \\\n     " : "", m, column, m % 13 + 1, library == "eomc" ? 1 : 2,
-                             colors[m % 13], gnuplot_text(methods[m]), library == "eomc" ? "" : " (odeint)");
-        }
-        return p + "\n";
-    };
-    if (!methods.empty()) {
-        s += plot("error of the final state (max norm)", 2);
-        if (any_drift) {
-            s += plot("max relative drift of the invariants", 3);
-        } else {
-            s += "unset logscale\nunset key\nunset xlabel\nunset ylabel\nset format x ''\nset format y ''\n"
-                 "set label 1 'no invariants' at graph 0.5, 0.5 center\nplot [0:1] [0:1] NaN notitle\n";
-        }
-    }
-    s += "unset multiplot\n";
-    return s;
-}
-
-// Two panels, log-log, one curve per formulation and method: the error of the judged columns at
-// t_end against the median wall time of a run, and against its rhs evaluations; a third, the drift
-// of the measured invariants against the wall time, when the axis names them. Colour:
-// formulation; point and dash: method.
-// Errors above `error_cap` are left out of the plot (they are in the CSV and the table).
-std::string formulation_gnuplot_script(const BenchRequest& request, const BenchResult& result, double error_cap,
-                                 const std::string& terminal, const fs::path& output) {
-    static const char* colors[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",
-                                   "#bcbd22", "#17becf", "#ff7f0e"};
-    std::vector<std::string> formulations, methods;
-    std::vector<std::pair<std::string, std::string>> curves;
-    for (const auto& r : result.rows) {
-        if (std::find(formulations.begin(), formulations.end(), r.formulation) == formulations.end())
-            formulations.push_back(r.formulation);
-        if (std::find(methods.begin(), methods.end(), r.method) == methods.end()) methods.push_back(r.method);
-        const std::pair<std::string, std::string> c{r.formulation, r.method};
-        if (std::find(curves.begin(), curves.end(), c) == curves.end()) curves.push_back(c);
-    }
-    const auto index = [](const std::vector<std::string>& v, const std::string& x) {
-        return static_cast<std::size_t>(std::find(v.begin(), v.end(), x) - v.begin());
-    };
-    const auto positive = [](double v) { return v > 0.0 && std::isfinite(v) ? fmt::format("{:.6g}", v) : "NaN"; };
-    std::string s = fmt::format("set terminal {} size 1600,700 font ',10'\nset output {}\n", terminal,
-                                gnuplot_quoted(output.string()));
-    for (std::size_t c = 0; c < curves.size(); ++c) {
-        std::vector<const BenchRow*> rows;
-        for (const auto& r : result.rows)
-            if (r.formulation == curves[c].first && r.method == curves[c].second) rows.push_back(&r);
-        // In sweep order (tolerances falling, step counts rising); a run that lost the orbit is a
-        // gap in its curve.
-        s += fmt::format("$c{} << EOD\n", c);
-        for (const BenchRow* r : rows)
-            s += fmt::format("{} {} {} {}\n", positive(r->seconds), positive(static_cast<double>(r->rhs_evals)),
-                             r->error <= error_cap ? positive(r->error) : "NaN", positive(r->drift));
-        s += "EOD\n";
-    }
-    const FormulationAxis& axis = request.axis;
-    const bool drift_panel = !axis.drift_invariants.empty();
-    s += fmt::format("set multiplot layout 1,{} title {}\n", drift_panel ? 3 : 2,
-                     gnuplot_quoted(gnuplot_text(fmt::format("{}: {} error at t = {:.6g} against a float128 {} run ({}, "
-                                                             "left out)",
-                                                             request.scene_name, axis.judged_what, request.t_end,
-                                                             axis.reference, axis.lost))));
-    s += "set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\nset grid\nset key bottom left font ',9'\n";
-    s += fmt::format("set ylabel {}\n", gnuplot_quoted(gnuplot_text(axis.judged_what + " error at the end time")));
-    if (std::isfinite(error_cap)) s += fmt::format("set yrange [:{:.3g}]\n", 2.0 * error_cap);
-    const auto panel = [&](const char* xlabel, int column, int y) {
-        std::string p = fmt::format("set xlabel '{}'\nplot ", xlabel);
-        for (std::size_t c = 0; c < curves.size(); ++c) {
-            const std::size_t f = index(formulations, curves[c].first), m = index(methods, curves[c].second);
-            p += fmt::format("{}$c{} using {}:{} with linespoints lw 1.5 pt {} dt {} lc rgb '{}' title '{} {}'",
-                             c ? ", \\\n     " : "", c, column, y, m % 13 + 1, m % 5 + 1, colors[f % 10],
-                             gnuplot_text(curves[c].first), gnuplot_text(curves[c].second));
-        }
-        return p + "\n";
-    };
-    if (!curves.empty()) {
-        s += panel("wall time per run (s, median)", 1, 3);
-        s += panel("rhs evaluations per run", 2, 3);
-        if (drift_panel) {
-            s += "unset yrange\n";
-            s += fmt::format("set ylabel {}\n", gnuplot_quoted(gnuplot_text(fmt::format(
-                                                  "max relative drift of {}", fmt::join(axis.drift_invariants, ", ")))));
-            s += panel("wall time per run (s, median)", 1, 4);
-        }
-    }
-    s += "unset multiplot\n";
-    return s;
-}
-
 // The request for one formulation's kernel: the same sweep on another header.
 BenchRequest with_kernel(const BenchRequest& request, const BenchFormulation& f) {
     BenchRequest r = request;
@@ -272,84 +92,6 @@ BenchRequest with_kernel(const BenchRequest& request, const BenchFormulation& f)
     r.reference_body.clear();
     r.formulations.clear();
     return r;
-}
-
-// The driver program of a request's kernel, compiled unless the cache has it.
-fs::path driver_for(const BenchRequest& request, bool& cache_hit) {
-    CompileRequest build;
-    build.files = {{"bench_driver.cpp", codegen::bench_driver_template()},
-                   {"kernel.hpp", request.header_text},
-                   {"bench_config.hpp", bench_config_source(request)}};
-    if (request.odeint_array) build.flags = {"-DEOMC_BENCH_ODEINT_ARRAY"};
-    build.libraries = {"-lquadmath"};
-    build.what = "the benchmark driver";
-    const fs::path driver = cached_path(build, request.cache_dir);
-    cache_hit = fs::exists(driver);
-    if (!cache_hit) {
-        std::cerr << "compiling the benchmark driver for " << request.scene_name
-                  << " (once per kernel; it is cached as " << driver.string() << ")\n";
-        compile(build, driver);
-    }
-    return driver;
-}
-
-// Runs a driver; its standard output (CSV rows and '# ' notes).
-std::string run_driver(const std::vector<std::string>& argv) {
-    TempDir work("eomc-bench-");
-    const fs::path output = work.path() / "driver.csv";
-    const int status = run_process(argv, output, false);
-    if (!(WIFEXITED(status) && WEXITSTATUS(status) == 0))
-        throw std::runtime_error(fmt::format("the benchmark driver {} {}", argv.front(), describe_status(status)));
-    return read_whole_file(output);
-}
-
-// The sweep's options, as the driver takes them.
-std::vector<std::string> sweep_arguments(const BenchRequest& request, const std::vector<std::string>& methods,
-                                         const std::vector<double>& steps) {
-    std::vector<std::string> argv{"--t-end", fmt::format("{:.17g}", request.t_end)};
-    if (!methods.empty()) argv.insert(argv.end(), {"--methods", join(methods, ",")});
-    if (!request.tolerances.empty()) argv.insert(argv.end(), {"--tolerances", number_list(request.tolerances)});
-    if (!steps.empty()) argv.insert(argv.end(), {"--steps", number_list(steps)});
-    argv.insert(argv.end(), {"--min-time", fmt::format("{:.17g}", request.min_time == 0.0 ? 1e-9 : request.min_time),
-                             "--repeats", std::to_string(request.repeats)});
-    return argv;
-}
-
-// Rows (tagged with `formulation`) and notes (prefixed with `note_prefix`) of a driver's output;
-// the rows as written, after "formulation," when there is one, are appended to `csv`.
-void collect(const std::string& text, const std::string& formulation, const std::string& note_prefix,
-             BenchResult& result, std::string& csv) {
-    bool header_seen = false;
-    std::istringstream lines(text);
-    for (std::string line; std::getline(lines, line);) {
-        if (line.rfind("# ", 0) == 0) {
-            result.notes.push_back(note_prefix + line.substr(2));
-        } else if (!header_seen) {
-            if (line != bench_csv_header)
-                throw std::runtime_error("the benchmark driver wrote an unexpected header: " + line);
-            header_seen = true;
-        } else if (!line.empty()) {
-            result.rows.push_back(parse_row(line, formulation));
-            csv += (formulation.empty() ? "" : formulation + ",") + line + "\n";
-        }
-    }
-    if (!header_seen) throw std::runtime_error("the benchmark driver wrote no CSV header");
-}
-
-// DIR/work_precision.csv (`csv`: header and rows) and DIR/work_precision.png.
-void write_outputs(const BenchRequest& request, BenchResult& result, const std::string& csv,
-                   const std::function<std::string(const std::string&, const fs::path&)>& script_for) {
-    const fs::path dir = request.out_dir.empty() ? fs::path(".") : fs::path(request.out_dir);
-    const fs::path csv_path = dir / "work_precision.csv", png_path = dir / "work_precision.png";
-    write_file_atomically(csv_path, csv);
-    result.csv_path = csv_path.string();
-    const std::string no_plot = write_plot(script_for, png_path);
-    if (no_plot.empty()) {
-        result.png_path = png_path.string();
-    } else {
-        std::cerr << "eomc: warning: " << no_plot << "\n";
-        result.notes.push_back(no_plot.substr(0, no_plot.find('\n')));
-    }
 }
 
 // The reference of a formulation bench: its judged columns at t_end and their spread, from the
@@ -405,12 +147,25 @@ std::vector<double> period_steps(const BenchRequest& request) {
     return steps;
 }
 
+// The formulations are compared by the explicit methods, whose cost per step is the kernel's calls
+// alone: those with a real stability boundary (the catalogue's explicit Runge-Kutta methods),
+// highest order first.
+std::vector<std::string> formulation_bench_methods() {
+    std::vector<const runtime::IntegratorInfo*> explicit_methods;
+    for (const runtime::IntegratorInfo& info : runtime::integrator_infos)
+        if (info.stability_limited()) explicit_methods.push_back(&info);
+    std::stable_sort(explicit_methods.begin(), explicit_methods.end(),
+                     [](const auto* a, const auto* b) { return a->order > b->order; });
+    std::vector<std::string> names;
+    for (const auto* info : explicit_methods) names.emplace_back(info->name);
+    return names;
+}
+
 BenchResult formulation_bench(const BenchRequest& request) {
     BenchResult result;
     const FormulationAxis& axis = request.axis;
     result.table_levels = axis.table_levels;
-    const std::vector<std::string> methods =
-        request.methods.empty() ? std::vector<std::string>{"dop853", "dopri5", "rk4"} : request.methods;
+    const std::vector<std::string> methods = request.methods.empty() ? formulation_bench_methods() : request.methods;
     const std::vector<double> steps = request.steps.empty() && axis.period > 0.0 ? period_steps(request) : request.steps;
 
     // The reference: the request's own kernel (the axis's reference formulation) in float128.
@@ -512,8 +267,10 @@ std::vector<std::string> stiffness_notes(const std::vector<BenchRow>& rows) {
         if (loose->setting < 1e3 * tight->setting || tight->steps == 0) continue;
         if (2 * loose->steps > tight->steps)
             notes.push_back(fmt::format("{} ({}) takes {} steps at tolerance {:.0e} and {} at {:.0e}: its step is limited "
-                                        "by stability, not accuracy; the system is stiff, try radau5",
-                                        r.method, r.library, loose->steps, loose->setting, tight->steps, tight->setting));
+                                        "by stability, not accuracy; the system is stiff, try {}",
+                                        r.method, r.library, loose->steps, loose->setting, tight->steps, tight->setting,
+                                        runtime::integrator_list(
+                                            [](const auto& i) { return i.implicit() && !i.fixed_step(); }, " or ")));
     }
     return notes;
 }

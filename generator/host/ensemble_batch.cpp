@@ -7,7 +7,7 @@
 #include <fmt/format.h>
 
 #include "eomc/runtime/batch/lock_step.hpp"
-#include "scene/scene.hpp"
+#include "host/simulate/watches.hpp"
 #include "support/diagnostic.hpp"
 
 namespace eomc::host {
@@ -30,12 +30,6 @@ struct LaneSystem {
     }
 };
 
-// As simulate()'s observer keeps them: NaN sticks, then the largest.
-double track_max(double current_max, double drift) {
-    if (std::isnan(current_max)) return current_max;
-    return std::isnan(drift) || drift > current_max ? drift : current_max;
-}
-
 }  // namespace
 
 void check_batchable(const SimulationRequest& r, const KernelLibrary& lib) {
@@ -48,10 +42,12 @@ void check_batchable(const SimulationRequest& r, const KernelLibrary& lib) {
         refuse("its kernel solves for its rates at run time (or has constraint rows, contacts or programs)");
     if (static_cast<std::size_t>(lib.batch_width()) != W)
         refuse(fmt::format("its kernel batches {} lanes, this eomc {}", lib.batch_width(), W));
-    if (r.integrator != "rk4" && r.integrator != "dopri5")
-        refuse(fmt::format("the batch runs rk4 (fixed step) or dopri5 (one step size per batch), not {}", r.integrator));
-    if (r.compensated.value_or(scene::compensated_by_default(r.integrator)))
-        refuse("the batch does not carry compensated sums");
+    const RunSettings s = resolve_settings(r);
+    if (!s.method->batch)
+        refuse(fmt::format("the batch runs {} (one step size per batch), not {}",
+                           runtime::integrator_list([](const runtime::IntegratorInfo& i) { return i.batch; }, " or "),
+                           s.method->name));
+    if (s.compensated) refuse("the batch does not carry compensated sums");
     if (r.variational) refuse("the batch does not integrate the state-transition matrix");
     if (!lib.event_names().empty()) refuse("the scene has events, which the batch does not locate");
     if (!lib.singular_set_names().empty()) refuse("the scene has singular sets, which the batch does not watch");
@@ -86,13 +82,14 @@ std::vector<LaneEnd> run_lanes(const SimulationRequest& request, const KernelLib
     };
     rb::Alive<W> alive(true);
     rb::BatchStop stop;
-    if (request.integrator == "rk4") {
-        rb::integrate_rk4_batch<W>(sys, x, 0.0, request.t_end, request.step, alive, observer);
+    // The batch drivers of batch/lock_step.hpp: one fixed-step, one adaptive (check_batchable).
+    const RunSettings s = resolve_settings(request);
+    if (s.method->fixed_step()) {
+        rb::integrate_rk4_batch<W>(sys, x, 0.0, request.t_end, s.step, alive, observer);
     } else {
-        runtime::Limits limits;  // the budget simulate() gives dopri5
+        runtime::Limits limits;  // the budget simulate() gives an adaptive method
         if (request.max_steps) limits.max_steps = *request.max_steps;
-        rb::integrate_dopri5_batch<W>(sys, x, 0.0, request.t_end, runtime::Tolerances{request.rtol, request.atol},
-                                      limits.max_steps, alive, stop, observer);
+        rb::integrate_dopri5_batch<W>(sys, x, 0.0, request.t_end, s.tolerances, limits.max_steps, alive, stop, observer);
     }
     std::vector<LaneEnd> ends(starts.size());
     for (std::size_t k = 0; k < starts.size(); ++k) {

@@ -1,5 +1,8 @@
 // `eomc simulate`: compile an emitted kernel header (cached), integrate it with the runtime,
-// watch its invariants, write a CSV and print a summary.
+// watch its invariants, write a CSV and print a summary. The request says what was asked, by name
+// (the flags and the scene's defaults); resolve_settings turns it into the runtime's types, checked
+// once; host/simulate/ runs it along the runtime's seams (request, smooth run, contact run,
+// watches, output, summary).
 #pragma once
 
 #include <cstddef>
@@ -9,6 +12,8 @@
 #include <utility>
 #include <vector>
 
+#include "eomc/runtime/contact/method.hpp"
+#include "eomc/runtime/registry_info.hpp"
 #include "eomc/runtime/state.hpp"
 #include "support/diagnostic.hpp"
 
@@ -19,11 +24,11 @@ struct SimulationRequest {
     std::string struct_name;                                // e.g. "DiskTubeBall"
     std::vector<std::pair<std::string, double>> overrides;  // --set NAME=VALUE: parameters, or initial values "q" / "q_dot"; later wins
     double t_end = 10.0;
-    std::string integrator = "dopri5";                      // one of scene::integrator_names
+    std::string integrator{runtime::default_integrator};    // a name in runtime::integrator_infos
     SourcePos integrator_pos{"--integrator"};               // where it was chosen: the flag, or the scene's [simulate] integrator
-    double rtol = 1e-10, atol = 1e-12;                      // dopri5, dop853
+    double rtol = 1e-10, atol = 1e-12;                      // the adaptive methods
     double step = 1e-3;                                     // the fixed-step methods
-    std::optional<bool> compensated;                        // absent: scene::compensated_by_default(integrator)
+    std::optional<bool> compensated;                        // absent: the integrator's compensated_by_default
     std::string csv_path;                                   // "" = no CSV
     std::string summary_format = "text";                    // "text" | "json"
     std::string cache_dir;                                  // "" = $XDG_CACHE_HOME/eomc or ~/.cache/eomc
@@ -36,12 +41,12 @@ struct SimulationRequest {
     // integrate_event_driven, with the adaptive dense-output integrator dopri5 or dop853 and
     // rtol/atol) or "moreau_jean" (runtime::integrate_moreau_jean, fixed `step`, θ-method with
     // `theta`). The scene's [contact] table sets them, or --contact-method.
-    std::string contact_method = "event_driven";
+    std::string contact_method{runtime::contact::name(runtime::contact::ContactMethod::event_driven)};
     SourcePos contact_method_pos{"--contact-method"};
     double theta = 0.5;
     // event_driven: Moreau's simultaneous LCP on the closed contacts of an impact ("simultaneous") or
     // sequential two-body impacts ("sequential"); Moreau–Jean is simultaneous by construction.
-    std::string impact_law = "simultaneous";
+    std::string impact_law{runtime::contact::name(runtime::contact::ImpactLaw::simultaneous)};
     SourcePos impact_law_pos{"--impact-law"};
     // event_driven: a geometric accumulation of impacts (Zeno) is extrapolated once zeno_ratios
     // successive interval ratios agree (after zeno_ratios + 2 impacts at least; runtime::contact::
@@ -59,6 +64,32 @@ struct SimulationRequest {
     static constexpr std::size_t default_max_fixed_steps = 100'000'000;
     static constexpr std::size_t default_max_rows = 10'000'000;  // ~1 GB for a handful of columns
 };
+
+// The request's choices as the runtime's types, each checked once, by one rule
+// (resolve_settings): what the runs read instead of the request's names.
+struct RunSettings {
+    const runtime::IntegratorInfo* method = nullptr;  // never null once resolved
+    runtime::Tolerances tolerances;                   // the adaptive methods'
+    double step = 0.0;                                // the fixed-step methods' and Moreau–Jean's
+    bool compensated = false;                         // the request's, else the method's default
+    runtime::contact::ContactMethod contact_method = runtime::contact::ContactMethod::event_driven;
+    runtime::contact::ImpactLaw impact_law = runtime::contact::ImpactLaw::simultaneous;
+    double theta = 0.5;                               // Moreau–Jean's θ
+};
+
+// The request checked and resolved before anything is compiled (a typo costs no compile): the
+// integrator, contact method and impact law by their tables (with the nearest name), the end time,
+// step and tolerances (positive and finite), the step and row budgets of a fixed-step run, θ and
+// the summary format. Throws InputError at the option or scene value that chose the setting.
+RunSettings resolve_settings(const SimulationRequest& request);
+
+// The method with its step or tolerances, as summaries print it: "dop853 (rtol 1e-10, atol
+// 1e-12)", "gl6 (step 0.01, compensated)".
+std::string describe_method(const RunSettings& settings, bool show_compensated = true);
+
+// A fixed-step run of ceil(t_end / step) steps (an integrator's or Moreau–Jean's) refused at --step
+// when it exceeds the request's step budget, and at --output when its CSV would exceed max_rows.
+void check_fixed_step_budget(const SimulationRequest& request, std::string_view method, double step);
 
 struct InvariantReport {
     std::string name;
@@ -168,7 +199,7 @@ struct SimulationResult {
 // runtime::IntegrationError when the integration fails (then no CSV is left behind).
 SimulationResult simulate(const SimulationRequest& request);
 
-// The checks simulate() makes before compiling (integrator, t_end, step, tolerances, budgets).
+// The checks simulate() makes before compiling: resolve_settings, its result dropped.
 void validate_request(const SimulationRequest& request);
 
 class KernelLibrary;
@@ -186,7 +217,7 @@ void resolve_start(const SimulationRequest& request, const KernelLibrary& lib, s
 // The splitting methods (verlet, yoshida6, kahanli8) step q̈ = a(t, q): throws InputError at
 // `where` when `integrator` is one of them and the kernel is not separable. simulate() calls it
 // on the compiled kernel; the command line calls it on the kernel IR before anything is written.
-void check_separable(const std::string& integrator, const SourcePos& where, bool separable,
+void check_separable(const runtime::IntegratorInfo& method, const SourcePos& where, bool separable,
                      const std::string& scene_name);
 
 // format: "text" (for people) or "json" (one object, valid JSON: NaN and infinities as null).

@@ -142,8 +142,9 @@ struct Program {
     SourcePos pos, erugin_pos, control_pos;  // the expression's text, the law and the control values
 };
 
-// How `eomc simulate` passes the unilateral rows (scene [contact]).
-enum class ContactMethod { event_driven, moreau_jean };
+// How `eomc simulate` passes the unilateral rows (scene [contact]; the runtime's names).
+using ContactMethod = runtime::contact::ContactMethod;
+using ImpactLaw = runtime::contact::ImpactLaw;
 
 // An orbit scene ([orbit]): a point mass about a central body in inertial Cartesian axes,
 // T = |v|²/2, V = −μ/r − R with R the sum of the kept disturbing functions (acceleration =
@@ -243,7 +244,7 @@ struct Model {
     std::vector<Program> programs;       // [[program]], in file order
     ContactMethod contact_method = ContactMethod::event_driven;  // [contact] method
     double theta = 0.5;                  // [contact] theta (Moreau–Jean's θ-method)
-    std::string impact_law = "simultaneous";  // [contact] impact_law (scene::impact_law_names)
+    ImpactLaw impact_law = ImpactLaw::simultaneous;  // [contact] impact_law
     SourcePos impact_law_pos;            // its value (the table, or unknown, when absent)
     SourcePos contact_method_pos;        // [contact] method's value (the table, or unknown, when absent)
     std::optional<Orbit> orbit;          // an orbit scene: coordinates x, y, z, T and V built from [orbit]

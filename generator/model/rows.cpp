@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "eomc/runtime/contact/method.hpp"
 #include "model/build_steps.hpp"
 #include "support/diagnostic.hpp"
 
@@ -169,8 +170,7 @@ void build_constraints(const scene::Scene& scene, const SymbolTable& symbols, Mo
 // function of the parameters, 0 <= e <= 1 at the defaults), the initial state inside (f >= 0 or
 // φ >= 0), and the contact method. The scene has refused the kinds of scene that take no rows.
 void build_unilateral(const scene::Scene& scene, const SymbolTable& symbols, Model& model) {
-    model.contact_method =
-        scene.contact.method == "moreau_jean" ? ContactMethod::moreau_jean : ContactMethod::event_driven;
+    model.contact_method = scene.contact.method;
     model.theta = scene.contact.theta;
     model.impact_law = scene.contact.impact_law;
     model.impact_law_pos = scene.contact.impact_law_pos;
@@ -195,7 +195,7 @@ void build_unilateral(const scene::Scene& scene, const SymbolTable& symbols, Mod
                                         fmt::format("the restitution of the unilateral constraint '{}'", given.name));
         row.restitution_default = at_defaults(row.restitution, model, given.restitution,
                                               fmt::format("the restitution of '{}'", given.name));
-        if (!(row.restitution_default >= 0.0 && row.restitution_default <= 1.0))
+        if (!runtime::contact::valid_restitution(row.restitution_default))
             throw InputError(given.restitution.pos,
                              fmt::format("the restitution of the unilateral constraint '{}' is {:.6g} at the default "
                                          "parameters; Newton's coefficient must lie between 0 (plastic) and 1 (elastic)",

@@ -21,9 +21,7 @@ using symbolic::text;
 
 namespace {
 
-const char* method_name(model::ContactMethod m) {
-    return m == model::ContactMethod::moreau_jean ? "moreau_jean" : "event_driven";
-}
+std::string method_name(model::ContactMethod m) { return std::string(runtime::contact::name(m)); }
 
 // What the section shows for one row, as expressions (each printer writes them its own way).
 struct RowView {

@@ -900,8 +900,8 @@ private:
         if (const toml::node* v = t.get("integrator")) {
             sim.integrator = read_string(*v, "simulate.integrator");
             sim.integrator_pos = at(*v);
-            if (!is_integrator(sim.integrator)) {
-                const std::vector<std::string> names(integrator_names.begin(), integrator_names.end());
+            if (!runtime::is_integrator(sim.integrator)) {
+                const std::vector<std::string> names(runtime::integrator_names.begin(), runtime::integrator_names.end());
                 const std::string near = nearest_name(sim.integrator, names);
                 fail(at(*v), fmt::format("unknown integrator '{}'; {}", sim.integrator,
                                          near.empty() ? fmt::format("expected one of {}", fmt::join(names, ", "))
@@ -1267,43 +1267,42 @@ private:
         if (s.unilateral.empty())
             fail(at(t), "[contact] says how to integrate through unilateral constraints, but the scene declares no "
                         "[[unilateral]] row");
+        namespace rc = runtime::contact;
+        // A name from the runtime's table, or the error with the nearest one.
+        const auto choose = [&](const toml::node& v, const char* key, const char* what, const auto& find,
+                                const std::vector<std::string>& names) {
+            const std::string text = read_string(v, key);
+            if (const auto value = find(text)) return *value;
+            const std::string near = nearest_name(text, names);
+            fail(at(v), fmt::format("unknown {} '{}'; {}", what, text,
+                                    near.empty() ? fmt::format("expected one of {}", fmt::join(names, ", "))
+                                                 : fmt::format("did you mean '{}'?", near)));
+        };
         if (const toml::node* m = t.get("method")) {
-            c.method = read_string(*m, "contact.method");
+            c.method = choose(*m, "contact.method", "contact method",
+                              [](std::string_view n) { return rc::find_contact_method(n); }, rc::contact_method_names());
             c.method_pos = at(*m);
-            const std::vector<std::string> names(contact_method_names.begin(), contact_method_names.end());
-            if (std::find(names.begin(), names.end(), c.method) == names.end()) {
-                const std::string near = nearest_name(c.method, names);
-                fail(at(*m), fmt::format("unknown contact method '{}'; {}", c.method,
-                                         near.empty() ? fmt::format("expected one of {}", fmt::join(names, ", "))
-                                                      : fmt::format("did you mean '{}'?", near)));
-            }
         }
         if (const toml::node* th = t.get("theta")) {
             c.theta = read_number(*th, "contact.theta");
             c.theta_pos = at(*th);
-            if (!(c.theta >= 0.5 && c.theta <= 1.0))
+            if (!rc::valid_theta(c.theta))
                 fail(at(*th), fmt::format("'contact.theta' must be between 0.5 and 1 (Moreau-Jean's theta-method), got "
                                           "{}",
                                           number_text(*th)));
-            if (c.method != "moreau_jean")
+            if (c.method != rc::ContactMethod::moreau_jean)
                 fail(at(*th), fmt::format("'contact.theta' is Moreau-Jean's; it has no meaning with method = \"{}\"",
-                                          c.method));
+                                          rc::name(c.method)));
         }
         if (const toml::node* law = t.get("impact_law")) {
-            c.impact_law = read_string(*law, "contact.impact_law");
+            c.impact_law = choose(*law, "contact.impact_law", "impact law",
+                                  [](std::string_view n) { return rc::find_impact_law(n); }, rc::impact_law_names());
             c.impact_law_pos = at(*law);
-            const std::vector<std::string> names(impact_law_names.begin(), impact_law_names.end());
-            if (std::find(names.begin(), names.end(), c.impact_law) == names.end()) {
-                const std::string near = nearest_name(c.impact_law, names);
-                fail(at(*law), fmt::format("unknown impact law '{}'; {}", c.impact_law,
-                                           near.empty() ? fmt::format("expected one of {}", fmt::join(names, ", "))
-                                                        : fmt::format("did you mean '{}'?", near)));
-            }
             // Moreau–Jean's step LCP is the simultaneous law by construction.
-            if (c.method == "moreau_jean" && c.impact_law != "simultaneous")
+            if (c.method == rc::ContactMethod::moreau_jean && c.impact_law != rc::ImpactLaw::simultaneous)
                 fail(at(*law), fmt::format("'contact.impact_law' = \"{}\" needs method = \"event_driven\"; "
                                            "Moreau-Jean resolves every step's impacts simultaneously",
-                                           c.impact_law));
+                                           rc::name(c.impact_law)));
         }
     }
 

@@ -13,7 +13,8 @@
 #include <string_view>
 #include <vector>
 
-#include "eomc/runtime/registry.hpp"
+#include "eomc/runtime/contact/method.hpp"
+#include "eomc/runtime/registry_info.hpp"
 #include "support/diagnostic.hpp"
 
 namespace eomc::scene {
@@ -174,33 +175,16 @@ struct RigidBody {
     SourcePos inertia_pos, initial_pos, pos;        // the inertia value, the initial attitude value, the table
 };
 
-// The integrators `eomc simulate` offers: the runtime's catalogue (eomc/runtime/registry.hpp),
-// which says for each its kind, order and traits. Fixed-step ones take a step, adaptive ones
-// tolerances; the splitting methods need a separable kernel (q̈ = a(t, q)).
-inline constexpr const auto& integrator_names = runtime::integrator_names;
-inline bool is_integrator(std::string_view name) { return runtime::is_integrator(name); }
-inline bool is_splitting(std::string_view name) {
-    const runtime::IntegratorInfo* info = runtime::find_integrator(name);
-    return info && info->needs_separable;
-}
-inline bool is_fixed_step(std::string_view name) {
-    const runtime::IntegratorInfo* info = runtime::find_integrator(name);
-    return info && info->fixed_step();
-}
-// Compensated summation of the state update is on by default for the fixed-step symplectic
-// methods (long runs, round-off the only drift left), off for the others.
-inline bool compensated_by_default(std::string_view name) {
-    const runtime::IntegratorInfo* info = runtime::find_integrator(name);
-    return info && info->compensated_by_default;
-}
-
+// [simulate]: the run's defaults. The integrators are the runtime's catalogue
+// (eomc/runtime/registry_info.hpp), which says for each its kind, order and traits: fixed-step ones
+// take a step, adaptive ones tolerances; the splitting methods need a separable kernel (q̈ = a(t, q)).
 struct Simulate {
     double t_end = 10.0;
-    std::string integrator = "dopri5";  // one of integrator_names
+    std::string integrator{runtime::default_integrator};  // a name in runtime::integrator_infos
     double rtol = 1e-10;
     double atol = 1e-12;
-    double step = 1e-3;                 // for fixed-step integrators (rk4, gl4, gl6, gl8, verlet, yoshida6, kahanli8)
-    std::optional<bool> compensated;    // absent: compensated_by_default(integrator)
+    double step = 1e-3;                 // for the fixed-step integrators
+    std::optional<bool> compensated;    // absent: the integrator's compensated_by_default
     SourcePos integrator_pos;           // the value of `integrator`, else the [simulate] table, else unknown
 };
 
@@ -269,18 +253,13 @@ struct Program {
     SourcePos name_pos, erugin_pos, control_pos;  // the values (the table when absent)
 };
 
-// [contact]: how `eomc simulate` integrates through the unilateral rows: event-driven (free
-// flight, impacts located as events, contact phases) or Moreau–Jean's time stepping with its θ
-// (Acary & Brogliato 2008).
-inline constexpr std::array<std::string_view, 2> contact_method_names{"event_driven", "moreau_jean"};
-// How the event-driven method resolves an impact on several closed contacts: Moreau's LCP over all
-// of them at once, or one two-body impact after another (runtime/contact/impact.hpp).
-inline constexpr std::array<std::string_view, 2> impact_law_names{"simultaneous", "sequential"};
-
+// [contact]: how `eomc simulate` integrates through the unilateral rows, by the runtime's names
+// (eomc/runtime/contact/method.hpp): event-driven (free flight, impacts located as events, contact
+// phases) or Moreau–Jean's time stepping with its θ (Acary & Brogliato 2008), and the impact law.
 struct Contact {
-    std::string method = "event_driven";  // one of contact_method_names
-    double theta = 0.5;                   // moreau_jean's θ, in [0.5, 1]
-    std::string impact_law = "simultaneous";  // one of impact_law_names (event_driven only)
+    runtime::contact::ContactMethod method = runtime::contact::ContactMethod::event_driven;
+    double theta = 0.5;                   // moreau_jean's θ (runtime::contact::valid_theta)
+    runtime::contact::ImpactLaw impact_law = runtime::contact::ImpactLaw::simultaneous;  // event_driven only
     SourcePos pos;                        // the [contact] table (unknown when absent)
     SourcePos method_pos, theta_pos, impact_law_pos;  // the values (the table when absent)
 };

@@ -408,10 +408,10 @@ BOOST_AUTO_TEST_CASE(events_in_both_forms_and_compensated) {
     // Without [simulate] compensated the integrator's default applies (decided by simulate).
     BOOST_TEST(!parse_scene_string("[scene]\nname = \"e\"\n[coordinates]\nq = {}\n[lagrangian]\nT = \"q_dot^2\"\n")
                     .simulate.compensated.has_value());
-    BOOST_TEST(eomc::scene::compensated_by_default("gl6"));
-    BOOST_TEST(eomc::scene::compensated_by_default("verlet"));
-    BOOST_TEST(!eomc::scene::compensated_by_default("dop853"));
-    BOOST_TEST(eomc::scene::is_fixed_step("yoshida6"));
+    BOOST_TEST(eomc::runtime::find_integrator("gl6")->compensated_by_default);
+    BOOST_TEST(eomc::runtime::find_integrator("verlet")->compensated_by_default);
+    BOOST_TEST(!eomc::runtime::find_integrator("dop853")->compensated_by_default);
+    BOOST_TEST(eomc::runtime::find_integrator("yoshida6")->fixed_step());
 }
 
 // --- errors, one kind at a time ---------------------------------------------------------

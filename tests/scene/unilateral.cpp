@@ -70,7 +70,7 @@ BOOST_AUTO_TEST_CASE(reads_rows_and_contact) {
     BOOST_TEST(scene.unilateral[0].restitution.text == "e");
     BOOST_TEST(!scene.unilateral[1].holonomic);
     BOOST_TEST(scene.unilateral[1].restitution.text == "0");  // the default: a plastic row
-    BOOST_TEST(scene.contact.method == "moreau_jean");
+    BOOST_TEST((scene.contact.method == eomc::runtime::contact::ContactMethod::moreau_jean));
     BOOST_TEST(scene.contact.theta == 0.75);
 
     const auto model = eomc::model::build_model(scene);
@@ -83,11 +83,11 @@ BOOST_AUTO_TEST_CASE(reads_rows_and_contact) {
     // Without [contact]: event-driven.
     const auto plain = eomc::model::build_model(eomc::scene::parse_scene_string(ball(), "u.toml"));
     BOOST_TEST((plain.contact_method == eomc::model::ContactMethod::event_driven));
-    BOOST_TEST(plain.impact_law == "simultaneous");
+    BOOST_TEST((plain.impact_law == eomc::model::ImpactLaw::simultaneous));
     // The multiple-impact law, with its position for the host's diagnostics.
     const auto sequential = eomc::model::build_model(
         eomc::scene::parse_scene_string(ball("[contact]\nimpact_law = \"sequential\"\n"), "u.toml"));
-    BOOST_TEST(sequential.impact_law == "sequential");
+    BOOST_TEST((sequential.impact_law == eomc::model::ImpactLaw::sequential));
     BOOST_TEST(eomc::to_string(sequential.impact_law_pos) == "u.toml:21:14");
     // On the boundary at t = 0 (f = 0) is admissible.
     BOOST_CHECK_NO_THROW(eomc::model::build_model(eomc::scene::parse_scene_string(ball("", "e", "0.0"), "u.toml")));

@@ -454,81 +454,12 @@ Realisation realise(const model::Model& model, const Equations& eqs) {
     return r;
 }
 
-namespace {
-
-// RK4's stability function, R(z) = Σ_{k ≤ 4} z^k / k!.
-std::complex<double> rk4_stability(std::complex<double> z) {
-    return 1.0 + z * (1.0 + z * (0.5 + z * (1.0 / 6 + z / 24.0)));
-}
-
-// The largest r with |R(r e^{iθ})| ≤ 1 on [0, r], along the direction of λ (Re λ < 0).
-double rk4_reach(std::complex<double> lambda) {
-    const std::complex<double> unit = lambda / std::abs(lambda);
-    double r = 0.0;
-    while (r < 4.0 && std::abs(rk4_stability((r + 1e-3) * unit)) <= 1.0) r += 1e-3;
-    return r;
-}
-
-std::string gains(const model::Program& p) {
-    return p.configuration ? fmt::format("alpha = {:g}, beta = {:g}", p.alpha, p.beta)
-                           : fmt::format("kappa = {:g}", p.kappa);
-}
-
-}  // namespace
-
-std::vector<std::string> stiffness_warnings(const model::Model& model, const std::string& integrator, double step,
-                                            double t_end) {
-    std::vector<std::string> out;
-    for (const auto& p : model.programs) {
-        if (!p.closed_loop) continue;
-        // The residual's eigenvalues; the fastest one (largest |λ|) decides.
-        std::vector<std::complex<double>> eigen;
-        if (!p.configuration) {
-            eigen.push_back(-p.kappa);
-        } else {
-            const double d = p.alpha * p.alpha - p.beta * p.beta;
-            if (d < 0) {
-                eigen.push_back({-p.alpha, std::sqrt(-d)});
-            } else {
-                eigen.push_back(-p.alpha - std::sqrt(d));
-                eigen.push_back(-p.alpha + std::sqrt(d));
-            }
-        }
-        const std::string law = p.configuration ? "omega_ddot + 2 alpha omega_dot + beta^2 omega = 0"
-                                                : "phi_dot + kappa phi = 0";
-        if (integrator == "rk4") {
-            for (const auto& lambda : eigen) {
-                if (std::abs(lambda) == 0.0) continue;
-                const std::complex<double> z = step * lambda;
-                if (std::abs(rk4_stability(z)) <= 1.0) continue;
-                const double h_max = rk4_reach(lambda) / std::abs(lambda);
-                out.push_back(fmt::format(
-                    "the program '{}' with {} makes the closed loop stiff for rk4 at step {:g}: its residual law {} "
-                    "has the eigenvalue {} and h lambda = {} lies outside RK4's stability region "
-                    "(|R(h lambda)| = {:.3g} > 1), so the residual will grow instead of decaying; take --step below "
-                    "{:.3g}, lower the gains, or use gl4 (A-stable)",
-                    p.name, gains(p), step, law,
-                    lambda.imag() == 0 ? fmt::format("{:.4g}", lambda.real())
-                                       : fmt::format("{:.4g} ± {:.4g}i", lambda.real(), std::abs(lambda.imag())),
-                    z.imag() == 0 ? fmt::format("{:.4g}", z.real())
-                                  : fmt::format("{:.4g} ± {:.4g}i", z.real(), std::abs(z.imag())),
-                    std::abs(rk4_stability(z)), h_max));
-                break;
-            }
-        } else if (integrator == "dopri5" || integrator == "dop853") {
-            const double reach = integrator == "dopri5" ? 3.3 : 6.1;
-            double fastest = 0.0;
-            for (const auto& lambda : eigen) fastest = std::max(fastest, std::abs(lambda));
-            const double steps = t_end * fastest / reach;
-            if (steps > 1e6)
-                out.push_back(fmt::format(
-                    "the program '{}' with {} makes the closed loop stiff for {}: its residual law {} has |lambda| = "
-                    "{:.4g}, so the step-size control holds h below about {:g}/|lambda| = {:.3g} and the run to "
-                    "t = {:g} costs about {:.3g} steps; lower the gains or use gl4 (A-stable) with a fixed --step",
-                    p.name, gains(p), integrator, law, fastest, reach, reach / fastest, t_end, steps));
-        }
-    }
-    return out;
+std::vector<std::complex<double>> residual_eigenvalues(const model::Program& p) {
+    if (!p.closed_loop) return {};
+    if (!p.configuration) return {-p.kappa};
+    const double d = p.alpha * p.alpha - p.beta * p.beta;
+    if (d < 0) return {{-p.alpha, std::sqrt(-d)}};
+    return {-p.alpha - std::sqrt(d), -p.alpha + std::sqrt(d)};
 }
 
 }  // namespace eomc::mechanics

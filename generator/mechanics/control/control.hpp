@@ -5,6 +5,7 @@
 // Analytical Dynamics: A New Approach (Cambridge, 1996), ch. 2 (redundant ideal programs).
 #pragma once
 
+#include <complex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -44,17 +45,10 @@ struct Realisation {
 
 Realisation realise(const model::Model& model, const Equations& eqs);
 
-// Warnings for programs whose gains make the closed loop stiff for an explicit integrator. The
-// residual obeys ω̈ + 2αω̇ + β²ω = 0 (eigenvalues −α ± √(α² − β²), complex −α ± i√(β² − α²) for
-// α < β) or φ̇ + κφ = 0 (eigenvalue −κ), whatever the mechanics. rk4 at step h: hλ outside its
-// stability region |1 + z + z²/2 + z³/6 + z⁴/24| ≤ 1 (on the negative real axis it ends at
-// z ≈ −2.785), where the residual grows instead of decaying. dopri5 and dop853: the step-size
-// control holds h|λ| near the boundary of the method's region (≈ 3.3 and ≈ 6.1 on the real axis,
-// the thresholds of Hairer's DOPRI5 and DOP853 stiffness detection; Hairer & Wanner, Solving
-// Ordinary Differential Equations II, §IV.2), so a run costs about t_end |λ| / 3.3 steps: a warning
-// when that passes 10⁶. The implicit Gauss–Legendre methods are A-stable: no warning. One line per
-// program (no "warning:" prefix), naming the program and its gains.
-std::vector<std::string> stiffness_warnings(const model::Model& model, const std::string& integrator, double step,
-                                            double t_end);
+// The eigenvalues of a closed-loop program's residual law (none for an open loop), whatever the
+// mechanics: ω̈ + 2αω̇ + β²ω = 0 has −α ± √(α² − β²), complex −α ± i√(β² − α²) for α < β (one of
+// the pair is given), φ̇ + κφ = 0 has −κ. The host judges them against the chosen integrator's
+// stability region (host/simulate/program_stiffness.hpp).
+std::vector<std::complex<double>> residual_eigenvalues(const model::Program& p);
 
 }  // namespace eomc::mechanics

@@ -107,6 +107,34 @@ S lcp_violation(const LcpVector<S>& z, const LcpVector<S>& w) {
   return v;
 }
 
+// Refinement of a solved tableau on its final basis: M_αα z_α = −q_α, z_ᾱ = 0, from the original
+// data, kept when it violates the complementarity conditions no more than the tableau's point.
+template <class S>
+void refine_on_basis(const LcpMatrix<S>& M, const LcpVector<S>& q, const std::vector<Eigen::Index>& basis,
+                     const LcpScaling<S>& scale, LcpResult<S>& result) {
+  const Eigen::Index n = q.size(), cz = n, c0 = 2 * n;
+  std::vector<Eigen::Index> alpha;
+  for (Eigen::Index v : basis)
+    if (v >= cz && v < c0) alpha.push_back(v - n);
+  if (alpha.empty()) return;
+  const Eigen::Index k = Eigen::Index(alpha.size());
+  LcpMatrix<S> Ma(k, k);
+  LcpVector<S> qa(k);
+  for (Eigen::Index a = 0; a < k; ++a) {
+    qa[a] = -q[alpha[std::size_t(a)]];
+    for (Eigen::Index b = 0; b < k; ++b) Ma(a, b) = M(alpha[std::size_t(a)], alpha[std::size_t(b)]);
+  }
+  const LcpVector<S> za = Ma.partialPivLu().solve(qa);
+  LcpVector<S> refined = LcpVector<S>::Zero(n);
+  for (Eigen::Index a = 0; a < k; ++a) refined[alpha[std::size_t(a)]] = za[a];
+  const LcpVector<S> refined_w = M * refined + q;
+  if (refined.allFinite() && lcp_violation<S>(refined / scale.nu * scale.mu, refined_w / scale.nu) <=
+                                 lcp_violation<S>(result.z / scale.nu * scale.mu, result.w / scale.nu)) {
+    result.z = refined;
+    result.w = refined_w;
+  }
+}
+
 }  // namespace detail
 
 // Lemke's method with the lexicographic rule. max_pivots = 0 selects 10 n² + 100 (the number of
@@ -220,27 +248,7 @@ LcpResult<S> solve_lcp(const LcpMatrix<S>& M, const LcpVector<S>& q, int max_piv
   result.w = M * z + q;
   if (result.status != LcpStatus::solved) return result;
 
-  // Refinement on the final basis: M_αα z_α = −q_α, z_ᾱ = 0, from the original data.
-  std::vector<Eigen::Index> alpha;
-  for (Eigen::Index v : basis)
-    if (v >= cz && v < c0) alpha.push_back(v - n);
-  if (alpha.empty()) return result;
-  const Eigen::Index k = Eigen::Index(alpha.size());
-  LcpMatrix<S> Ma(k, k);
-  LcpVector<S> qa(k);
-  for (Eigen::Index a = 0; a < k; ++a) {
-    qa[a] = -q[alpha[std::size_t(a)]];
-    for (Eigen::Index b = 0; b < k; ++b) Ma(a, b) = M(alpha[std::size_t(a)], alpha[std::size_t(b)]);
-  }
-  const LcpVector<S> za = Ma.partialPivLu().solve(qa);
-  LcpVector<S> refined = LcpVector<S>::Zero(n);
-  for (Eigen::Index a = 0; a < k; ++a) refined[alpha[std::size_t(a)]] = za[a];
-  const LcpVector<S> refined_w = M * refined + q;
-  if (refined.allFinite() && detail::lcp_violation<S>(refined / scale.nu * scale.mu, refined_w / scale.nu) <=
-                                 detail::lcp_violation<S>(result.z / scale.nu * scale.mu, result.w / scale.nu)) {
-    result.z = refined;
-    result.w = refined_w;
-  }
+  detail::refine_on_basis(M, q, basis, scale, result);
   return result;
 }
 
