@@ -245,20 +245,9 @@ void require_distinct_columns(const KernelIR& ir) {
     for (const auto& n : ir.contact_names) add("lambda_" + n, "a unilateral row's multiplier");
 }
 
-}  // namespace
-
-KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form, LoweringTimes* times,
-               LowerOptions options) {
-    using clock = std::chrono::steady_clock;
-    auto lap = [last = clock::now()]() mutable {
-        const auto now = clock::now();
-        const double s = std::chrono::duration<double>(now - last).count();
-        last = now;
-        return s;
-    };
-    LoweringTimes local;
-    LoweringTimes& t = times ? *times : local;
-    KernelIR ir;
+// The kernel's names and sizes: the scene's, the state's with its initial values and the
+// parameters' with their defaults.
+void lower_names(const model::Model& model, const mechanics::FirstOrderForm& form, KernelIR& ir) {
     ir.scene_name = model.name;
     ir.struct_name = model.struct_name;
     ir.summary = model.summary;
@@ -268,8 +257,7 @@ KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form,
     ir.t = model.t;
     ir.n_coordinates = form.n_coordinates;
     ir.velocity_offset = form.velocity_offset;
-    const std::size_t nu = form.n_velocities(), N = form.state.size();
-    ir.n_velocities = nu;
+    ir.n_velocities = form.n_velocities();
     ir.separable = form.separable;
     ir.unit_quaternions = form.unit_quaternions;
     ir.unit_vectors = form.unit_vectors;
@@ -282,17 +270,13 @@ KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form,
         ir.parameters.push_back({p.name, p.symbol});
         ir.parameter_defaults.push_back(p.value);
     }
-    const std::string prefix = temporary_prefix(model, form);
-    ir.has_jacobian = options.jacobian;
-    // ∂/∂x over every rate and residual through one memo (forward mode over the DAG): each
-    // subexpression's gradient is formed once, not once per state variable.
-    std::vector<GiNaC::symbol> state_symbols;
-    for (const auto& s : ir.state) state_symbols.push_back(as_symbol(s.symbol));
-    symbolic::Gradient gradient(state_symbols);
+}
 
-    std::vector<ex> M;
-    for (std::size_t i = 0; i < nu; ++i)
-        for (std::size_t j = 0; j < nu; ++j) M.push_back(form.mass_matrix(unsigned(i), unsigned(j)));
+// M and f, apart and together, and the rates given in closed form; whether u̇ is solved in closed
+// form. `M` is M's entries, row-major.
+void lower_mass_and_forcing(KernelIR& ir, const mechanics::FirstOrderForm& form, const std::vector<ex>& M,
+                            const std::string& prefix) {
+    const std::size_t nu = ir.n_velocities;
     std::vector<ex> M_and_f = M;
     M_and_f.insert(M_and_f.end(), form.forcing.begin(), form.forcing.end());
 
@@ -309,17 +293,23 @@ KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form,
         }
         ir.explicit_rates = eliminate_common_subexpressions(rates, prefix);
     }
-    t.mass_and_forcing = lap();
+}
 
+// rhs() in closed form, with its Jacobian where asked; or, for M u̇ = f solved in the kernel, the
+// Jacobian's terms where asked and the solve's plan.
+void lower_rates_and_jacobian(KernelIR& ir, const mechanics::FirstOrderForm& form, const std::vector<ex>& M,
+                              const std::vector<GiNaC::symbol>& state_symbols, symbolic::Gradient& gradient,
+                              const std::string& prefix) {
+    const std::size_t nu = ir.n_velocities, N = form.state.size();
     if (ir.explicit_solution) {
         std::vector<ex> rates(N);
         for (const auto& [index, rate] : form.explicit_rates) rates[index] = rate;
         const std::vector<ex> acc = nu == 0 ? std::vector<ex>{} : solve_explicitly(form.mass_matrix, form.forcing);
         for (std::size_t k = 0; k < nu; ++k) rates[form.velocity_offset + k] = acc[k];
         ir.rhs_explicit = eliminate_common_subexpressions(rates, prefix);
-        if (options.jacobian)
+        if (ir.has_jacobian)
             ir.jacobian_explicit = eliminate_common_subexpressions(symbolic::jacobian(rates, state_symbols), prefix);
-    } else if (options.jacobian && form.constraints.empty() && form.programs.empty()) {
+    } else if (ir.has_jacobian && form.constraints.empty() && form.programs.empty()) {
         std::vector<ex> rows;
         for (const auto& [index, rate] : form.explicit_rates) {
             const std::vector<ex> g = gradient(rate);
@@ -340,8 +330,10 @@ KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form,
     }
     if (!ir.explicit_solution && form.constraints.empty() && form.programs.empty() && nu > 0)
         lower_solve(ir, form.mass_matrix, prefix);
-    t.jacobian = lap();
+}
 
+// The invariants and the scene's outputs, by name.
+void lower_invariants_and_outputs(KernelIR& ir, const mechanics::FirstOrderForm& form, const std::string& prefix) {
     std::vector<ex> invariants;
     for (const auto& inv : form.invariants) {
         ir.invariant_names.push_back(inv.name);
@@ -355,9 +347,11 @@ KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form,
     }
     ir.outputs = eliminate_common_subexpressions(outputs, prefix);
     ir.n_user_outputs = outputs.size();
-    if (!form.constraints.empty()) lower_constraints(ir, form, M, prefix);
-    if (!form.unilateral.empty()) lower_unilateral(ir, form, prefix);
-    if (!form.programs.empty()) lower_programs(ir, form, M, prefix);
+}
+
+// What only some kernels carry, each where the form has it: events, the indicators of M's
+// singular sets, Santilli's residuals and Encke's reference orbit.
+void lower_watched_blocks(KernelIR& ir, const mechanics::FirstOrderForm& form, const std::string& prefix) {
     std::vector<ex> events;
     for (const auto& e : form.events) {
         ir.event_names.push_back(e.name);
@@ -384,6 +378,45 @@ KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form,
         ir.rectification = RectificationIR{r.ratio, r.deviation, r.elements, r.count,
                                            eliminate_common_subexpressions(r.reference, prefix)};
     }
+}
+
+}  // namespace
+
+KernelIR lower(const model::Model& model, const mechanics::FirstOrderForm& form, LoweringTimes* times,
+               LowerOptions options) {
+    using clock = std::chrono::steady_clock;
+    auto lap = [last = clock::now()]() mutable {
+        const auto now = clock::now();
+        const double s = std::chrono::duration<double>(now - last).count();
+        last = now;
+        return s;
+    };
+    LoweringTimes local;
+    LoweringTimes& t = times ? *times : local;
+    KernelIR ir;
+    lower_names(model, form, ir);
+    const std::size_t nu = ir.n_velocities;
+    const std::string prefix = temporary_prefix(model, form);
+    ir.has_jacobian = options.jacobian;
+    // ∂/∂x over every rate and residual through one memo (forward mode over the DAG): each
+    // subexpression's gradient is formed once, not once per state variable.
+    std::vector<GiNaC::symbol> state_symbols;
+    for (const auto& s : ir.state) state_symbols.push_back(as_symbol(s.symbol));
+    symbolic::Gradient gradient(state_symbols);
+
+    std::vector<ex> M;
+    for (std::size_t i = 0; i < nu; ++i)
+        for (std::size_t j = 0; j < nu; ++j) M.push_back(form.mass_matrix(unsigned(i), unsigned(j)));
+    lower_mass_and_forcing(ir, form, M, prefix);
+    t.mass_and_forcing = lap();
+    lower_rates_and_jacobian(ir, form, M, state_symbols, gradient, prefix);
+    t.jacobian = lap();
+
+    lower_invariants_and_outputs(ir, form, prefix);
+    if (!form.constraints.empty()) lower_constraints(ir, form, M, prefix);
+    if (!form.unilateral.empty()) lower_unilateral(ir, form, prefix);
+    if (!form.programs.empty()) lower_programs(ir, form, M, prefix);
+    lower_watched_blocks(ir, form, prefix);
     t.invariants = lap();
     require_distinct_columns(ir);
     return ir;

@@ -34,7 +34,7 @@ Equations derive(const model::Model& model) {
             Equations eqs = derive_lagrange(model);
             if (!model.programs.empty()) {
                 // The controls Q_c = D λ(t, q, q̇) do work and break symmetries: no integral of the free
-                // system is kept ([[constraint]] rows beside programs are ideal programs: model.cpp).
+                // system is kept ([[constraint]] rows beside programs are ideal programs: model/programs.cpp).
                 eqs.programs = program_rows(model, eqs);
                 eqs.redundant_programs = redundant_ideal(model, eqs);
                 eqs.invariants.clear();

@@ -24,9 +24,8 @@ std::string text(const ex& e) {
     return os.str();
 }
 
-}  // namespace
-
-CanonicalEquations canonical_equations(const model::Model& model, const Equations& eqs) {
+// The scenes whose canonical equations this chapter does not derive, refused at their place.
+void refuse_unsupported(const model::Model& model) {
     const SourcePos where = model.kinetic_pos;
     if (model.newtonian)
         throw InputError(where, "the canonical equations need a Lagrangian, and a [newtonian] scene gives equations "
@@ -51,13 +50,18 @@ CanonicalEquations canonical_equations(const model::Model& model, const Equation
         throw InputError(where, "the canonical equations need the full Lagrangian, but [effects] drops terms of the "
                                 "equations (they no longer follow from an L); keep every effect or use the "
                                 "Lagrangian formulation");
+}
+
+// The Legendre transform of L = ½ q̇ᵀ W q̇ + bᵀ q̇ + L₀ into out: p = ∂L/∂q̇, q̇(p) = W⁻¹(p − b),
+// H = ½ (p − b)ᵀ q̇(p) − L₀ and Hamilton's rates; returns q̇ ↦ q̇(p).
+GiNaC::exmap legendre_transform(const model::Model& model, const Equations& eqs, CanonicalEquations& out) {
+    const SourcePos where = model.kinetic_pos;
     const std::size_t n = model.coordinates.size();
     const ex L = eqs.T - eqs.V;
     GiNaC::exmap at_rest;
     for (const auto& c : model.coordinates) at_rest[c.q_dot] = 0;
 
     // L = ½ q̇ᵀ W q̇ + bᵀ q̇ + L₀: W must not depend on q̇ and must be regular.
-    CanonicalEquations out;
     GiNaC::matrix W{unsigned(n), unsigned(n)};
     std::vector<ex> b(n);
     for (std::size_t i = 0; i < n; ++i) {
@@ -102,11 +106,15 @@ CanonicalEquations canonical_equations(const model::Model& model, const Equation
         out.p_rate.push_back(-derivative(out.H, model.coordinates[s].q) +
                              model.generalized_forces[s].subs(to_canonical));
     }
-    // h(q, q̇) = Σ q̇ ∂L/∂q̇ − L is H(q, p(q, q̇)) identically; it is an integral exactly when
-    // the Lagrangian side proved it one.
-    out.conserved = std::any_of(eqs.invariants.begin(), eqs.invariants.end(),
-                                [](const Invariant& i) { return i.name == "energy"; });
+    return to_canonical;
+}
 
+// The kernel's state x = (q, p) with p(0) from q(0), q̇(0), and the rates, events, a rigid body's
+// outputs and the invariants in it.
+void canonical_form(const model::Model& model, const Equations& eqs, const GiNaC::exmap& to_canonical,
+                    CanonicalEquations& out) {
+    const SourcePos where = model.kinetic_pos;
+    const std::size_t n = model.coordinates.size();
     FirstOrderForm& form = out.form;
     form.description = fmt::format("Hamilton's equations q̇ = ∂H/∂p, ṗ = −∂H/∂q + Q of {} coordinate{}, state "
                                    "x = (q, p) with p = ∂L/∂q̇.",
@@ -150,6 +158,19 @@ CanonicalEquations canonical_equations(const model::Model& model, const Equation
     // motion, written in (q, p).
     for (const auto& inv : eqs.invariants)
         if (inv.name != "energy") form.invariants.push_back({inv.name, inv.value.subs(to_canonical), inv.description});
+}
+
+}  // namespace
+
+CanonicalEquations canonical_equations(const model::Model& model, const Equations& eqs) {
+    refuse_unsupported(model);
+    CanonicalEquations out;
+    const GiNaC::exmap to_canonical = legendre_transform(model, eqs, out);
+    // h(q, q̇) = Σ q̇ ∂L/∂q̇ − L is H(q, p(q, q̇)) identically; it is an integral exactly when
+    // the Lagrangian side proved it one.
+    out.conserved = std::any_of(eqs.invariants.begin(), eqs.invariants.end(),
+                                [](const Invariant& i) { return i.name == "energy"; });
+    canonical_form(model, eqs, to_canonical, out);
     return out;
 }
 

@@ -302,6 +302,86 @@ bool redundant_ideal(const model::Model& model, const Equations& eqs) {
     return generic_rank(A) < Eigen::Index(eqs.programs.size());
 }
 
+namespace {
+
+// Ā (the rows' W), c (their targets) and D (each row's control columns, in row order).
+void control_matrices(const std::vector<ProgramRow>& rows, unsigned n, Realisation& r) {
+    const unsigned m = unsigned(rows.size());
+    unsigned column = 0;
+    for (unsigned a = 0; a < m; ++a) {
+        for (unsigned j = 0; j < n; ++j) r.A(a, j) = rows[a].row.W[j];
+        r.c(a, 0) = rows[a].target;
+        for (const auto& d : rows[a].columns) {
+            for (unsigned j = 0; j < n; ++j) r.D(j, column) = d[j];
+            ++column;
+        }
+    }
+}
+
+// The state the singular set is a set of: the coordinates and their rates, a rigid body's ω, γ and
+// attitude.
+GiNaC::lst state_variables(const model::Model& model) {
+    GiNaC::lst state;
+    for (const auto& c : model.coordinates) {
+        state.append(c.q);
+        state.append(c.q_dot);
+    }
+    if (model.rigid) {
+        for (std::size_t i = 0; i < 3; ++i) state.append(model.rigid->omega[i]).append(model.rigid->gamma[i]);
+        if (model.rigid->attitude)
+            for (const auto& e : *model.rigid->attitude) state.append(e);
+    }
+    return state;
+}
+
+// The singular set: the factors of det Ā M⁻¹ D's numerator (factored, `back` undoing its stand-ins)
+// that hold the state.
+std::vector<ex> singular_factors(const model::Model& model, const Equations& eqs, const ex& numerator,
+                                 const GiNaC::exmap& back) {
+    const GiNaC::lst state = state_variables(model);
+    const unsigned n = eqs.mass_matrix.rows();
+    std::vector<ex> singular;
+    // |e|² and |γ|² are 1 on every state: not a singular set.
+    std::vector<ex> unit_norms{model.rigid ? symbolic::dot(model.rigid->gamma_vector(), model.rigid->gamma_vector())
+                                           : ex(0)};
+    if (model.rigid && model.rigid->attitude) {
+        ex n = 0;
+        for (const auto& e : *model.rigid->attitude) n += e * e;
+        unit_norms.push_back(n);
+    }
+    // M's principal minors are positive wherever M is (the kinetic energy is positive definite):
+    // a factor that is one of them, up to a number, is no singular set (an actuated coordinate's
+    // Ā M⁻¹ D = minor / det M).
+    std::vector<ex> minors;
+    for (unsigned i = 0; i < n; ++i) {
+        minors.push_back(eqs.mass_matrix(i, i));
+        for (unsigned j = i + 1; j < n; ++j)
+            minors.push_back(eqs.mass_matrix(i, i) * eqs.mass_matrix(j, j) -
+                             eqs.mass_matrix(i, j) * eqs.mass_matrix(j, i));
+    }
+    const auto is_minor = [&](const ex& base) {
+        return std::any_of(minors.begin(), minors.end(), [&](const ex& minor) {
+            const ex ratio = symbolic::normalized(base / minor);
+            return GiNaC::is_a<GiNaC::numeric>(ratio) && !ratio.is_zero();
+        });
+    };
+    for (const ex& factor : symbolic::factors_of(numerator)) {
+        const ex base = (GiNaC::is_a<GiNaC::power>(factor) ? factor.op(0) : factor).subs(back);
+        bool holds_state = false;
+        for (const ex& s : state) holds_state = holds_state || base.has(s);
+        if (model.rigid && std::any_of(unit_norms.begin(), unit_norms.end(),
+                                       [&](const ex& n) { return (n - base).expand().is_zero(); }))
+            holds_state = false;
+        if (holds_state && is_minor(base)) holds_state = false;
+        if (holds_state &&
+            std::none_of(singular.begin(), singular.end(), [&](const ex& e) { return (e - base).is_zero(); }))
+            singular.push_back(base);
+    }
+    return singular;
+}
+
+}  // namespace
+
 Realisation realise(const model::Model& model, const Equations& eqs) {
     Realisation r;
     const auto& rows = eqs.programs;
@@ -312,15 +392,7 @@ Realisation realise(const model::Model& model, const Equations& eqs) {
     r.A = GiNaC::matrix(m, n);
     r.D = GiNaC::matrix(n, k);
     r.c = GiNaC::matrix(m, 1);
-    unsigned column = 0;
-    for (unsigned a = 0; a < m; ++a) {
-        for (unsigned j = 0; j < n; ++j) r.A(a, j) = rows[a].row.W[j];
-        r.c(a, 0) = rows[a].target;
-        for (const auto& d : rows[a].columns) {
-            for (unsigned j = 0; j < n; ++j) r.D(j, column) = d[j];
-            ++column;
-        }
-    }
+    control_matrices(rows, n, r);
     r.redundant = redundant_ideal(model, eqs);
     if (r.redundant) {
         r.why_not = "the ideal programs are dependent (Ā has deficient rank): the control is Udwadia and Kalaba's "
@@ -349,17 +421,6 @@ Realisation realise(const model::Model& model, const Equations& eqs) {
             r.why_not = "det Ā M⁻¹ D vanishes identically";
             return r;
         }
-        // The singular set: the factors of the numerator that hold the state.
-        GiNaC::lst state;
-        for (const auto& c : model.coordinates) {
-            state.append(c.q);
-            state.append(c.q_dot);
-        }
-        if (model.rigid) {
-            for (std::size_t i = 0; i < 3; ++i) state.append(model.rigid->omega[i]).append(model.rigid->gamma[i]);
-            if (model.rigid->attitude)
-                for (const auto& e : *model.rigid->attitude) state.append(e);
-        }
         // Functions of the parameters (cos(slew/2)) stand in for symbols while factoring, which
         // GiNaC does over polynomials only.
         GiNaC::exmap stand_ins;
@@ -368,42 +429,7 @@ Realisation realise(const model::Model& model, const Equations& eqs) {
         for (const auto& [s, e] : stand_ins) back[s] = e;
         const ex numerator = GiNaC::factor(polynomial);
         r.determinant = numerator.subs(back) / GiNaC::denom(det);  // printed factored
-        // |e|² and |γ|² are 1 on every state: not a singular set.
-        std::vector<ex> unit_norms{model.rigid ? symbolic::dot(model.rigid->gamma_vector(), model.rigid->gamma_vector())
-                                               : ex(0)};
-        if (model.rigid && model.rigid->attitude) {
-            ex n = 0;
-            for (const auto& e : *model.rigid->attitude) n += e * e;
-            unit_norms.push_back(n);
-        }
-        // M's principal minors are positive wherever M is (the kinetic energy is positive definite):
-        // a factor that is one of them, up to a number, is no singular set (an actuated coordinate's
-        // Ā M⁻¹ D = minor / det M).
-        std::vector<ex> minors;
-        for (unsigned i = 0; i < n; ++i) {
-            minors.push_back(eqs.mass_matrix(i, i));
-            for (unsigned j = i + 1; j < n; ++j)
-                minors.push_back(eqs.mass_matrix(i, i) * eqs.mass_matrix(j, j) -
-                                 eqs.mass_matrix(i, j) * eqs.mass_matrix(j, i));
-        }
-        const auto is_minor = [&](const ex& base) {
-            return std::any_of(minors.begin(), minors.end(), [&](const ex& minor) {
-                const ex ratio = symbolic::normalized(base / minor);
-                return GiNaC::is_a<GiNaC::numeric>(ratio) && !ratio.is_zero();
-            });
-        };
-        for (const ex& factor : symbolic::factors_of(numerator)) {
-            const ex base = (GiNaC::is_a<GiNaC::power>(factor) ? factor.op(0) : factor).subs(back);
-            bool holds_state = false;
-            for (const ex& s : state) holds_state = holds_state || base.has(s);
-            if (model.rigid && std::any_of(unit_norms.begin(), unit_norms.end(),
-                                           [&](const ex& n) { return (n - base).expand().is_zero(); }))
-                holds_state = false;
-            if (holds_state && is_minor(base)) holds_state = false;
-            if (holds_state &&
-                std::none_of(r.singular.begin(), r.singular.end(), [&](const ex& e) { return (e - base).is_zero(); }))
-                r.singular.push_back(base);
-        }
+        r.singular = singular_factors(model, eqs, numerator, back);
         const GiNaC::matrix rhs = r.c.sub(AMi.mul(f));
         const GiNaC::matrix lambda = G_normal.inverse().mul(rhs);
         std::vector<ex> l, q;

@@ -259,28 +259,26 @@ std::vector<GiNaC::symbol> coordinate_symbols(const model::Model& model) {
     return out;
 }
 
-}  // namespace
-
-std::vector<Equilibrium> relative_equilibria(const model::Model& model, const Equations& eqs,
-                                             const EquilibriumSearch& search) {
-    // The rest conditions here are those of the free system: a constrained one rests where the
-    // applied forces balance the reactions, which this search does not solve for.
+// The rest conditions here are those of the free system: a constrained one rests where the
+// applied forces balance the reactions, and with unilateral rows the equilibria are KKT points
+// (λ ≥ 0 on the boundary); this search finds neither.
+void refuse_rows(const model::Model& model) {
     if (!model.constraints.empty())
         throw InputError(model.constraints.front().pos,
                          fmt::format("`eomc equilibria` does not support constrained scenes ([[constraint]] '{}'): "
                                      "the rest conditions would need the reactions λ",
                                      model.constraints.front().name));
-    // With unilateral rows the equilibria are KKT points (λ ≥ 0 on the boundary), which this search
-    // of the free system's rest conditions does not find.
     if (!model.unilateral.empty())
         throw InputError(model.unilateral.front().pos,
                          fmt::format("`eomc equilibria` does not support unilateral constraints ([[unilateral]] '{}'): "
                                      "the rest conditions on the boundary would need the reactions lambda >= 0",
                                      model.unilateral.front().name));
-    const RestSystem r = rest_system(model, eqs);
-    Evaluation at(model);
+}
+
+// Newton's roots from a grid of starts, at most about 4000 of them whatever n is: each regular, in
+// the range, and once.
+std::vector<Eigen::VectorXd> newton_roots(const RestSystem& r, Evaluation& at, const EquilibriumSearch& search) {
     const std::size_t n = r.n;
-    // A grid of starts, at most about 4000 of them whatever n is.
     int per = search.starts_per_coordinate;
     while (per > 2 && std::pow(double(per), double(r.columns.size())) > 4000) --per;
 
@@ -300,14 +298,35 @@ std::vector<Equilibrium> relative_equilibria(const model::Model& model, const Eq
         while (k < n && (r.free[k] || ++index[k] == per)) index[k++] = 0;
         if (k == n) break;
     }
+    return roots;
+}
 
-    // The closed forms: each real one (at the defaults), with its images q + 2πk in the range
-    // for coordinates it reaches through sin/cos, names a numeric root or adds one Newton missed.
-    const TrigVariables trig(coordinate_symbols(model));
+// A closed form's values in the range: for a periodic coordinate every q + 2πk in [−range, range].
+std::vector<std::vector<double>> images_in_range(const ClosedForm& form, const Eigen::VectorXd& q, double range) {
+    std::vector<std::vector<double>> images(std::size_t(q.size()));
+    for (std::size_t k = 0; k < images.size(); ++k) {
+        const double base = q(Eigen::Index(k));
+        if (!form.periodic[k]) {
+            if (std::abs(base) <= range * (1 + 1e-9)) images[k].push_back(base);
+            continue;
+        }
+        const double turn = 2 * std::numbers::pi;
+        for (double v = base - turn * std::ceil((base + range) / turn); v <= range * (1 + 1e-9); v += turn)
+            if (v >= -range * (1 + 1e-9)) images[k].push_back(v);
+    }
+    return images;
+}
+
+// The closed forms: each real one (at the defaults), with its images q + 2πk in the range
+// for coordinates it reaches through sin/cos, names a numeric root or adds one Newton missed.
+// `exact` holds per root its q, sin q, cos q in closed form, where known.
+void add_closed_forms(const model::Model& model, const RestSystem& r, Evaluation& at, const EquilibriumSearch& search,
+                      const TrigVariables& trig, std::vector<Eigen::VectorXd>& roots,
+                      std::vector<std::optional<GiNaC::exmap>>& exact) {
+    const std::size_t n = r.n;
     std::vector<ex> f_trig;
     for (const ex& e : r.f) f_trig.push_back(e.subs(trig.to_variables).expand());
     bool complete = true;
-    std::vector<std::optional<GiNaC::exmap>> exact(roots.size());  // per root: q, sin q, cos q in closed form
     for (const ClosedForm& form : ClosedFormSolver(coordinate_symbols(model), trig, model.parameter_defaults()).solve(f_trig, r.free, complete)) {
         Eigen::VectorXd q(static_cast<Eigen::Index>(n));
         bool real = true;
@@ -317,18 +336,7 @@ std::vector<Equilibrium> relative_equilibria(const model::Model& model, const Eq
             if (real) q(Eigen::Index(k)) = *v;
         }
         if (!real) continue;
-        // Images in the range: for a periodic coordinate every q + 2πk in [−range, range].
-        std::vector<std::vector<double>> images(n);
-        for (std::size_t k = 0; k < n; ++k) {
-            const double base = q(Eigen::Index(k));
-            if (!form.periodic[k]) {
-                if (std::abs(base) <= search.range * (1 + 1e-9)) images[k].push_back(base);
-                continue;
-            }
-            const double turn = 2 * std::numbers::pi;
-            for (double v = base - turn * std::ceil((base + search.range) / turn); v <= search.range * (1 + 1e-9); v += turn)
-                if (v >= -search.range * (1 + 1e-9)) images[k].push_back(v);
-        }
+        const std::vector<std::vector<double>> images = images_in_range(form, q, search.range);
         std::vector<std::size_t> pick(n, 0);
         const bool any = std::all_of(images.begin(), images.end(), [](const auto& v) { return !v.empty(); });
         while (any) {
@@ -361,40 +369,57 @@ std::vector<Equilibrium> relative_equilibria(const model::Model& model, const Eq
             if (k == n) break;
         }
     }
+}
 
-    // An angle's q and q + 2π are one configuration (θ = −π and θ = π are the top of the hoop):
-    // each root is taken to (−π, π] in its angles and reported once.
-    {
-        const std::vector<bool> angle = angles(model, r);
-        const double turn = 2 * std::numbers::pi;
-        std::vector<Eigen::VectorXd> kept;
-        std::vector<std::optional<GiNaC::exmap>> kept_exact;
-        for (std::size_t i = 0; i < roots.size(); ++i) {
-            Eigen::VectorXd q = roots[i];
-            std::optional<GiNaC::exmap> form = exact[i];
-            for (std::size_t k = 0; k < n; ++k) {
-                if (!angle[k] || r.free[k]) continue;
-                const double v = q(Eigen::Index(k));
-                double w = std::remainder(v, turn);  // in [−π, π]
-                if (w <= -std::numbers::pi * (1 - 1e-12)) w += turn;
-                const long turns = std::lround((w - v) / turn);
-                if (turns == 0) continue;
-                q(Eigen::Index(k)) = v + double(turns) * turn;
-                if (form) (*form)[model.coordinates[k].q] = ((*form)[model.coordinates[k].q] + 2 * turns * GiNaC::Pi).eval();
-            }
-            auto it = std::find_if(kept.begin(), kept.end(), [&](const Eigen::VectorXd& other) {
-                return (other - q).norm() <= 1e-7 * (1.0 + q.norm());
-            });
-            if (it == kept.end()) {
-                kept.push_back(q);
-                kept_exact.push_back(form);
-            } else if (form && !kept_exact[std::size_t(it - kept.begin())]) {
-                kept_exact[std::size_t(it - kept.begin())] = form;
-            }
+// An angle's q and q + 2π are one configuration (θ = −π and θ = π are the top of the hoop):
+// each root is taken to (−π, π] in its angles and reported once.
+void fold_angles(const model::Model& model, const RestSystem& r, std::vector<Eigen::VectorXd>& roots,
+                 std::vector<std::optional<GiNaC::exmap>>& exact) {
+    const std::size_t n = r.n;
+    const std::vector<bool> angle = angles(model, r);
+    const double turn = 2 * std::numbers::pi;
+    std::vector<Eigen::VectorXd> kept;
+    std::vector<std::optional<GiNaC::exmap>> kept_exact;
+    for (std::size_t i = 0; i < roots.size(); ++i) {
+        Eigen::VectorXd q = roots[i];
+        std::optional<GiNaC::exmap> form = exact[i];
+        for (std::size_t k = 0; k < n; ++k) {
+            if (!angle[k] || r.free[k]) continue;
+            const double v = q(Eigen::Index(k));
+            double w = std::remainder(v, turn);  // in [−π, π]
+            if (w <= -std::numbers::pi * (1 - 1e-12)) w += turn;
+            const long turns = std::lround((w - v) / turn);
+            if (turns == 0) continue;
+            q(Eigen::Index(k)) = v + double(turns) * turn;
+            if (form) (*form)[model.coordinates[k].q] = ((*form)[model.coordinates[k].q] + 2 * turns * GiNaC::Pi).eval();
         }
-        roots = std::move(kept);
-        exact = std::move(kept_exact);
+        auto it = std::find_if(kept.begin(), kept.end(), [&](const Eigen::VectorXd& other) {
+            return (other - q).norm() <= 1e-7 * (1.0 + q.norm());
+        });
+        if (it == kept.end()) {
+            kept.push_back(q);
+            kept_exact.push_back(form);
+        } else if (form && !kept_exact[std::size_t(it - kept.begin())]) {
+            kept_exact[std::size_t(it - kept.begin())] = form;
+        }
     }
+    roots = std::move(kept);
+    exact = std::move(kept_exact);
+}
+
+}  // namespace
+
+std::vector<Equilibrium> relative_equilibria(const model::Model& model, const Equations& eqs,
+                                             const EquilibriumSearch& search) {
+    refuse_rows(model);
+    const RestSystem r = rest_system(model, eqs);
+    Evaluation at(model);
+    const std::size_t n = r.n;
+    std::vector<Eigen::VectorXd> roots = newton_roots(r, at, search);
+    const TrigVariables trig(coordinate_symbols(model));
+    std::vector<std::optional<GiNaC::exmap>> exact(roots.size());  // per root: q, sin q, cos q in closed form
+    add_closed_forms(model, r, at, search, trig, roots, exact);
+    fold_angles(model, r, roots, exact);
 
     std::vector<std::size_t> order(roots.size());
     for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;

@@ -2,7 +2,7 @@
 // [rigid_body] scene integrates. Every one is the Euler–Poisson system (euler_poisson.hpp) in its
 // own variables; each writes ω and γ as functions of its state, so that events, integrals and the
 // outputs p, q, r, gamma1..3 mean the same whatever the kernel integrates. Adding a formulation:
-// an enumerator and its name in scene/scene.hpp, its reserved names in model.cpp, its entry and
+// an enumerator and its name in scene/scene.hpp, its reserved names in model/rigid_body.cpp, its entry and
 // builder here.
 #pragma once
 
