@@ -1,6 +1,6 @@
 // Not compiled: preprocessed at build time (cmake/KernelMacros.cmake) for the names of the
 // macros that code compiled with a kernel sees. Every header a kernel, the simulate adapter
-// (cli/kernel_loader.cpp) or the benchmark driver (templates/bench_driver.cpp) includes.
+// (templates/kernel_adapter.cpp) or the benchmark driver (templates/bench_driver.cpp) includes.
 #include <algorithm>
 #include <array>
 #include <bit>

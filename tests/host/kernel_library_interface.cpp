@@ -1,4 +1,4 @@
-// KernelLibrary's public interface, member by member: host/simulate.cpp, the ensembles and the
+// KernelLibrary's public interface, member by member: host/simulate/, the ensembles and the
 // tests are written against it, and most of it is made from runtime/kernel/blocks.def, so a row
 // renamed or a shape changed there must fail here, at compile time, and not in a caller.
 #define BOOST_TEST_MODULE kernel_library_interface

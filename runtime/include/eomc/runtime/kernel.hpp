@@ -2,7 +2,7 @@
 
 // The contract of a generated kernel (templates/kernel.hpp.in), as C++20 concepts: one base
 // concept for what every consumer needs, and one per optional part, which the emitter prints
-// only for the kernels that have it. The loader's C adapter (generator/host/kernel_loader.cpp),
+// only for the kernels that have it. The loader's C adapter (templates/kernel_adapter.cpp),
 // the bench driver (templates/bench_driver.cpp) and the compile check of tests/codegen test
 // against these, so a kernel that drifts from its template fails to compile where it is used.
 //
