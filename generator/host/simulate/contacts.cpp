@@ -221,7 +221,7 @@ void run_event_driven(const Run& run, const runtime::contact::ContactSystem<doub
     runtime::contact::EventDrivenOptions<double> options;
     options.detect_zeno = run.request.zeno_ratios > 0;
     options.zeno_ratios = std::max(1, run.request.zeno_ratios);
-    options.sequential_impacts = run.settings.impact_law == runtime::contact::ImpactLaw::sequential;
+    options.impact_law = run.settings.impact_law;
     options.on_event = [&](const runtime::contact::ContactEvent<double>& e) { recording.event(e); };
     // The scene's [events], located on the driver's dense output, recorded like the other
     // drivers' (a CSV row labelled with the name, the state in the summary); terminal ones stop.

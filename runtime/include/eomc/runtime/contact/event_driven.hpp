@@ -29,7 +29,7 @@
 //    Energy: ΔT = ½ G P² + ġ⁻ P = −((1 − e)/(1 + e)) ½ Δuᵀ M Δu, Carnot's theorem for a Newton
 //    impact on a fixed wall (Mei ch. 6; Pfeiffer-Glocker §7.3), recorded beside the measured ΔT
 //    (less Pᵀw for a moving wall, above).
-//    With sequential_impacts the closed contacts instead take one-contact Newton impacts one after
+//    With the sequential impact law the closed contacts instead take one-contact Newton impacts one after
 //    another, the fastest approaching first, until none approaches (contact/impact.hpp's sequential
 //    law: Newton's cradle of three balls, e = 1, ends at (0, 0, 1), the simultaneous LCP at
 //    (−1/3, 2/3, 2/3)); Carnot's prediction is then the sum of each two-body impact's.
@@ -119,8 +119,8 @@ struct EventDrivenOptions {
   int zeno_ratios = 3;
   S zeno_rtol = S(1e-2);
   std::size_t max_impacts = 100000;  // impacts allowed in one call (a Zeno run without detection)
-  // The multiple-impact law: Moreau's simultaneous LCP (false) or sequential two-body impacts.
-  bool sequential_impacts = false;
+  // The multiple-impact law (method.hpp): Moreau's simultaneous LCP or sequential two-body impacts.
+  ImpactLaw impact_law = ImpactLaw::simultaneous;
   // Called with each event, complete, just before the observer sees the state after its transition
   // (so that an observer can label that state): the events of one transition in time order.
   std::function<void(const ContactEvent<S>&)> on_event;
@@ -531,7 +531,7 @@ class EventDrivenRun {
     const auto restitution = [&](Eigen::Index i) { return model_.contact(set[std::size_t(i)]).restitution; };
     Vector<S> P = Vector<S>::Zero(ns), u_plus = u_minus;
     S carnot = S(0);
-    if (options_.sequential_impacts) {
+    if (options_.impact_law == ImpactLaw::sequential) {
       // One-contact Newton impacts, the fastest approaching contact first, until none approaches
       // beyond the rounding of its rate (64 ε (Σ_j |W_αj u_j| + |w_α|), as contact/impact.hpp).
       const Matrix<S> Y = model_.solve_mass(Matrix<S>(Wi.transpose()));  // M̃⁻¹ W_Iᵀ
