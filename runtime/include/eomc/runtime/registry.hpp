@@ -29,11 +29,11 @@ namespace eomc::runtime {
 namespace integrators {
 
 // One struct per method: `stepper<S>` is its runtime type, `info` its descriptor in the catalogue.
-#define EOMC_INTEGRATOR_ENTRY(entry, Stepper)                                       \
-  struct entry {                                                                   \
-    template <class S>                                                             \
-    using stepper = Stepper<S>;                                                    \
-    static constexpr const IntegratorInfo& info = *find_integrator(#entry);        \
+#define EOMC_INTEGRATOR_ENTRY(entry, Stepper)                                                 \
+  struct entry {                                                                              \
+    template <class S>                                                                        \
+    using stepper = Stepper<S>;                                                               \
+    static constexpr const IntegratorInfo& info = integrator_infos[integrator_index(#entry)]; \
   };
 EOMC_INTEGRATOR_ENTRY(rk4, Rk4)
 EOMC_INTEGRATOR_ENTRY(dopri5, Dopri5)
@@ -72,7 +72,7 @@ using Integrators = IntegratorList<integrators::rk4, integrators::dopri5, integr
 template <class... Entries>
 constexpr bool lists_the_catalogue(IntegratorList<Entries...>) {
   std::size_t i = 0;
-  return sizeof...(Entries) == integrator_infos.size() && ((&Entries::info == &integrator_infos[i++]) && ...);
+  return sizeof...(Entries) == integrator_infos.size() && ((Entries::info.name == integrator_infos[i++].name) && ...);
 }
 static_assert(lists_the_catalogue(Integrators{}), "registry.hpp and registry_info.hpp list different integrators");
 
