@@ -34,7 +34,8 @@ std::string refusal(const SimulationRequest& r) {
 }  // namespace
 
 BOOST_AUTO_TEST_CASE(defaults_resolve_to_the_catalogues_entries) {
-    const auto s = resolve_settings(SimulationRequest{});
+    const SimulationRequest defaults;
+    const auto s = resolve_settings(defaults);
     BOOST_TEST(s.method == eomc::runtime::find_integrator(eomc::runtime::default_integrator));
     BOOST_TEST(s.tolerances.rtol == 1e-10);
     BOOST_TEST(s.tolerances.atol == 1e-12);
@@ -62,43 +63,57 @@ BOOST_AUTO_TEST_CASE(names_resolve_through_the_tables) {
 }
 
 BOOST_AUTO_TEST_CASE(each_setting_is_refused_at_its_place) {
-    SimulationRequest r;
-    r.integrator = "dopri6";
-    r.integrator_pos = SourcePos{"scene.toml", 12, 14};
-    BOOST_TEST(refusal(r) == "scene.toml:12:14: unknown integrator 'dopri6'; did you mean 'dopri5'? (expected one of "
-                             "rk4, dopri5, dop853, radau5, gl4, gl6, gl8, verlet, yoshida6, kahanli8)");
-    r = SimulationRequest{};
-    r.contact_method = "moreau_jeans";
-    BOOST_TEST(refusal(r).find("--contact-method: unknown contact method 'moreau_jeans'; did you mean 'moreau_jean'?") ==
-               0u);
-    r = SimulationRequest{};
-    r.impact_law = "serial";
-    BOOST_TEST(refusal(r).find("--impact-law: unknown impact law 'serial'") == 0u);
+    {
+        SimulationRequest r;
+        r.integrator = "dopri6";
+        r.integrator_pos = SourcePos{"scene.toml", 12, 14};
+        BOOST_TEST(refusal(r) == "scene.toml:12:14: unknown integrator 'dopri6'; did you mean 'dopri5'? (expected one of "
+                                 "rk4, dopri5, dop853, radau5, gl4, gl6, gl8, verlet, yoshida6, kahanli8)");
+    }
+    {
+        SimulationRequest r;
+        r.contact_method = "moreau_jeans";
+        BOOST_TEST(refusal(r).find("--contact-method: unknown contact method 'moreau_jeans'; did you mean 'moreau_jean'?") ==
+                   0u);
+    }
+    {
+        SimulationRequest r;
+        r.impact_law = "serial";
+        BOOST_TEST(refusal(r).find("--impact-law: unknown impact law 'serial'") == 0u);
+    }
     // Lengths of time and tolerances: positive and finite, one rule.
-    r = SimulationRequest{};
-    r.t_end = -1.0;
-    BOOST_TEST(refusal(r).find("--t-end: the end time must be positive and finite") == 0u);
-    r = SimulationRequest{};
-    r.atol = 0.0;
-    BOOST_TEST(refusal(r).find("--atol: the absolute tolerance must be positive and finite") == 0u);
-    r.integrator = "rk4";  // a fixed-step method takes no tolerances, and its step instead
-    BOOST_TEST(refusal(r).empty());
-    r.step = std::numeric_limits<double>::infinity();
-    BOOST_TEST(refusal(r).find("--step: the rk4 step must be positive and finite") == 0u);
+    {
+        SimulationRequest r;
+        r.t_end = -1.0;
+        BOOST_TEST(refusal(r).find("--t-end: the end time must be positive and finite") == 0u);
+    }
+    {
+        SimulationRequest r;
+        r.atol = 0.0;
+        BOOST_TEST(refusal(r).find("--atol: the absolute tolerance must be positive and finite") == 0u);
+        r.integrator = "rk4";  // a fixed-step method takes no tolerances, and its step instead
+        BOOST_TEST(refusal(r).empty());
+        r.step = std::numeric_limits<double>::infinity();
+        BOOST_TEST(refusal(r).find("--step: the rk4 step must be positive and finite") == 0u);
+    }
     // Moreau–Jean's θ in [1/2, 1] (the scene's rule).
-    r = SimulationRequest{};
-    r.theta = 0.25;
-    BOOST_TEST(refusal(r).find("theta must lie in [0.5, 1]") != std::string::npos);
+    {
+        SimulationRequest r;
+        r.theta = 0.25;
+        BOOST_TEST(refusal(r).find("theta must lie in [0.5, 1]") != std::string::npos);
+    }
     // A fixed-step run's budget, before the compile.
-    r = SimulationRequest{};
-    r.integrator = "rk4";
-    r.step = 0.125;
-    r.t_end = 1.0;
-    r.max_steps = 7;
-    BOOST_TEST(refusal(r).find("--step: rk4 with step 0.125 to t_end = 1 takes 8 steps, more than the budget of 7") ==
-               0u);
-    r.max_steps = 8;
-    BOOST_TEST(refusal(r).empty());
+    {
+        SimulationRequest r;
+        r.integrator = "rk4";
+        r.step = 0.125;
+        r.t_end = 1.0;
+        r.max_steps = 7;
+        BOOST_TEST(refusal(r).find("--step: rk4 with step 0.125 to t_end = 1 takes 8 steps, more than the budget of 7") ==
+                   0u);
+        r.max_steps = 8;
+        BOOST_TEST(refusal(r).empty());
+    }
 }
 
 // The catalogue's traits, as the runs read them.
