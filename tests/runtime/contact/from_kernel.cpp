@@ -112,15 +112,17 @@ BOOST_AUTO_TEST_CASE(the_sled_hits_the_wall_through_both_drivers) {
   const auto& hit = ed.events.front();
   BOOST_TEST((hit.kind == rc::ContactEventKind::impact));
   BOOST_TEST(std::abs(hit.t - t_hit) <= 10 * (tol * t_hit + tol));
-  BOOST_TEST(std::abs(hit.rate_before + root3) <= 1e-9);
-  BOOST_TEST(std::abs(hit.rate_after - root3 / 2) <= 1e-9);
-  BOOST_TEST(std::abs(hit.impulse - 2 * root3) <= 1e-9);
-  BOOST_TEST(std::abs(hit.energy_change + 1.5) <= 1e-9);
-  BOOST_TEST(std::abs(hit.carnot + 1.5) <= 1e-9);
+  // No force acts: the velocities are exact up to the stepper's and the impact's rounding.
+  const double round = 64 * eps * 2.0;
+  BOOST_TEST(std::abs(hit.rate_before + root3) <= round);
+  BOOST_TEST(std::abs(hit.rate_after - root3 / 2) <= round);
+  BOOST_TEST(std::abs(hit.impulse - 2 * root3) <= 2 * round);
+  BOOST_TEST(std::abs(hit.energy_change + 1.5) <= 2 * round * 2.0);
+  BOOST_TEST(std::abs(hit.carnot + 1.5) <= 2 * round * 2.0);
   BOOST_TEST_REQUIRE(ed.x_after.size() == 6u);
-  BOOST_TEST(std::abs(ed.x_after[3] - root3 / 2) <= 1e-9);
-  BOOST_TEST(std::abs(ed.x_after[4] - 0.5) <= 1e-9);
-  BOOST_TEST(std::abs(ed.x_after[5]) <= 1e-9);
+  BOOST_TEST(std::abs(ed.x_after[3] - root3 / 2) <= round);
+  BOOST_TEST(std::abs(ed.x_after[4] - 0.5) <= round);
+  BOOST_TEST(std::abs(ed.x_after[5]) <= round);
   // Moreau–Jean: no force acts, so the step's law u⁺ = −e u⁻ on the normal with the blade held
   // (M̃⁻¹) is the same jump, found in the step within 1.5 h of the hit.
   const double h = 1e-3;
@@ -145,9 +147,12 @@ BOOST_AUTO_TEST_CASE(the_bouncing_ball_kernel_hits_the_floor_at_t1) {
   const double t1 = std::sqrt(2 * 2.0 / 9.81), tol = 1e-12;
   const Impacts ed = event_driven(sys, initial_state<K>(), 1.0, tol);
   BOOST_TEST_REQUIRE(!ed.events.empty());
-  BOOST_TEST(std::abs(ed.events.front().t - t1) <= 10 * (tol * t1 + tol));
-  BOOST_TEST(std::abs(ed.events.front().rate_before + 9.81 * t1) <= 1e-9);
-  BOOST_TEST(std::abs(ed.events.front().rate_after - 0.7 * 9.81 * t1) <= 1e-9);
+  // Free fall is a quadratic, which dopri5 integrates exactly: the impact time is the locator's
+  // (10 (rtol t + atol)), and the speed g t carries that error, g · 10 (rtol t + atol).
+  const double dt = 10 * (tol * t1 + tol);
+  BOOST_TEST(std::abs(ed.events.front().t - t1) <= dt);
+  BOOST_TEST(std::abs(ed.events.front().rate_before + 9.81 * t1) <= 9.81 * dt + 64 * eps * 9.81 * t1);
+  BOOST_TEST(std::abs(ed.events.front().rate_after - 0.7 * 9.81 * t1) <= 0.7 * (9.81 * dt + 64 * eps * 9.81 * t1));
 }
 
 // The vibrating table's gap y − A sin ωt moves: the system has the kernel's time rates,
