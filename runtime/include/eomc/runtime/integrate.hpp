@@ -342,6 +342,7 @@ EventOutcome<S> integrate_adaptive_events(Stepper<S>& stepper, Sys& sys, State<S
   validate(tol);
   NoProgressChecker<S> checker(limits);
   checker.check_state(t0, x);
+  if (!events.resolving()) events.resolve_with(tol.rtol, tol.atol);  // g on its own scale (events.hpp)
   events.start(g, t0, static_cast<const State<S>&>(x));
   observer(t0, static_cast<const State<S>&>(x));
   EventOutcome<S> out;

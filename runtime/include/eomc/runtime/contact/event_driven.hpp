@@ -620,6 +620,7 @@ class EventDrivenRun {
     std::vector<EventSpec> specs(std::size_t(m_), EventSpec{EventDirection::down, false, EventAction::edit, 0.0});
     specs.insert(specs.end(), options_.events.begin(), options_.events.end());
     locator_.emplace(std::move(specs));
+    locator_->resolve_with(tol_.rtol, tol_.atol);  // a gap's dip inside one step is seen (events.hpp)
     auto g = indicator_functions();
     locator_->start(g, t_, static_cast<const State<S>&>(x_));
     checker_.check_state(t_, x_);
