@@ -55,8 +55,12 @@ void Recorder::finish(double t, const runtime::State<double>& x, SimulationResul
 
 runtime::IntegrationError Recorder::failed(const runtime::IntegrationError& e, std::string_view method) {
     std::string message = fmt::format("simulating {} with {}: {}", run_.lib.scene_name(), method, e.what());
-    if (e.component() < state_names_.size())
+    if (e.kind() == runtime::IntegrationError::Kind::contact) {
+        if (e.component() < run_.lib.contact_names().size())
+            message += fmt::format("; contact {} is {}", e.component(), run_.lib.contact_names()[e.component()]);
+    } else if (e.component() < state_names_.size()) {
         message += fmt::format("; component {} is {}", e.component(), state_names_[e.component()]);
+    }
     message += fmt::format("; last accepted state at t = {}:", number(t_last_));
     for (std::size_t i = 0; i < x_last_.size(); ++i)
         message += fmt::format(" {} = {}", state_names_[i], number(x_last_[i]));

@@ -7,6 +7,7 @@
 #define BOOST_TEST_MODULE runtime_moving_gaps
 #include <boost/test/unit_test.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -100,9 +101,24 @@ void check_floor(const Floor& fl, double t_end) {
   double lambda = 0;
   const auto out = run(ball_over(fl), x, 0.0, t_end, lambda);
   const auto impacts = of_kind(out, ct::ContactEventKind::impact);
-  // Five impacts, then Zeno (zeno_ratios = 3 needs five impact times).
-  BOOST_REQUIRE(impacts.size() == 5u);
-  for (int k = 1; k <= 5; ++k) {
+  // Every impact the integration resolves, then Zeno: the driver extrapolates once an interval
+  // 2 e^(k−1) s1 / G falls below 100 impact-time errors, 8 ε t_k + (rtol (1 + |y|) + atol) /
+  // (e^(k−1) s1) (event_driven.hpp); predicted here from the closed form, to one impact.
+  std::size_t predicted = 5;
+  for (int k = 2;; ++k) {
+    const double speed = std::pow(e_ball, k - 1) * rel.s1, t_k = rel.impact(k);
+    const double sigma = 8 * eps * t_k + (tight.rtol * (1 + std::abs(fl.s(t_k))) + tight.atol) / speed;
+    if (2 * std::pow(e_ball, k - 1) * rel.s1 / rel.G <= 100 * sigma) {
+      predicted = std::max<std::size_t>(predicted, std::size_t(k));
+      break;
+    }
+  }
+  BOOST_TEST_MESSAGE(impacts.size() << " impacts before Zeno, predicted " << predicted);
+  // Not one resolvable impact skipped; after the last the extrapolation may wait for its own error
+  // estimate to stop falling (a few impacts more).
+  BOOST_REQUIRE(impacts.size() + 1 >= predicted);
+  BOOST_REQUIRE(impacts.size() <= predicted + 3);
+  for (int k = 1; k <= int(impacts.size()); ++k) {
     const auto& ev = impacts[std::size_t(k - 1)];
     BOOST_TEST(std::abs(ev.t - rel.impact(k)) <= time_bound(rel, ev.t, k));
     // The relative impact speed e^(k−1) s1 and Newton's law on it, ġ⁺ = −e ġ⁻ (the ground-frame
@@ -112,13 +128,15 @@ void check_floor(const Floor& fl, double t_end) {
     BOOST_TEST(std::abs(ev.rate_after - e_ball * speed) <= tol);
     // ΔT = Carnot's loss in the floor's frame − P w (the work of the moving floor's impulse).
     BOOST_TEST(std::abs(ev.energy_change - ev.carnot) <= 1e-9 * mass * rel.s1 * rel.s1);
-    BOOST_TEST(ev.impulse == mass * (1 + e_ball) * speed, boost::test_tools::tolerance(1e-9));
+    BOOST_TEST(std::abs(ev.impulse - mass * (1 + e_ball) * speed) <= mass * (1 + e_ball) * tol);
   }
   const auto zeno = of_kind(out, ct::ContactEventKind::zeno);
   BOOST_REQUIRE(zeno.size() == 1u);
   // The Zeno extrapolation's own estimate bounds its error (event_driven.hpp), plus the times'.
   BOOST_TEST(std::abs(zeno[0].t - rel.zeno()) <= zeno[0].extrapolation_error + 1e-8);
-  BOOST_TEST(zeno[0].ratio == e_ball, boost::test_tools::tolerance(1e-6));
+  // The ratio comes from intervals of about 100 impact-time errors: it carries their relative
+  // error, 4 σ / Δt ≤ 0.04, besides zeno_rtol (1 − e).
+  BOOST_TEST(std::abs(zeno[0].ratio - e_ball) <= 0.04 + 1e-2 * (1 - e_ball));
   // Riding the floor: y = s(t), ẏ = ṡ(t) (projected), λ = m (g + a) (from m ÿ = −m g + λ, ÿ = a).
   BOOST_TEST(out.active[0]);
   BOOST_TEST(std::abs(x[0] - fl.s(t_end)) <= 1e-9 * (1 + std::abs(fl.s(t_end))));

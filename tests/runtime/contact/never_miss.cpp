@@ -8,8 +8,10 @@
 #define BOOST_TEST_MODULE runtime_contact_never_miss
 #include <boost/test/unit_test.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "eomc/runtime/contact/event_driven.hpp"
@@ -214,4 +216,175 @@ BOOST_AUTO_TEST_CASE(a_jump_near_zero_is_reported_as_unresolved) {
   BOOST_TEST(hits.empty());
   BOOST_TEST(locator.unresolved() > 0u);
   BOOST_TEST(std::abs(locator.first_unresolved() - 0.5) <= 1e-12);
+}
+
+namespace {
+
+// y'' = −g over the floor y ≥ 0 (gap y, or any function of y given), from (y0, 0).
+ct::ContactSystem<double> over_floor(double e, double (*gap)(double), double (*slope)(double)) {
+  ct::ContactSystem<double> sys;
+  sys.dof = 1;
+  sys.contacts = {{e, ct::GapLevel::position}};
+  sys.mass = [](double, const Vec&, Mat& M) { M(0, 0) = 1.0; };
+  sys.force = [](double, const Vec&, const Vec&, Vec& f) { f[0] = -grav; };
+  sys.gaps = [gap](double, const Vec& q, const Vec&, Vec& g) { g[0] = gap(q[0]); };
+  sys.rows = [slope](double, const Vec& q, const Vec& u, Mat& W, Vec& b) {
+    // g̈ = g'(y) ÿ + g''(y) ẏ²; only the straight floor and y³ are used here.
+    W(0, 0) = slope(q[0]);
+    b[0] = slope(1.0) == 1.0 ? 0.0 : 6.0 * q[0] * u[0] * u[0];
+  };
+  return sys;
+}
+double straight(double y) { return y; }
+double unit(double) { return 1.0; }
+double cubed(double y) { return y * y * y; }
+double cubed_slope(double y) { return 3.0 * y * y; }
+
+template <class F>
+void expect_contact_error(F&& run, std::size_t contact, const char* words) {
+  try {
+    run();
+    BOOST_ERROR("expected an IntegrationError of Kind::contact");
+  } catch (const rt::IntegrationError& e) {
+    BOOST_TEST_MESSAGE(e.what());
+    BOOST_TEST((e.kind() == rt::IntegrationError::Kind::contact));
+    BOOST_TEST(e.component() == contact);
+    BOOST_TEST(std::string(e.what()).find(words) != std::string::npos);
+  }
+}
+
+const auto quiet = [](double, const rt::State<double>&, const Vec&, const std::vector<bool>&) {};
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(every_resolvable_impact_is_integrated_before_zeno) {
+  // Dropped from 1 m with e = 0.8: t_k = t1 (1 + 2 Σ_{j<k} e^j), t1 = √(2/g), Zeno at
+  // t1 (1 + e)/(1 − e). The 10th impact (5 were made before the series took over) at its time, and
+  // the CSV's view: the observer sees the state after each impact at that impact's time.
+  const rt::Tolerances tol{1e-10, 1e-12};
+  constexpr double e = 0.8;
+  const double t1 = std::sqrt(2.0 / grav);
+  const auto t_k = [&](int k) { return t1 * (1.0 + 2.0 * e * (1.0 - std::pow(e, k - 1)) / (1.0 - e)); };
+  rt::Dopri5<double> stepper;
+  rt::State<double> x{1.0, 0.0};
+  std::vector<double> seen;
+  ct::EventDrivenOptions<double> options;
+  std::vector<ct::ContactEvent<double>> reported;
+  options.on_event = [&](const ct::ContactEvent<double>& ev) { reported.push_back(ev); };
+  const auto out = ct::integrate_event_driven(
+      stepper, over_floor(e, straight, unit), x, 0.0, 20.0, tol,
+      [&](double t, const rt::State<double>&, const Vec&, const std::vector<bool>&) {
+        if (!reported.empty() && reported.back().t == t) seen.push_back(t);
+      },
+      options);
+  const auto hits = impacts(out);
+  BOOST_TEST_MESSAGE(hits.size() << " impacts before Zeno");
+  BOOST_REQUIRE(hits.size() >= 10u);
+  for (int k = 1; k <= int(hits.size()); ++k) {
+    // Each impact time carries the tolerance over the impact speed e^(k−1) √(2g) and Brent's
+    // bracket; an error dt moves the next flight by 2 e dt.
+    double bound = 0.0;
+    for (int j = 1; j <= k; ++j)
+      bound = bound * (1.0 + 2.0 * e) + 8.0 * eps * t_k(j) + (tol.rtol + tol.atol) / (std::pow(e, j - 1) * std::sqrt(2.0 * grav));
+    BOOST_TEST(std::abs(hits[std::size_t(k - 1)].t - t_k(k)) <= bound, "impact " << k);
+  }
+  // The series took over only below 100 impact-time errors: the last interval is that short.
+  const double last = hits.back().t - hits[hits.size() - 2].t;
+  const double speed = std::pow(e, int(hits.size()) - 1) * std::sqrt(2.0 * grav);
+  BOOST_TEST(last <= 100.0 * (8.0 * eps * hits.back().t + (tol.rtol * 2.0 + tol.atol) / speed) * 1.01);
+  // Every impact was shown at its own time, the Zeno point once.
+  for (const auto& h : hits) BOOST_TEST(std::count(seen.begin(), seen.end(), h.t) >= 1);
+  BOOST_REQUIRE(!out.events.empty());
+  BOOST_TEST((out.events.back().kind == ct::ContactEventKind::contact ||
+              out.events.back().kind == ct::ContactEventKind::zeno));
+}
+
+BOOST_AUTO_TEST_CASE(a_gap_without_gradient_on_its_boundary_is_refused_where_it_closes) {
+  // y³ ≥ 0 is the set y ≥ 0 with ∇g = 0 on g = 0: the ball arrives at 4.43 m/s and no finite
+  // impulse stops it. An error at the contact and the time, not λ = 10⁴⁷.
+  expect_contact_error(
+      [] {
+        rt::Dopri5<double> stepper;
+        rt::State<double> x{1.0, 0.0};
+        ct::integrate_event_driven(stepper, over_floor(0.5, cubed, cubed_slope), x, 0.0, 2.0,
+                                   rt::Tolerances{1e-10, 1e-12}, quiet);
+      },
+      0, "gradient of the constraint vanishes");
+}
+
+namespace {
+// A particle on a line between two walls at the same place, x ≥ 0 and −x ≥ 0, arriving at x = 0
+// with speed −1.
+ct::ContactSystem<double> pinched(double e) {
+  ct::ContactSystem<double> sys;
+  sys.dof = 1;
+  sys.contacts = {{e, ct::GapLevel::position}, {e, ct::GapLevel::position}};
+  sys.mass = [](double, const Vec&, Mat& M) { M(0, 0) = 1.0; };
+  sys.force = [](double, const Vec&, const Vec&, Vec& f) { f[0] = 0.0; };
+  sys.gaps = [](double, const Vec& q, const Vec&, Vec& g) {
+    g[0] = q[0];
+    g[1] = -q[0];
+  };
+  sys.rows = [](double, const Vec&, const Vec&, Mat& W, Vec& b) {
+    W(0, 0) = 1.0;
+    W(1, 0) = -1.0;
+    b.setZero();
+  };
+  return sys;
+}
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(walls_that_pinch_are_refused_or_stop_the_particle) {
+  // e = 1: the wall x ≥ 0 must send the particle back into −x ≥ 0; no impulse keeps both
+  // (Newton's law on the first, ġ⁺ ≥ 0 on the second): refused, not x = −1 at the end.
+  expect_contact_error(
+      [] {
+        rt::Dopri5<double> stepper;
+        rt::State<double> x{0.0, -1.0};
+        ct::integrate_event_driven(stepper, pinched(1.0), x, 0.0, 1.0, rt::Tolerances{1e-10, 1e-12}, quiet);
+      },
+      0, "no impulse satisfies Newton's law");
+  // e = 0: the impact stops it at x = 0, where it stays.
+  rt::Dopri5<double> stepper;
+  rt::State<double> x{0.0, -1.0};
+  ct::integrate_event_driven(stepper, pinched(0.0), x, 0.0, 1.0, rt::Tolerances{1e-10, 1e-12}, quiet);
+  BOOST_TEST(std::abs(x[0]) <= 1e-12);
+  BOOST_TEST(std::abs(x[1]) <= 1e-12);
+}
+
+BOOST_AUTO_TEST_CASE(an_elastic_ball_bounces_past_a_hundred_thousand_impacts) {
+  // e = 1 from 1 m: impacts at t1 (2k − 1), for ever; the intervals do not shrink, so nothing is
+  // refused (the old cap of 10⁵ impacts called this an undetected Zeno run). The energy stays g to
+  // the integrator's tolerance times the flights (dopri5 on a quadratic: round-off per step).
+  const double t1 = std::sqrt(2.0 / grav), t_end = t1 * (2.0 * 100200 - 1.0) + t1 / 2.0;
+  rt::Dopri5<double> stepper;
+  rt::State<double> x{1.0, 0.0};
+  const auto out = ct::integrate_event_driven(stepper, over_floor(1.0, straight, unit), x, 0.0, t_end,
+                                              rt::Tolerances{1e-10, 1e-12}, quiet);
+  const auto hits = impacts(out);
+  BOOST_TEST(hits.size() == 100200u);
+  const double energy = 0.5 * x[1] * x[1] + grav * x[0];
+  BOOST_TEST_MESSAGE("energy after " << hits.size() << " impacts: " << energy << " (error " << energy - grav << ")");
+  BOOST_TEST(std::abs(energy - grav) <= 1e-9 * grav);
+  BOOST_TEST(std::abs(hits.back().t - t1 * (2.0 * 100200 - 1.0)) <= 1e-9 * t_end);
+}
+
+BOOST_AUTO_TEST_CASE(impacts_that_accumulate_unresolved_are_refused_with_the_time) {
+  // e = 0.8 with the Zeno extrapolation off: the intervals fall below the impact times' own error
+  // and keep falling; refused at the contact, at a time within that error of t∞.
+  const double t1 = std::sqrt(2.0 / grav), t_inf = t1 * 1.8 / 0.2;
+  ct::EventDrivenOptions<double> options;
+  options.detect_zeno = false;
+  try {
+    rt::Dopri5<double> stepper;
+    rt::State<double> x{1.0, 0.0};
+    ct::integrate_event_driven(stepper, over_floor(0.8, straight, unit), x, 0.0, 20.0, rt::Tolerances{1e-10, 1e-12},
+                               quiet, options);
+    BOOST_ERROR("expected a refusal");
+  } catch (const rt::IntegrationError& e) {
+    BOOST_TEST_MESSAGE(e.what());
+    BOOST_TEST((e.kind() == rt::IntegrationError::Kind::contact));
+    BOOST_TEST(std::string(e.what()).find("cannot resolve") != std::string::npos);
+    BOOST_TEST(std::abs(e.t() - t_inf) <= 1e-6);
+  }
 }

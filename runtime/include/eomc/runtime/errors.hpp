@@ -12,7 +12,7 @@ namespace eomc::runtime {
 
 class IntegrationError : public std::runtime_error {
  public:
-  enum class Kind { step_underflow, step_budget, non_finite, singular_set, event_loop };
+  enum class Kind { step_underflow, step_budget, non_finite, singular_set, event_loop, contact };
   static constexpr std::size_t no_component = static_cast<std::size_t>(-1);
 
   IntegrationError(Kind kind, double t, const std::string& message, std::size_t component = no_component)
@@ -50,10 +50,19 @@ class IntegrationError : public std::runtime_error {
             component};
   }
 
+  // "contact 1 at t = 0.45: ..." (the contact drivers; contacts count from 0 and the index is kept
+  // in component(), which a caller maps to the contact's name).
+  template <class S>
+  static IntegrationError contact(S t, std::size_t index, const std::string& what) {
+    return {Kind::contact, static_cast<double>(t), "contact " + std::to_string(index) + " at t = " + format(t) + ": " + what,
+            index};
+  }
+
   Kind kind() const noexcept { return kind_; }
   // The time reached when the integration stopped (the last accepted time).
   double t() const noexcept { return t_; }
-  // The offending component for Kind::non_finite, no_component otherwise.
+  // The offending component for Kind::non_finite, the contact for Kind::contact, no_component
+  // otherwise.
   std::size_t component() const noexcept { return component_; }
 
   // Shortest decimal text that reads back to the same value (scalars that are not built-in

@@ -41,14 +41,22 @@
 //    LCP in every right-hand side would clamp λ at zero and give the locator no sign change.)
 //    After every accepted step the state is projected back onto g_A = 0, ġ_A = 0 in the M-metric
 //    (project_onto_constraints; Hairer-Lubich-Wanner, GNI §IV.4).
+//  * after every transition every row is checked: no gap below zero beyond a position's tolerance
+//    and no closed contact left approaching; a contact closing where its gradient W_α vanishes
+//    (y³ ≥ 0) is refused (the constraint qualification), as are impacts that accumulate without a
+//    geometric series below the resolution above (an unresolved Zeno point). Each as an
+//    IntegrationError of Kind::contact with the contact and the time.
 //  * grazing: a gap that only touches zero is no sign change and is not located; a located gap
 //    reaching zero with ġ ≈ 0 is no impact: the LCP decides between contact and free flight, and
 //    the locator's signs are read afresh there, so it does not fire again at the same time.
 //  * Zeno: the impact times t_k of one contact accumulating geometrically (the ratios of successive
 //    intervals r_k = Δt_k / Δt_{k−1} in (0, 1) and agreeing to zeno_rtol (1 − r) over zeno_ratios
 //    ratios) are summed as a geometric series, t∞ = t_k + Δt_k r / (1 − r) (Aitken's Δ² on the
-//    t_k). Its error is about Δt_k δr / (1 − r)², δr the ratios' spread: the impacts go on until
-//    that falls below the integrator's tolerance in t (rtol |t| + atol), or stops falling, which is
+//    t_k). Every impact the integration resolves is integrated first: the series takes over only
+//    once Δt_k is below zeno_resolution (100) times the error σ_k of an impact time (8 ε |t| + the
+//    gap's tolerance over |ġ⁻|), so the impacts it skips are worth less than the ones already
+//    made carry. The series' own error is about Δt_k δr / (1 − r)², δr the ratios' spread: the
+//    impacts go on until that falls below the integrator's tolerance in t (rtol |t| + atol), or stops falling, which is
 //    where the round-off of the impact times (ε |q| / |ġ⁻| each) outweighs the ratios' drift (a
 //    pendulum leaning on a wall: r_k → e only as the bounces shrink). Then the state moves there: each
 //    coordinate extrapolated by the same series from the last two post-impact states, then
@@ -98,6 +106,7 @@
 #include "eomc/runtime/contact/system.hpp"
 #include "eomc/runtime/control/error_checker.hpp"
 #include "eomc/runtime/control/initial_step.hpp"
+#include "eomc/runtime/errors.hpp"
 #include "eomc/runtime/events.hpp"
 #include "eomc/runtime/state.hpp"
 #include "eomc/runtime/stepper/concepts.hpp"
@@ -114,11 +123,18 @@ struct EventDrivenOptions {
   S closed_gap = S(0), resting_rate = S(0);
   // Zeno detection: zeno_ratios consecutive interval ratios in (0, 1) agreeing to zeno_rtol (1 − r)
   // mark a geometric accumulation (a pendulum's intervals tending to its half period have a spread
-  // of order 1 − r and never qualify); the extrapolation then waits for its error estimate.
+  // of order 1 − r and never qualify); the extrapolation then waits until the intervals are no
+  // longer resolved (below zeno_resolution impact-time errors) and for its own error estimate.
   bool detect_zeno = true;
   int zeno_ratios = 3;
   S zeno_rtol = S(1e-2);
-  std::size_t max_impacts = 100000;  // impacts allowed in one call (a Zeno run without detection)
+  S zeno_resolution = S(100);
+  // Impacts allowed in one call, 0 for no limit (an elastic ball bounces for ever, and its
+  // intervals do not shrink). Impacts that accumulate without a geometric series are refused
+  // whatever this is: unresolved_impacts of one contact in a row, each interval below
+  // zeno_resolution impact-time errors.
+  std::size_t max_impacts = 0;
+  std::size_t unresolved_impacts = 64;
   // The multiple-impact law (method.hpp): Moreau's simultaneous LCP or sequential two-body impacts.
   ImpactLaw impact_law = ImpactLaw::simultaneous;
   // Called with each event, complete, just before the observer sees the state after its transition
@@ -169,7 +185,8 @@ class ContactModel {
   explicit ContactModel(const ContactSystem<S>& sys)
       : sys_(sys), n_(sys.dof), m_(static_cast<int>(sys.contacts.size())),
         k_(static_cast<int>(sys.bilateral_holonomic.size())), q_(n_), u_(n_), M_(n_, n_), f_(n_), g_(m_),
-        W_(m_, n_), b_(m_), w_(Vector<S>::Zero(m_)), bf_(k_), bphi_(k_), C_(k_, n_), r_(k_) {
+        W_(m_, n_), b_(m_), w_(Vector<S>::Zero(m_)), bf_(k_), bphi_(k_), C_(k_, n_), r_(k_),
+        row_norm_max_(Vector<S>::Zero(m_)) {
     if (k_ > 0 && !sys.bilateral) throw std::invalid_argument("integrate_event_driven: bilateral rows need bilateral()");
   }
 
@@ -186,6 +203,7 @@ class ContactModel {
     sys_.force(t, q_, u_, f_);
     sys_.gaps(t, q_, u_, g_);
     sys_.rows(t, q_, u_, W_, b_);
+    for (int a = 0; a < m_; ++a) row_norm_max_[a] = std::max(row_norm_max_[a], S(W_.row(a).norm()));
     time_rates(t);
     ldlt_.compute(M_);
     free_ = ldlt_.solve(f_);
@@ -316,6 +334,15 @@ class ContactModel {
 
   S kinetic_energy(const Vector<S>& u) const { return S(0.5) * u.dot(M_ * u); }
 
+  // Whether row a has kept its gradient at the last evaluation: |W_a| above √ε times the largest
+  // |W_a| seen so far. A gap whose gradient vanishes on g = 0 (y³ ≥ 0, the same set as y ≥ 0)
+  // violates the constraint qualification: its impulse and its λ are W⁻¹ of a finite velocity
+  // or force, and come out as 10⁴⁷ where they should be an error.
+  bool qualified(int a) const {
+    using std::sqrt;
+    return S(W_.row(a).norm()) > sqrt(std::numeric_limits<S>::epsilon()) * row_norm_max_[a];
+  }
+
  private:
   void split(const State<S>& x) { split(x.data()); }
   // w at (t, q_): the system's, zero on kinematic rows (their φ is already a rate); zero without it.
@@ -342,6 +369,7 @@ class ContactModel {
   Vector<S> bf_, bphi_;  // the bilateral rows' residuals
   Matrix<S> C_, Yc_;     // their Jacobian and M⁻¹Cᵀ
   Vector<S> r_, free_;   // C u̇ = r; the free acceleration (bilateral rows held)
+  Vector<S> row_norm_max_;  // the largest |W_α| evaluated so far, per contact (qualified())
   Eigen::LDLT<Matrix<S>> ldlt_, Gc_;
 };
 
@@ -385,6 +413,8 @@ class EventDrivenRun {
     std::vector<S> t;
     State<S> x_last, x_prev;
     S estimate = std::numeric_limits<S>::infinity();  // the last Zeno error estimate
+    S sigma = S(0);             // the last impact time's error: 8 ε |t| + the gap's tolerance / |ġ⁻|
+    std::size_t unresolved = 0;  // impacts in a row whose interval was below zeno_resolution σ
   };
 
   static S inf_norm(const Vector<S>& v) { return v.size() ? S(v.cwiseAbs().maxCoeff()) : S(0); }
@@ -449,6 +479,7 @@ class EventDrivenRun {
       const bool gap_closed = model_.kinematic(a) || abs(model_.g()[a]) <= gtol;
       if (gap_closed && abs(model_.rate(a)) <= vtol) closed.push_back(a);
     }
+    for (int c : closed) require_qualified(t, c);
     std::vector<bool> next(std::size_t(m_), false);
     Vector<S> la;
     if (!closed.empty()) {
@@ -493,12 +524,20 @@ class EventDrivenRun {
     const S r = interval(k - 1) / interval(k - 2), dt = interval(k - 1);
     const S previous = hist.estimate;
     hist.estimate = std::numeric_limits<S>::infinity();
-    if (!(rmin > S(0) && rmax < S(1) && rmax - rmin <= options_.zeno_rtol * (S(1) - r))) return false;
+    // Every impact the integration resolves is integrated: the series takes over only where the
+    // intervals fall below zeno_resolution times the error of an impact time, and what it then
+    // skips is worth less than that error once more (Σ σ_k over the rest, a geometric series).
+    if (!(dt <= options_.zeno_resolution * hist.sigma)) return false;
+    // The ratios agree to zeno_rtol (1 − r), beside what the impact times' own errors make of them
+    // (each ratio of two intervals of at least dt, each end off by up to σ: 4 σ / dt).
+    const S noise = S(4) * hist.sigma / dt;
+    if (!(rmin > S(0) && rmax < S(1) && rmax - rmin <= options_.zeno_rtol * (S(1) - r) + noise)) return false;
     const S estimate = dt * (rmax - rmin) / ((S(1) - r) * (S(1) - r));
     hist.estimate = estimate;
     if (!(estimate <= S(tol_.rtol) * abs(hist.t[k - 1]) + S(tol_.atol) || estimate >= previous)) return false;
     const S factor = r / (S(1) - r), t_inf = hist.t[k - 1] + dt * factor;
     if (!(t_inf < t1_)) return false;
+    observe(t, xs);  // the last integrated impact, at its own time, before the jump to t∞
     // The same series for every coordinate: x∞ = x_k + (x_k − x_{k−1}) r / (1 − r).
     for (std::size_t i = 0; i < xs.size(); ++i) xs[i] = hist.x_last[i] + (hist.x_last[i] - hist.x_prev[i]) * factor;
     std::vector<bool> on = active_;
@@ -511,19 +550,22 @@ class EventDrivenRun {
     t = t_inf;
     hist.t.clear();
     hist.estimate = std::numeric_limits<S>::infinity();
+    hist.unresolved = 0;
     return true;
   }
 
   // Newton's impact law at (t, x) on the closed gaps, contact a having fired.
   bool impact(S& t, State<S>& xs, int a) {
     using std::abs;
-    if (++impacts_ > options_.max_impacts)
-      throw std::runtime_error("integrate_event_driven: more than max_impacts impacts (an undetected Zeno run?)");
+    if (++impacts_ > options_.max_impacts && options_.max_impacts > 0)
+      throw IntegrationError::contact(t, std::size_t(a), "more than max_impacts = " +
+                                                             std::to_string(options_.max_impacts) + " impacts");
     model_.evaluate(t, xs);
     const S gtol = gap_tol();
     std::vector<int> set;
     for (int c = 0; c < m_; ++c)
       if (!model_.kinematic(c) && (c == a || abs(model_.g()[c]) <= gtol)) set.push_back(c);
+    for (int c : set) require_qualified(t, c);
     const Matrix<S> Wi = model_.rows_of(set);
     const Vector<S> wi = model_.time_rates_of(set);  // ∂g/∂t: ġ = W u + w (a moving wall)
     const Vector<S> u_minus = model_.u(), rate_minus = Wi * u_minus + wi;
@@ -542,8 +584,10 @@ class EventDrivenRun {
         for (Eigen::Index j = 0; j < ns; ++j)
           if (rate[j] < -noise[j] && (i < 0 || rate[j] < rate[i])) i = j;
         if (i < 0) break;
-        if (count >= options_.max_impacts)
-          throw std::runtime_error("integrate_event_driven: the sequential impact law did not end (inelastic collapse?)");
+        if (count >= sequential_limit)
+          throw IntegrationError::contact(t, std::size_t(set[std::size_t(i)]),
+                                          "the sequential impact law did not end after " +
+                                              std::to_string(sequential_limit) + " two-body impacts (inelastic collapse?)");
         const S e = restitution(i), p = -(S(1) + e) * rate[i] / Wi.row(i).dot(Y.col(i));
         const Vector<S> du = Y.col(i) * p;
         carnot += -((S(1) - e) / (S(1) + e)) * model_.kinetic_energy(du) - p * wi[i];
@@ -551,10 +595,20 @@ class EventDrivenRun {
         P[i] += p;
       }
     } else {
+      // Newton's law on the approaching contacts, ġ⁺ ≥ −e ġ⁻, and ġ⁺ ≥ 0 on the closed ones that
+      // were already opening (Glocker's form; an opening contact given −e ġ⁻ > 0 of room would be
+      // free to approach after the impact and sink through its wall).
       const Matrix<S> G = Wi * model_.solve_mass(Matrix<S>(Wi.transpose()));
       Vector<S> c(ns);
-      for (Eigen::Index i = 0; i < ns; ++i) c[i] = (S(1) + restitution(i)) * rate_minus[i];
-      P = solve_contact_lcp<S>(G, c);
+      for (Eigen::Index i = 0; i < ns; ++i)
+        c[i] = rate_minus[i] + (rate_minus[i] < S(0) ? restitution(i) * rate_minus[i] : S(0));
+      try {
+        P = solve_contact_lcp<S>(G, c);
+      } catch (const std::runtime_error& e) {
+        throw IntegrationError::contact(t, std::size_t(a),
+                                        std::string("no impulse satisfies Newton's law on the closed contacts (") +
+                                            e.what() + "): contacts that pinch the motion with e > 0");
+      }
       const Vector<S> du = model_.solve_mass(Vector<S>(Wi.transpose() * P));
       u_plus = u_minus + du;
       const S e = model_.contact(a).restitution;
@@ -576,8 +630,41 @@ class EventDrivenRun {
       hist.t.push_back(t);
       hist.x_prev = std::move(hist.x_last);
       hist.x_last = xs;
+      hist.sigma = S(8) * eps_ * abs(t) +
+                   (S(tol_.rtol) * (S(1) + inf_norm(model_.q())) + S(tol_.atol)) / abs(rate_minus[ii]);
+      count_unresolved(t, set[i]);
     }
     return zeno(t, xs, a);
+  }
+
+  // Impacts of contact c in a row whose intervals the integration does not resolve, with no
+  // geometric series to extrapolate (zeno() clears the history when it takes over): refused.
+  void count_unresolved(S t, int c) {
+    History& hist = history_[std::size_t(c)];
+    const std::size_t k = hist.t.size();
+    if (k < 2 || !(hist.t[k - 1] - hist.t[k - 2] <= options_.zeno_resolution * hist.sigma)) {
+      hist.unresolved = 0;
+      return;
+    }
+    if (++hist.unresolved >= options_.unresolved_impacts)
+      throw IntegrationError::contact(
+          t, std::size_t(c),
+          std::to_string(hist.unresolved) + " impacts in a row closer together than " +
+              IntegrationError::format(options_.zeno_resolution) + " times their own time error (" +
+              IntegrationError::format(hist.sigma) +
+              ") without forming a geometric series: an accumulation of impacts the integration cannot resolve "
+              "(tighten the tolerances, or give the contact some restitution loss)");
+  }
+
+  // The constraint qualification of contact c where it closes (ContactModel::qualified).
+  void require_qualified(S t, int c) const {
+    if (!model_.qualified(c))
+      throw IntegrationError::contact(t, std::size_t(c),
+                                      "the gradient of the constraint vanishes where it closes (|W| = " +
+                                          IntegrationError::format(S(model_.W().row(c).norm())) +
+                                          "): the constraint qualification fails, and no finite impulse or "
+                                          "reaction holds it; write the row so that its gradient is non-zero on "
+                                          "its boundary (y >= 0, not y^3 >= 0)");
   }
 
   // A located event of contact a at (t, x): a separation, or a gap closing (impact or graze).
@@ -593,6 +680,29 @@ class EventDrivenRun {
     const S v = model_.rate(a);
     if (!model_.kinematic(a) && v < -rate_tol(abs(v))) impact(t, xs, a);
     decide_mode(t, xs, -1);
+    check_rows(t, xs);
+  }
+
+  // After every transition, every row: no gap below zero beyond the tolerance of a position, no
+  // closed contact left approaching (an impact that closed one contact while another was
+  // opening, contacts that pinch), where the locator, which waits for a gap to go down through
+  // zero, would never see it.
+  void check_rows(S t, const State<S>& xs) {
+    using std::abs;
+    model_.evaluate(t, xs);
+    const S gtol = gap_tol() + S(tol_.rtol) * (S(1) + inf_norm(model_.q()));
+    for (int a = 0; a < m_; ++a) {
+      if (model_.kinematic(a)) continue;
+      const S g = model_.g()[a], v = model_.rate(a);
+      if (g < -gtol)
+        throw IntegrationError::contact(t, std::size_t(a), "the gap is " + IntegrationError::format(g) +
+                                                               " after the transition there: the state has left the "
+                                                               "admissible set");
+      if (!active_[std::size_t(a)] && abs(g) <= gtol && v < -rate_tol(abs(v)))
+        throw IntegrationError::contact(t, std::size_t(a), "the closed contact still approaches (rate " +
+                                                               IntegrationError::format(v) +
+                                                               ") after the transition there");
+    }
   }
 
   void observe(S t, const State<S>& xs) {
@@ -616,8 +726,9 @@ class EventDrivenRun {
         break;
       }
     decide_mode(t_, x_, -1);
+    check_rows(t_, x_);
 
-    std::vector<EventSpec> specs(std::size_t(m_), EventSpec{EventDirection::down, false, EventAction::edit, 0.0});
+    std::vector<EventSpec> specs(std::size_t(m_), EventSpec{EventDirection::down, false, EventAction::edit, 0.0, 1});
     specs.insert(specs.end(), options_.events.begin(), options_.events.end());
     locator_.emplace(std::move(specs));
     locator_->resolve_with(tol_.rtol, tol_.atol);  // a gap's dip inside one step is seen (events.hpp)
@@ -727,6 +838,7 @@ class EventDrivenRun {
   const EventDrivenOptions<S>& options_;
   const int n_, m_;
   const std::size_t n_events_;
+  static constexpr std::size_t sequential_limit = 100000;  // two-body impacts in one sequential impact
   const S eps_ = std::numeric_limits<S>::epsilon();
   ContactModel<S> model_;
   EventDrivenOutcome<S> out_;
@@ -751,8 +863,8 @@ class EventDrivenRun {
 // with dense output (Dopri5, Dop853), reset at every transition. observer(t, x, λ, active) at t0,
 // after every accepted step and after every transition; λ is Vector<S> of m, active a
 // std::vector<bool>. Returns the events in time order, the counters and the final mode; x is the
-// state at t1. Throws IntegrationError like the other adaptive drivers, std::runtime_error past
-// max_impacts.
+// state at t1. Throws IntegrationError like the other adaptive drivers, and of Kind::contact where
+// the motion cannot go on with its contacts (the top of this file).
 template <template <class> class Stepper, class S, class Obs>
   requires AdaptiveStepper<Stepper<S>> && DenseOutputStepper<Stepper<S>>
 EventDrivenOutcome<S> integrate_event_driven(Stepper<S>& stepper, const ContactSystem<S>& sys, State<S>& x,
