@@ -49,8 +49,9 @@ struct SimulationRequest {
     std::string impact_law{runtime::contact::name(runtime::contact::ImpactLaw::simultaneous)};
     SourcePos impact_law_pos{"--impact-law"};
     // event_driven: a geometric accumulation of impacts (Zeno) is extrapolated once zeno_ratios
-    // successive interval ratios agree (after zeno_ratios + 2 impacts at least; runtime::contact::
-    // EventDrivenOptions); 0 never extrapolates (the run then stalls near the accumulation point).
+    // successive interval ratios agree and the intervals are no longer resolved (runtime::contact::
+    // EventDrivenOptions); 0 never extrapolates (the run is then refused where its impacts
+    // accumulate faster than the integration resolves them).
     int zeno_ratios = 3;
     // Bounds on the work a request can ask for (a hostile or mistyped --t-end 1e300, --step 1e-15).
     // Step attempts: absent = default_max_fixed_steps for the fixed-step methods, whose count
@@ -178,6 +179,9 @@ struct SimulationResult {
     // An explicit adaptive run whose steps sat at the method's stability boundary: the hint to use
     // radau5 ("" otherwise).
     std::string hint;
+    // What the run could not vouch for (an event function that would not resolve; events compared
+    // at the ends of fixed steps only), each a sentence.
+    std::vector<std::string> warnings;
     double wall_s = 0.0;     // integration, including the observer (invariants, CSV)
     double compile_s = 0.0;  // compiling or finding the kernel in the cache, and loading it
     bool cache_hit = false;

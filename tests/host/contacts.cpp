@@ -238,8 +238,8 @@ double check() { return exercise<double>() + double(exercise<long double>()); }
 // After it, rest on the floor with λ = m g to round-off (1e-12 relative). Each impact has
 // ḟ⁺ = −e ḟ⁻ and T⁺ = e² T⁻, i.e. ΔT = (e² − 1) m ḟ⁻²/2, which is also Carnot's
 // −((1 − e)/(1 + e)) m Δu²/2 (relative 1e-12).
-// The driver extrapolates once zeno_ratios interval ratios agree: 8 lets ten impacts happen first
-// (the default, 3, extrapolates after five; bouncing_ball_default_zeno).
+// The driver extrapolates once zeno_ratios interval ratios agree and the intervals are no longer
+// resolved (below 100 impact-time errors): ten impacts and more happen first.
 BOOST_AUTO_TEST_CASE(bouncing_ball_event_driven) {
     auto r = request(gap_kernel(ball, "floor"), 4.5);
     r.zeno_ratios = 8;
@@ -326,8 +326,8 @@ BOOST_AUTO_TEST_CASE(bouncing_ball_event_driven) {
         BOOST_TEST(text.str().find(fragment) != std::string::npos, "missing '" << fragment << "'");
 }
 
-// With the default Zeno detection (three agreeing ratios, after five impacts) the same limit, to the
-// same bound, and the same rest.
+// With the default Zeno detection (three agreeing ratios) the same limit, to the same bound, and the
+// same rest.
 BOOST_AUTO_TEST_CASE(bouncing_ball_default_zeno) {
     const auto result = eomc::host::simulate(request(gap_kernel(ball, "floor"), 4.5));
     std::size_t impacts = 0;

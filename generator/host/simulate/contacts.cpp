@@ -256,6 +256,8 @@ void run_event_driven(const Run& run, const runtime::contact::ContactSystem<doub
     });
     result.t = outcome.t;
     if (outcome.stopped) result.stopped_by = lib.event_names()[outcome.stopped_by];
+    if (std::string w = unresolved_events_warning(outcome.unresolved, outcome.first_unresolved); !w.empty())
+        result.warnings.push_back(std::move(w));
     result.steps = outcome.stats.accepted;
     result.rejected = outcome.stats.rejected;
     result.rhs_evals = outcome.stats.rhs_evals;

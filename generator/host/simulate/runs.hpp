@@ -34,6 +34,9 @@ SimulationResult simulate_contacts(const Run& run, runtime::State<double>& x, Si
 // n calls each): not for the variational state, nor for the contact phases (their rates carry the
 // multipliers); and which one it runs on, for the summary.
 bool symbolic_jacobian(const Run& run);
+// The warning for pieces of steps on which an event function would not resolve (runtime::
+// EventLocator::unresolved), "" when there were none.
+std::string unresolved_events_warning(std::size_t pieces, double t_first);
 std::string jacobian_source(const Run& run);
 
 // The observed points of a run: the invariants' drift, one CSV row each (t, the state, the

@@ -203,6 +203,13 @@ SimulationResult simulate_smooth(const Run& run, State<double>& x, SimulationRes
     result.rejected = outcome.stats.rejected;
     result.rhs_evals = outcome.stats.rhs_evals;
     result.hint = stiffness.hint();
+    if (std::string w = unresolved_events_warning(locator.unresolved(), locator.first_unresolved()); !w.empty())
+        result.warnings.push_back(std::move(w));
+    if (n_ev > 0 && s.method->fixed_step())
+        result.warnings.push_back(fmt::format("the events are compared at the ends of each fixed step of {}: a crossing "
+                                              "and its return within one step are not seen (an adaptive method "
+                                              "resolves them)",
+                                              number(s.step)));
     return result;
 }
 

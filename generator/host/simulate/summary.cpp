@@ -10,6 +10,7 @@
 
 #include "host/simulate.hpp"
 #include "host/simulate/output.hpp"
+#include "host/simulate/runs.hpp"
 #include "support/json.hpp"
 
 namespace eomc::host {
@@ -221,6 +222,11 @@ std::string json_summary(const SimulationResult& r) {
                                 json_events(r));
     s += json_rows_and_programs(r) + json_contacts(r);
     if (!r.hint.empty()) s += fmt::format(", \"hint\": {}", json_string(r.hint));  // only stability-limited runs
+    if (!r.warnings.empty()) {
+        s += ", \"warnings\": [";
+        for (std::size_t i = 0; i < r.warnings.size(); ++i) s += (i ? ", " : "") + json_string(r.warnings[i]);
+        s += "]";
+    }
     s += fmt::format(", \"stopped_by\": {}, \"compensated\": {}",
                      r.stopped_by.empty() ? "null" : json_string(r.stopped_by), r.compensated ? "true" : "false");
     s += fmt::format(", \"steps\": {}, \"rejected\": {}, \"rhs_evals\": {}, \"wall_s\": {}, \"compile_s\": {}, "
@@ -242,6 +248,7 @@ std::string text_summary(const SimulationResult& r) {
     std::string s = fmt::format("{}: {} to t = {}{}\n", r.scene_name, r.integrator, number(r.t),
                                 r.stopped_by.empty() ? "" : fmt::format(", stopped by the terminal event '{}'", r.stopped_by));
     if (!r.hint.empty()) s += fmt::format("hint: {}\n", r.hint);
+    for (const auto& w : r.warnings) s += fmt::format("warning: {}\n", w);
     s += text_values(r, width) + text_events(r, width) + text_rows_and_programs(r, width) + text_contacts(r, width);
     s += fmt::format("steps       {} accepted, {} rejected, {} rhs evaluations\n", r.steps, r.rejected, r.rhs_evals);
     s += fmt::format("time        integration {:.3g} s; kernel {:.3g} s ({})\n", r.wall_s, r.compile_s,
@@ -251,6 +258,13 @@ std::string text_summary(const SimulationResult& r) {
 }
 
 }  // namespace
+
+std::string unresolved_events_warning(std::size_t pieces, double t_first) {
+    if (pieces == 0) return "";
+    return fmt::format("an event or contact function did not resolve on {} piece{} of steps, the first at t = {} (it "
+                       "jumps or is not smooth there): a crossing and its return inside such a piece may be unseen",
+                       pieces, pieces == 1 ? "" : "s", number(t_first));
+}
 
 double InvariantReport::relative_drift() const {
     return initial != 0.0 ? max_abs_drift / std::abs(initial) : std::numeric_limits<double>::quiet_NaN();

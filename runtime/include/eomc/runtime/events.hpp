@@ -72,11 +72,6 @@ struct EventSpec {
   // After the event fired at t_e, the same event function is not detected in (t_e, t_e + cooldown]
   // (in the direction of integration); its sign is read afresh where the cooldown ends. >= 0.
   double cooldown = 0.0;
-  // The sign an exact zero of g counts as where the locator reads its signs afresh (start, restart):
-  // 0 leaves the event unarmed until g leaves zero (a ground height at launch); +1 arms a down
-  // event at once (a contact's gap closed at zero is on its admissible side, and going below zero
-  // from there is a crossing).
-  int zero_sign = 0;
 
   EventAction effective_action() const { return terminal ? EventAction::stop : action; }
 };
@@ -248,10 +243,7 @@ class EventLocator {
   void restart(G& g, S t, const State<S>& x) {
     sign_.assign(size(), 0);
     eval(g, t, x, g_prev_);
-    for (std::size_t i = 0; i < size(); ++i) {
-      sign_[i] = sign(g_prev_[i]);
-      if (sign_[i] == 0) sign_[i] = specs_[i].zero_sign > 0 ? 1 : (specs_[i].zero_sign < 0 ? -1 : 0);
-    }
+    for (std::size_t i = 0; i < size(); ++i) sign_[i] = sign(g_prev_[i]);
   }
 
   // Whether event i is in its cooldown, and where that ends.

@@ -157,6 +157,10 @@ struct EventDrivenOutcome {
   Vector<S> lambda;          // λ at the end (zero off the active set)
   bool stopped = false;      // a terminal scene event ended the run at t
   std::size_t stopped_by = 0;  // which (in options.events)
+  // Pieces of steps on which an indicator (a gap, a λ, a scene event) would not resolve, and the
+  // first one's time (EventLocator::unresolved): a crossing may have gone unseen there.
+  std::size_t unresolved = 0;
+  S first_unresolved = S(0);
 };
 
 namespace detail {
@@ -728,7 +732,7 @@ class EventDrivenRun {
     decide_mode(t_, x_, -1);
     check_rows(t_, x_);
 
-    std::vector<EventSpec> specs(std::size_t(m_), EventSpec{EventDirection::down, false, EventAction::edit, 0.0, 1});
+    std::vector<EventSpec> specs(std::size_t(m_), EventSpec{EventDirection::down, false, EventAction::edit, 0.0});
     specs.insert(specs.end(), options_.events.begin(), options_.events.end());
     locator_.emplace(std::move(specs));
     locator_->resolve_with(tol_.rtol, tol_.atol);  // a gap's dip inside one step is seen (events.hpp)
@@ -827,6 +831,8 @@ class EventDrivenRun {
     out_.t = t_;
     out_.active = active_;
     out_.lambda = lambda_;
+    out_.unresolved = locator_->unresolved();
+    out_.first_unresolved = locator_->first_unresolved();
     return std::move(out_);
   }
 
