@@ -307,6 +307,17 @@ class EventLocator {
   // 0.7, 1 and its check at 0.45, where the piece is split when the check fails.
   static constexpr std::array<double, 5> theta_ = {0.0, 0.3, 0.45, 0.7, 1.0};
   static constexpr std::size_t max_pieces_ = 4096;  // per step, before the rest is taken unresolved
+  // Lagrange's weights of the nodes 0, 0.3, 0.7, 1 at θ = 0.45: the cubic's value at the check.
+  static constexpr std::array<double, 4> check_weights_ = [] {
+    const double nodes[4] = {theta_[0], theta_[1], theta_[3], theta_[4]};
+    std::array<double, 4> w{};
+    for (std::size_t k = 0; k < 4; ++k) {
+      w[k] = 1.0;
+      for (std::size_t j = 0; j < 4; ++j)
+        if (j != k) w[k] *= (theta_[2] - nodes[j]) / (nodes[k] - nodes[j]);
+    }
+    return w;
+  }();
 
   template <class G>
   void eval(G& g, S t, const State<S>& x, State<S>& out) {
@@ -323,9 +334,9 @@ class EventLocator {
   // each). piece_[k] is the index of the sample where the resolved piece holding (t_{k−1}, t_k]
   // starts (its five samples are piece_[k] + 0..4). Without resolution: the step's two ends.
   S value(std::size_t k, std::size_t i) const { return values_[k * size() + i]; }
-  void push_sample(S t, const State<S>& v, std::size_t piece) {
+  void push_sample(S t, const S* v, std::size_t piece) {
     times_.push_back(t);
-    values_.insert(values_.end(), v.begin(), v.end());
+    values_.insert(values_.end(), v, v + size());
     piece_.push_back(piece);
   }
 
@@ -334,15 +345,15 @@ class EventLocator {
     times_.clear();
     values_.clear();
     piece_.clear();
-    push_sample(t_old, g_prev_, 0);
+    push_sample(t_old, g_prev_.data(), 0);
     if (!resolve_) {
-      push_sample(t_new, g_new_, 0);
+      push_sample(t_new, g_new_.data(), 0);
       return;
     }
     // Pieces still to resolve, the next on top: their right ends and g there. The left end of the
     // piece on top is always the last sample.
     pending_t_.assign(1, t_new);
-    pending_v_ = g_new_;
+    pending_v_.assign(g_new_.begin(), g_new_.end());
     std::size_t pieces = 0;
     mid_.resize(3 * size());
     while (!pending_t_.empty()) {
@@ -365,12 +376,8 @@ class EventLocator {
         if (unresolved_++ == 0) first_unresolved_ = a;
       }
       const std::size_t start = times_.size() - 1;
-      for (std::size_t j = 0; j < 3; ++j) {
-        g_tmp_.assign(mid_.begin() + std::ptrdiff_t(j * size()), mid_.begin() + std::ptrdiff_t((j + 1) * size()));
-        push_sample(a + (b - a) * S(theta_[j + 1]), g_tmp_, start);
-      }
-      g_tmp_.assign(vb, vb + size());
-      push_sample(b, g_tmp_, start);
+      for (std::size_t j = 0; j < 3; ++j) push_sample(a + (b - a) * S(theta_[j + 1]), mid_.data() + j * size(), start);
+      push_sample(b, vb, start);
       pending_t_.pop_back();
       pending_v_.resize(pending_t_.size() * size());
     }
@@ -379,17 +386,11 @@ class EventLocator {
   // The cubic through the piece's samples at θ = 0, 0.3, 0.7, 1 against g at 0.45, every g.
   bool piece_resolved(const S* vb) const {
     const std::size_t a = times_.size() - 1;
-    const std::array<S, 4> nodes{S(theta_[0]), S(theta_[1]), S(theta_[3]), S(theta_[4])};
     for (std::size_t i = 0; i < size(); ++i) {
       const std::array<S, 4> v{value(a, i), mid_[i], mid_[2 * size() + i], vb[i]};
       const S check = mid_[size() + i];
       S cubic = S(0);
-      for (std::size_t k = 0; k < 4; ++k) {
-        S w = S(1);  // Lagrange's weight of node k at θ = 0.45
-        for (std::size_t j = 0; j < 4; ++j)
-          if (j != k) w *= (S(theta_[2]) - nodes[j]) / (nodes[k] - nodes[j]);
-        cubic += w * v[k];
-      }
+      for (std::size_t k = 0; k < 4; ++k) cubic += S(check_weights_[k]) * v[k];
       if (abs_(cubic - check) > allowed(v[0], v[1], check, v[2], v[3])) return false;
     }
     return true;
