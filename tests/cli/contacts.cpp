@@ -1,9 +1,11 @@
-// Contacts as a user meets them on the command line (issue: impacts never missed, never faked):
-// the scenes of the report, each against a closed form, through `eomc simulate` with its CSV and
-// JSON summary. Mei, Special Topics in Analytical Mechanics, ch. 6 (Newton's law, §6.5).
+// Contacts and constraint rows as a user meets them on the command line (impacts never missed,
+// motion never faked): the scenes of the report, each against a closed form, through `eomc
+// simulate` with its CSV and JSON summary. Mei, Special Topics in Analytical Mechanics, ch. 6
+// (Newton's law, §6.5); the rows of a constrained run in the CSV are the projected state.
 #define BOOST_TEST_MODULE cli_contacts
 #include <boost/test/unit_test.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <regex>
@@ -155,4 +157,27 @@ t_end = 2.0
   BOOST_TEST(r.status != 0);
   BOOST_TEST(r.err.find("no impulse satisfies Newton's law") != std::string::npos);
   BOOST_TEST(r.err.find("is left") != std::string::npos);
+}
+
+BOOST_AUTO_TEST_CASE(the_csv_of_a_constrained_run_holds_the_projected_state) {
+  // scenes/pendulum_cartesian.toml, l = 1.2: every row on x² + y² = l² and x ẋ + y ẏ = 0 to the
+  // round-off of the projection (a few ulps of l², of l |u|), not to the step's tolerance (1e-12).
+  const fs::path dir = test_support::scratch("cli-contacts", "rod");
+  const Result r = test_support::run_eomc(std::string("simulate '") + EOMC_SOURCE_DIR + "/scenes/pendulum_cartesian.toml' "
+                                          "--output '" + (dir / "run.csv").string() + "' --cache-dir '" +
+                                          (dir / "cache").string() + "'",
+                                          dir);
+  BOOST_REQUIRE_EQUAL(r.status, 0);
+  const auto lines = test_support::read_lines(dir / "run.csv");
+  BOOST_REQUIRE(lines.size() > 10u);
+  const double l = 1.2;
+  double rod = 0.0, rate = 0.0;
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    const auto v = test_support::csv_numbers(lines[i]);  // t, x, y, x_dot, y_dot, ...
+    rod = std::max(rod, std::abs(v[1] * v[1] + v[2] * v[2] - l * l));
+    rate = std::max(rate, std::abs(v[1] * v[3] + v[2] * v[4]) / (l * (std::abs(v[3]) + std::abs(v[4]) + 1e-300)));
+  }
+  BOOST_TEST_MESSAGE("rows: |x² + y² − l²| ≤ " << rod << ", |x ẋ + y ẏ| / (l |u|) ≤ " << rate);
+  BOOST_TEST(rod <= 8 * eps * l * l);
+  BOOST_TEST(rate <= 8 * eps);
 }

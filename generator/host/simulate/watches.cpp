@@ -45,11 +45,7 @@ ConstraintWatch::ConstraintWatch(const KernelLibrary& lib, const KernelLibrary::
 
 void ConstraintWatch::observe(double t, const State<double>& xs) {
     if (residual_.empty()) return;
-    if (lib_.projects()) {
-        projected_ = xs;
-        lib_.project(t, projected_.data(), parameters_);
-    }
-    lib_.constraint_residuals(t, (lib_.projects() ? projected_ : xs).data(), residual_.data(), parameters_);
+    lib_.constraint_residuals(t, xs.data(), residual_.data(), parameters_);
     for (std::size_t i = 0; i < residual_.size(); ++i)
         max_residual_[i] = track_max(max_residual_[i], std::abs(residual_[i]));
 }

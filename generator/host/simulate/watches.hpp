@@ -33,9 +33,8 @@ private:
     bool started_ = false;
 };
 
-// The bilateral rows' largest |residual| (f or φ) at the observed points, of the state the
-// integration carries on from: the drivers project after the observer has seen a step, so the
-// residuals are those of project() applied to the same x at the same t.
+// The bilateral rows' largest |residual| (f or φ) at the observed points: the state the integration
+// carries on from (the drivers project before the observer and the events see a step).
 class ConstraintWatch {
 public:
     ConstraintWatch(const KernelLibrary& lib, const KernelLibrary::Parameters& parameters);
@@ -46,7 +45,6 @@ private:
     const KernelLibrary& lib_;
     const KernelLibrary::Parameters& parameters_;
     std::vector<double> residual_, max_residual_;
-    runtime::State<double> projected_;
 };
 
 // The stiffness hint for the explicit adaptive methods: a run is stability-limited when its

@@ -30,15 +30,25 @@ concept FixedStepper = System<Sys, S> && requires(Stepper& st, Sys& sys, State<S
 };
 
 // A system that edits its state between steps: project(t, x) maps x back onto a manifold (a unit
-// quaternion) or changes its variables without changing the motion (Encke's rectification, which
-// needs t). The drivers call it after every accepted step, with the step's end time, once the
-// observer and the events have seen the step as integrated (the dense output describes that one).
-// The steppers notice the edited state and recompute their first-same-as-last derivative and drop
-// the compensation.
+// quaternion, constraint rows) or changes its variables without changing the motion (Encke's
+// rectification, which needs t). The drivers call it after every accepted step, with the step's
+// end time, before the observer and the events see the step: what they see is the state the
+// integration goes on from (a CSV row on the rows to round-off, not to the step's tolerance). The
+// events are located on the dense output, which describes the step as integrated, and each
+// located state is projected in turn; an edited state is projected again. The steppers notice the
+// edited state and recompute their first-same-as-last derivative and drop the compensation.
 template <class Sys, class S>
 concept Projecting = requires(Sys& sys, S t, State<S>& x) { sys.project(t, x); };
 
 namespace detail {
+
+// project(t, x) of a Projecting system, as a callable; nothing for the others.
+template <class S, class Sys>
+auto projection(Sys& sys) {
+  return [&sys](S t, State<S>& x) {
+    if constexpr (Projecting<Sys, S>) sys.project(t, x);
+  };
+}
 
 // How a step's callback ends it: go on, stop the loop, or restart from the (t, x) it wrote (a state
 // edited at an event; the loop then resets the stepper).
@@ -83,11 +93,12 @@ Stats fixed_loop(Stepper& stepper, Sys& sys, State<S>& x, S t0, S t1, S h, NoPro
     t = t_next;
     ++stats.accepted;
     checker.check_state(t, x);
-    const StepEnd end = step_end(on_step, t_old, t, x);
     if constexpr (Projecting<Sys, S>) sys.project(t, x);
+    const StepEnd end = step_end(on_step, t_old, t, x);
     if (end == StepEnd::stop) break;
     if constexpr (restarts<OnStep, S>) {
       if (end == StepEnd::restart) {
+        if constexpr (Projecting<Sys, S>) sys.project(t, x);
         // The state was edited at t inside the step: the stepper forgets what it carried, and the
         // step is redone from t to the same grid point (none left when t is that point).
         stepper.reset();
@@ -174,11 +185,12 @@ Stats adaptive_loop(Stepper<S>& stepper, Sys& sys, State<S>& x, S t0, S t1, S h0
       if (last) t = t1;  // t_old + (t1 - t_old) can miss t1 by an ulp
       checker.check_state(t, x);
       checker.check_derivative(t, stepper.derivative());
-      const StepEnd end = step_end(on_accept, t_old, t, x);
       if constexpr (Projecting<Sys, S>) sys.project(t, x);
+      const StepEnd end = step_end(on_accept, t_old, t, x);
       if (end == StepEnd::stop) break;
       if constexpr (restarts<OnAccept, S>) {
         if (end == StepEnd::restart) {
+          if constexpr (Projecting<Sys, S>) sys.project(t, x);
           // The state was edited at t (a discontinuity): the integration starts afresh there, no
           // FSAL derivative, dense output, controller memory or step size carried over it ([HNW]
           // Sect. II.6, "Discontinuities").
@@ -250,6 +262,7 @@ Stats integrate_times(Stepper<S>& stepper, Sys& sys, State<S>& x, const std::vec
                                      observer(times[next], xs);
                                    } else {
                                      stepper.calc_state(times[next], buf);
+                                     detail::projection<S>(sys)(times[next], buf);
                                      observer(times[next], static_cast<const State<S>&>(buf));
                                    }
                                    ++next;
@@ -287,11 +300,12 @@ inline void require_no_edits(const std::vector<EventSpec>& specs) {
 // observer call), stop at a stopping one, or edit the state at an editing one: t_new and x become
 // the event's time and the edited state, the locator restarts there, the observer sees it, and the
 // loop restarts the stepper.
-template <class S, class G, class StateAt, class Obs, class OnEvent, class Edit>
+template <class S, class G, class StateAt, class Project, class Obs, class OnEvent, class Edit>
 StepEnd handle_events(EventLocator<S>& events, G& g, S t_old, S& t_new, State<S>& x, StateAt&& state_at,
-                      std::vector<EventHit<S>>& hits, EventOutcome<S>& out, Obs& observer, OnEvent& on_event,
-                      Edit& edit) {
+                      Project&& project, std::vector<EventHit<S>>& hits, EventOutcome<S>& out, Obs& observer,
+                      OnEvent& on_event, Edit& edit) {
   const bool interrupted = events.step(g, t_old, t_new, static_cast<const State<S>&>(x), state_at, hits);
+  for (EventHit<S>& hit : hits) project(hit.t, hit.x);  // a Projecting system's, else nothing
   for (const EventHit<S>& hit : hits) on_event(hit);
   if (interrupted && hits.back().action == EventAction::stop) {
     out.stopped = true;
@@ -352,8 +366,9 @@ EventOutcome<S> integrate_adaptive_events(Stepper<S>& stepper, Sys& sys, State<S
   const auto dense = [&](S tau, State<S>& o) { stepper.calc_state(tau, o); };
   out.stats = detail::adaptive_loop(stepper, sys, x, S(t0), S(t1), S(h0), tol, limits, checker,
                                     [&](S t_old, S& t_new, State<S>& xs) {
-                                      return detail::handle_events(events, g, t_old, t_new, xs, dense, hits, out,
-                                                                   observer, on_event, edit);
+                                      return detail::handle_events(events, g, t_old, t_new, xs, dense,
+                                                                   detail::projection<S>(sys), hits, out, observer,
+                                                                   on_event, edit);
                                     });
   if (out.stopped) x = hits.back().x;
   return out;
@@ -412,8 +427,9 @@ EventOutcome<S> integrate_fixed_events(Stepper& stepper, Sys& sys, State<S>& x, 
                                    x_old = xs;
                                  },
                                  [&](S t_old, S& t_new, State<S>& xs) {
-                                   return detail::handle_events(events, g, t_old, t_new, xs, restep, hits, out,
-                                                                observer, on_event, edit);
+                                   return detail::handle_events(events, g, t_old, t_new, xs, restep,
+                                                                detail::projection<S>(sys), hits, out, observer,
+                                                                on_event, edit);
                                  });
   out.stats.rhs_evals = stepper.rhs_evals() - evals0 + (probe.rhs_evals() - probe0);
   if (out.stopped) x = hits.back().x;
