@@ -96,7 +96,11 @@ struct InvariantReport {
     std::string name;
     double initial = 0.0;        // I(0)
     double final = 0.0;          // I(t_end)
-    double max_abs_drift = 0.0;  // max over accepted steps of |I(t) − I(0)|
+    // max over accepted steps of |I(t) − I(0)|; with jumps (impacts, Zeno points) of |I(t) − I at
+    // the start of the smooth phase holding t|: the integrator's drift, not the jumps' physics.
+    double max_abs_drift = 0.0;
+    std::size_t jumps = 0;     // the jumps of the state between observed points
+    double jump_change = 0.0;  // Σ of I after − I before, over the jumps
     // max_abs_drift / |I(0)|, NaN when I(0) = 0.
     double relative_drift() const;
 };

@@ -324,6 +324,27 @@ BOOST_AUTO_TEST_CASE(bouncing_ball_event_driven) {
     for (const char* fragment : {"contacts    event_driven", "impacts     ", "Carnot", "zeno        floor at t = 3.618454855",
                                  "contact     floor at t = 3.618454855"})
         BOOST_TEST(text.str().find(fragment) != std::string::npos, "missing '" << fragment << "'");
+
+    // The energy across the impacts. Between them the integrator's drift only: each accepted step
+    // may move y and ẏ by its tolerance (rtol |x| + atol), i.e. E by (m g + m |ẏ|max) of that, and
+    // the steps add up; dopri5 on a quadratic flight does far better (round-off). At the jumps
+    // Carnot's losses, and at the Zeno point what the last bounce still held, T⁺ = ½ m ḟ⁺².
+    BOOST_REQUIRE(result.invariants.size() == 1u);
+    const auto& E = result.invariants[0];
+    const double E0 = m * g * h0, v_max = std::sqrt(2 * g * h0);
+    const double per_step = 1e-12 * (h0 + v_max) + 2e-14, drift_bound = double(result.steps) * per_step * m * (g + v_max);
+    double carnot_sum = 0;
+    for (const auto* e : impacts) carnot_sum += e->carnot;
+    const double T_last = 0.5 * m * impacts.back()->rate_after * impacts.back()->rate_after;
+    BOOST_TEST_MESSAGE("energy: drift between jumps " << E.max_abs_drift << " (bound " << drift_bound << "), "
+                                                      << E.jumps << " jumps changed it by " << E.jump_change);
+    BOOST_TEST(E.initial == E0, boost::test_tools::tolerance(1e-15));
+    BOOST_TEST(E.jumps == impacts.size() + 1);
+    BOOST_TEST(E.max_abs_drift <= drift_bound);
+    BOOST_TEST(std::abs(E.final - E.initial - E.jump_change) <= double(E.jumps + 1) * E.max_abs_drift + 1e-14 * E0);
+    BOOST_TEST(std::abs(E.jump_change - (carnot_sum - T_last)) <= double(E.jumps) * 1e-12 * E0);
+    BOOST_TEST(json.str().find("\"change_at_jumps\"") != std::string::npos);
+    BOOST_TEST(json.str().find("\"carnot_balance\": {\"sum_energy_change\"") != std::string::npos);
 }
 
 // With the default Zeno detection (three agreeing ratios) the same limit, to the same bound, and the

@@ -171,6 +171,8 @@ public:
         r.ratio = e.ratio;
         r.extrapolation_error = e.extrapolation_error;
         if (e.kind == runtime::contact::ContactEventKind::impact) ++result_.contacts[e.contact].impacts;
+        if (e.kind == runtime::contact::ContactEventKind::impact || e.kind == runtime::contact::ContactEventKind::zeno)
+            recorder_.jump();
         result_.contact_events.push_back(r);
         pending_.push_back(std::move(r));
     }

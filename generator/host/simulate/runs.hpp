@@ -51,6 +51,8 @@ public:
     void record(double t, const runtime::State<double>& xs, const std::string* event = nullptr,
                 std::string_view extra = {});
     bool started() const { return invariants_.started(); }
+    // The state jumps before the next record (an impact, a Zeno point): InvariantWatch::jump.
+    void jump() { invariants_.jump(); }
     double t_last() const { return t_last_; }
     const runtime::State<double>& x_last() const { return x_last_; }
 

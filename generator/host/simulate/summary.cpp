@@ -33,8 +33,12 @@ std::string json_invariants(const SimulationResult& r) {
     std::string s = "{";
     for (std::size_t i = 0; i < r.invariants.size(); ++i) {
         const auto& v = r.invariants[i];
-        s += fmt::format("{}{}: {{\"initial\": {}, \"max_abs_drift\": {}}}", i ? ", " : "", json_string(v.name),
+        s += fmt::format("{}{}: {{\"initial\": {}, \"max_abs_drift\": {}", i ? ", " : "", json_string(v.name),
                          json_number(v.initial), json_number(v.max_abs_drift));
+        if (v.jumps > 0)  // max_abs_drift is then between the jumps
+            s += fmt::format(", \"final\": {}, \"jumps\": {}, \"change_at_jumps\": {}", json_number(v.final), v.jumps,
+                             json_number(v.jump_change));
+        s += "}";
     }
     return s + "}";
 }
@@ -50,6 +54,10 @@ std::string text_values(const SimulationResult& r, std::size_t width) {
             const double rel = v.relative_drift();
             s += fmt::format("  {:<{}}  {:>24}  {:>12.3g}  {:>12}\n", v.name, width, number(v.initial), v.max_abs_drift,
                              std::isnan(rel) && !std::isnan(v.max_abs_drift) ? "-" : fmt::format("{:.3g}", rel));
+            if (v.jumps > 0)
+                s += fmt::format("  {:<{}}  drift between the {} jumps (impacts, Zeno points); at them it changed by {}, "
+                                 "to {}\n",
+                                 "", width, v.jumps, number(v.jump_change), number(v.final));
         }
     }
     return s;
@@ -142,6 +150,25 @@ std::string json_contact_events(const SimulationResult& r, std::string_view kind
     return s + "]";
 }
 
+// Carnot's theorem over the impacts: the kinetic energy they changed (measured) against what the
+// theorem predicts, summed, and the largest difference at one impact (one row per impact even when
+// several contacts share it).
+struct CarnotBalance {
+    double energy_change = 0.0, carnot = 0.0, worst = 0.0;
+};
+CarnotBalance carnot_balance(const SimulationResult& r) {
+    CarnotBalance b;
+    double last_t = std::numeric_limits<double>::quiet_NaN();
+    for (const auto& e : r.contact_events) {
+        if (e.kind != "impact" || e.t == last_t) continue;  // one impact's rows carry its whole ΔT
+        last_t = e.t;
+        b.energy_change += e.energy_change;
+        b.carnot += e.carnot;
+        b.worst = std::max(b.worst, std::abs(e.energy_change - e.carnot));
+    }
+    return b;
+}
+
 std::string json_contacts(const SimulationResult& r) {
     if (r.contacts.empty()) return "";
     std::string s = fmt::format(", \"contacts\": {{\"method\": {}, \"impact_law\": {}, \"rows\": {{",
@@ -160,6 +187,9 @@ std::string json_contacts(const SimulationResult& r) {
                                 json_number(e.rate_after), json_number(e.impulse), json_number(e.energy_change),
                                 json_number(e.carnot));
          });
+    const CarnotBalance b = carnot_balance(r);
+    s += fmt::format(", \"carnot_balance\": {{\"sum_energy_change\": {}, \"sum_carnot\": {}, \"max_abs_difference\": {}}}",
+                     json_number(b.energy_change), json_number(b.carnot), json_number(b.worst));
     s += ", \"zeno\": " + json_contact_events(r, "zeno", [](const ContactEventReport& e) {
              return fmt::format("\"row\": {}, \"t\": {}, \"ratio\": {}, \"extrapolation_error\": {}", json_string(e.name),
                                 json_number(e.t), json_number(e.ratio), json_number(e.extrapolation_error));
@@ -187,6 +217,9 @@ std::string text_impacts(const SimulationResult& r, std::size_t width) {
             s += fmt::format("  {:<{}}  {:>24}  {:>24}  {:>24}  {:>24}  {:>24}  {:>24}\n", e.name, width, number(e.t),
                              number(e.rate_before), number(e.rate_after), number(e.impulse), number(e.energy_change),
                              number(e.carnot));
+    const CarnotBalance b = carnot_balance(r);
+    s += fmt::format("  {:<{}}  sum of delta T {}, of Carnot {}; largest |delta T - Carnot| {:.3g}\n", "Carnot", width,
+                     number(b.energy_change), number(b.carnot), b.worst);
     return s;
 }
 

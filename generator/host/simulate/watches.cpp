@@ -23,19 +23,26 @@ double track_max(double current_max, double drift) {
 
 InvariantWatch::InvariantWatch(const KernelLibrary& lib, const KernelLibrary::Parameters& parameters)
     : lib_(lib), parameters_(parameters), value_(lib.invariant_names().size()), initial_(value_.size()),
-      max_drift_(value_.size(), 0.0) {}
+      max_drift_(value_.size(), 0.0), phase_start_(value_.size()), jump_change_(value_.size(), 0.0) {}
 
 void InvariantWatch::observe(double t, const State<double>& xs) {
+    const std::vector<double> before = value_;
     lib_.invariants(t, xs.data(), value_.data(), parameters_);
-    if (!started_) initial_ = value_, started_ = true;
+    if (!started_) initial_ = phase_start_ = value_, started_ = true;
+    if (jump_pending_) {
+        for (std::size_t i = 0; i < value_.size(); ++i) jump_change_[i] += value_[i] - before[i];
+        phase_start_ = value_;
+        ++jumps_;
+        jump_pending_ = false;
+    }
     for (std::size_t i = 0; i < value_.size(); ++i)
-        max_drift_[i] = track_max(max_drift_[i], std::abs(value_[i] - initial_[i]));
+        max_drift_[i] = track_max(max_drift_[i], std::abs(value_[i] - phase_start_[i]));
 }
 
 std::vector<InvariantReport> InvariantWatch::reports() const {
     std::vector<InvariantReport> out;
     for (std::size_t i = 0; i < value_.size(); ++i)
-        out.push_back({lib_.invariant_names()[i], initial_[i], value_[i], max_drift_[i]});
+        out.push_back({lib_.invariant_names()[i], initial_[i], value_[i], max_drift_[i], jumps_, jump_change_[i]});
     return out;
 }
 

@@ -22,6 +22,10 @@ class InvariantWatch {
 public:
     InvariantWatch(const KernelLibrary& lib, const KernelLibrary::Parameters& parameters);
     void observe(double t, const runtime::State<double>& xs);
+    // The state jumps before the next observed point (an impact, a Zeno extrapolation): the change
+    // there is counted apart, and the drift is measured from that point on (the integrator's error
+    // between jumps, not the physics of the jumps).
+    void jump() { jump_pending_ = true; }
     bool started() const { return started_; }
     const std::vector<double>& values() const { return value_; }  // at the last observed point
     std::vector<InvariantReport> reports() const;
@@ -29,8 +33,9 @@ public:
 private:
     const KernelLibrary& lib_;
     const KernelLibrary::Parameters& parameters_;
-    std::vector<double> value_, initial_, max_drift_;
-    bool started_ = false;
+    std::vector<double> value_, initial_, max_drift_, phase_start_, jump_change_;
+    std::size_t jumps_ = 0;
+    bool started_ = false, jump_pending_ = false;
 };
 
 // The bilateral rows' largest |residual| (f or φ) at the observed points: the state the integration

@@ -682,7 +682,10 @@ class EventDrivenRun {
     }
     model_.evaluate(t, xs);
     const S v = model_.rate(a);
-    if (!model_.kinematic(a) && v < -rate_tol(abs(v))) impact(t, xs, a);
+    if (!model_.kinematic(a) && v < -rate_tol(abs(v))) {
+      observe(t, xs);  // the state as integrated up to the impact, then the one after it
+      impact(t, xs, a);
+    }
     decide_mode(t, xs, -1);
     check_rows(t, xs);
   }
@@ -726,6 +729,7 @@ class EventDrivenRun {
     const S gtol = gap_tol();
     for (int a = 0; a < m_; ++a)
       if (!model_.kinematic(a) && abs(model_.g()[a]) <= gtol && model_.rate(a) < -rate_tol(S(0))) {
+        observe(t_, x_);  // the initial state, then the one after its impact
         impact(t_, x_, a);
         break;
       }
@@ -867,7 +871,8 @@ class EventDrivenRun {
 // Integrates the system from (t0, x) to t1 > t0, x = (q, u) of 2n, through free flight, impacts,
 // contact phases and Zeno accumulations (see the top of this file). stepper: an adaptive stepper
 // with dense output (Dopri5, Dop853), reset at every transition. observer(t, x, λ, active) at t0,
-// after every accepted step and after every transition; λ is Vector<S> of m, active a
+// after every accepted step and after every transition (at an impact twice: the state before it,
+// then after it, the events reported in between); λ is Vector<S> of m, active a
 // std::vector<bool>. Returns the events in time order, the counters and the final mode; x is the
 // state at t1. Throws IntegrationError like the other adaptive drivers, and of Kind::contact where
 // the motion cannot go on with its contacts (the top of this file).
