@@ -255,6 +255,13 @@ void generate_command(const Pipeline& p, const Options& o, host::StageClock* clo
     std::cerr << "wrote " << path.string() << "\n";
 }
 
+// "--set a=1 --set b=2": the flags that gave the overrides, where a refusal of their values points.
+std::string set_flags(const std::vector<std::string>& items) {
+    std::string out;
+    for (const auto& item : items) out += (out.empty() ? "--set " : " --set ") + item;
+    return out;
+}
+
 // `simulate`, and `run` (which also prints the derivation and writes the header first).
 // The method a simulate, sweep or ensemble run uses: the command line's, else the scene's.
 const std::string& chosen_integrator(const Pipeline& p, const Options& o) {
@@ -269,6 +276,7 @@ void simulate_command(const Pipeline& p, Options& o, bool whole_job) {
     if (whole_job && o.simulate.output.empty()) o.simulate.output = (fs::path(o.out_dir) / (p.model.name + ".csv")).string();
     const host::SimulationRequest request = cli::simulation_request(p, header, o.simulate);
     cli::check_overrides_against_scene(o.scene_path, o.front, o.simulate.overrides);
+    cli::check_start(p, request.overrides, set_flags(o.simulate.overrides));
     const host::RunSettings settings = host::resolve_settings(request);
     host::check_separable(*settings.method, request.integrator_pos, ir.separable, ir.scene_name);
     // Gains too large for the explicit integrator chosen (Mei ch. 3): warned, the run still made.
@@ -325,6 +333,8 @@ void ensemble_command(const Pipeline& p, const Options& o) {
     host::check_names(r.spec, parameters, states, r.base.overrides);
     cli::check_overrides_against_scene(o.scene_path, o.front, o.simulate.overrides);
     cli::check_grid_against_scene(o.scene_path, o.front, o.simulate.overrides, r.spec);
+    cli::check_start(p, r.base.overrides, set_flags(o.simulate.overrides));
+    r.base.check_start = cli::member_start_check(p, r.spec);  // each member's start, as it is drawn
     host::check_separable(*host::resolve_settings(r.base).method, r.base.integrator_pos, ir.separable, ir.scene_name);
     r.threads = o.ensemble.threads;
     r.batch = o.ensemble.batch;
@@ -355,6 +365,7 @@ void bench_command(const Pipeline& p, const Options& o) {
                                       [](const runtime::IntegratorInfo& info) { return info.uses_jacobian; });
     const std::string header = host::kernel_header(p, nullptr, &ir, jacobian);
     host::BenchRequest r = cli::bench_request(p, header, ir, o.scene_path, o.out_dir, o.bench);
+    cli::check_start(p, {}, "");  // the bench runs the scene's own start
     const std::vector<std::string> formulations = cli::comma_list(o.bench.formulations);
     if (!o.bench.formulations.empty() && !p.model.orbit && !p.model.rigid)
         throw InputError(SourcePos{"--formulations"},

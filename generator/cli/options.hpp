@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -61,6 +62,19 @@ struct EnsembleOptions {
 
 void add_ensemble_options(CLI::App* cmd, EnsembleOptions& o, bool sweep);
 host::EnsembleSpec ensemble_spec(const EnsembleOptions& o);
+// The checks every start passes (mechanics::check_start: the rows hold and their Jacobian has full
+// rank, M is positive definite, the inertias are a body's), on the scene's own initial values and,
+// when `overrides` is not empty, on the values they give. Refused at the scene's place for the
+// scene's values, at `given` (the flags, "--set x=5") for the overrides', naming the scene's place
+// the check is made as.
+void check_start(const host::Pipeline& p, const std::vector<std::pair<std::string, double>>& overrides,
+                 const std::string& given);
+// The same check of each ensemble member's start, for SimulationRequest::check_start (resolve_start
+// calls it on the pool's threads; GiNaC is not thread-safe, so one at a time). A member refused
+// names its values by the flag that gave each (--set, --grid, --vary).
+std::function<void(const std::vector<std::pair<std::string, double>>&)> member_start_check(
+    const host::Pipeline& p, const host::EnsembleSpec& spec);
+
 // The scene's own checks (check_overrides_against_scene) on a grid's end points: the axes are
 // linear, so a value the scene accepts at both ends it accepts between. Throws at the --grid.
 void check_grid_against_scene(const std::string& scene_path, const host::FrontEndOptions& front,

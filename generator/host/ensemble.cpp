@@ -187,6 +187,7 @@ EnsembleResult run_ensemble(const EnsembleRequest& request) {
         if (m.status == "failed") continue;
         std::vector<double> parameters, x;
         SimulationRequest r = proto;
+        r.check_start = nullptr;  // checked when the member started
         for (std::size_t k = 0; k < result.input_names.size(); ++k) r.overrides.emplace_back(result.input_names[k], m.inputs[k]);
         resolve_start(r, lib, parameters, x);
         for (std::size_t i = 0; i < observe.size(); ++i)

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -23,6 +24,11 @@ struct SimulationRequest {
     std::string header_text;                                // emitted kernel header
     std::string struct_name;                                // e.g. "DiskTubeBall"
     std::vector<std::pair<std::string, double>> overrides;  // --set NAME=VALUE: parameters, or initial values "q" / "q_dot"; later wins
+    // The checks a start passes beyond what the kernel knows (the rows hold, their Jacobian has full
+    // rank, M is positive definite, the inertias are a body's: cli::member_start_check), called by
+    // resolve_start with the overrides once their names and values are accepted; throws InputError.
+    // Empty: none. An ensemble calls it from several threads at once.
+    std::function<void(const std::vector<std::pair<std::string, double>>&)> check_start;
     double t_end = 10.0;
     std::string integrator{runtime::default_integrator};    // a name in runtime::integrator_infos
     SourcePos integrator_pos{"--integrator"};               // where it was chosen: the flag, or the scene's [simulate] integrator
@@ -217,8 +223,9 @@ class KernelLibrary;
 SimulationResult simulate_loaded(const SimulationRequest& request, const KernelLibrary& lib);
 
 // Where simulate_loaded() starts: the kernel's parameter defaults and initial state with the
-// request's overrides applied (throws InputError at --set as it does). The batched ensembles
-// start their lanes from it.
+// request's overrides applied (throws InputError at --set as it does), checked by
+// request.check_start when it is set and there are overrides. The batched ensembles start their
+// lanes from it.
 void resolve_start(const SimulationRequest& request, const KernelLibrary& lib, std::vector<double>& parameters,
                    std::vector<double>& x);
 

@@ -25,6 +25,7 @@ void add_carrier_mass_and_loads(const scene::Carrier& c, const scene::Forces& fo
         carrier.mass = parse_mass(symbols, as_body, model);
     }
     carrier.inertia = parse_inertia(symbols, c.inertia, c.pos, "the carrier's inertia");
+    carrier.inertia_pos = c.pos;
     carrier.center = parse_vector(symbols, c.center, unsigned(SymbolKind::parameter), "the carrier's mass centre");
     // The applied loads may depend on the whole motion (a damper, a motor law).
     const unsigned loads = phase;
@@ -114,6 +115,7 @@ void build_carried_bodies(const scene::Scene& scene, SymbolTable& symbols, Model
         if (!b.inertia.empty()) {
             body.rigid = true;
             body.inertia = parse_inertia(symbols, b.inertia, b.inertia_pos, fmt::format("the inertia of body '{}'", b.name));
+            body.inertia_pos = b.inertia_pos;
             for (const auto& r : b.orientation)
                 body.orientation.emplace_back(
                     r.axis, symbols.parse(r.angle, configuration,

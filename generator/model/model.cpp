@@ -233,6 +233,7 @@ Model build_model(const scene::Scene& scene) {
     build_programs(scene, symbols, model);
     if (!model.programs.empty()) constraints_as_programs(scene, model);
     keep_effects(scene, model);
+    check_inertias(model, initial_values(model), "with the default parameters");
     return model;
 }
 

@@ -51,6 +51,7 @@ struct Particle {
     // Elementary rotations (axis 'x' | 'y' | 'z', angle(q, t)) turning the carrier's axes into
     // the body's, applied left to right; empty: parallel to the carrier.
     std::vector<std::pair<char, GiNaC::ex>> orientation;
+    SourcePos inertia_pos;  // the inertia's value in the scene
 };
 
 // An unknown velocity of a free carrier: one component of v_o or of ω (seed §1.1).
@@ -69,7 +70,8 @@ struct Carrier {
     Vec3 pole_velocity;
     bool free = false;
     GiNaC::ex mass = 0;                             // the carrier's own mass (0: none given),
-    GiNaC::matrix inertia = GiNaC::matrix(3, 3);    // its inertia about o,
+    GiNaC::matrix inertia = GiNaC::matrix(3, 3);    // its inertia about o (zero: none given),
+    SourcePos inertia_pos;                          // the [carrier] table
     Vec3 center{0, 0, 0};                           // its mass centre (carrier axes)
     Vec3 resultant{0, 0, 0}, moment{0, 0, 0};       // given external force on the system, moment about o
 };
@@ -192,7 +194,7 @@ struct RigidBody {
     std::array<double, 3> vertical0{0, 0, 1};     // γ(0) = R(0)ᵀ e_Z
     std::array<double, 6> andoyer0{};              // andoyer_deprit: (l, g, h, L, G, H) at t = 0
     scene::RigidFormulationKind formulation = scene::RigidFormulationKind::euler_poisson;
-    SourcePos formulation_pos, initial_pos, pos;
+    SourcePos formulation_pos, initial_pos, inertia_pos, pos;
     // The euler_angles formulation: ω and γ in the ZXZ angles and their rates (the model's
     // coordinates φ, θ, ψ); empty maps otherwise.
     GiNaC::exmap in_angles;
@@ -278,5 +280,25 @@ struct Model {
 
 // Throws eomc::InputError naming the place in the scene.
 Model build_model(const scene::Scene& scene);
+
+// The checks of a start that the model alone can make, shared by the scene's own initial values
+// (build_model) and a run's (--set, an ensemble member: mechanics/start.hpp). `values` maps every
+// symbol of the model to a number; `at` says whose values they are in the message ("with the
+// default parameters"). Each throws InputError at the scene's place of what it refuses.
+//
+// t = 0, the parameters' defaults, the coordinates' initial values and rates, the quasi-velocities'
+// and a rigid body's ω(0), γ(0) and attitude: the scene's own start.
+GiNaC::exmap initial_values(const Model& model);
+// e at `values`, with the magnitude of what cancels in it (Σ|term| through sums, products and
+// powers): a residual is zero to round-off when |value| <= tolerance × magnitude. NaN where e is
+// undefined. The terms as written, not expanded (a power of a sum could expand past any memory).
+std::pair<double, double> value_and_magnitude(const GiNaC::ex& e, const GiNaC::exmap& values);
+// A [[constraint]] row holds at the start: f and ḟ (holonomic) or φ (kinematic) vanish to 1e-9 of
+// their magnitude.
+void check_constraint_start(const Model& model, const Constraint& row, const GiNaC::exmap& values,
+                            const std::string& at);
+// Every body's inertia ([[body]], [rigid_body], a free carrier's) has positive principal moments A,
+// B, C that satisfy the triangle inequalities A + B >= C, B + C >= A, C + A >= B.
+void check_inertias(const Model& model, const GiNaC::exmap& values, const std::string& at);
 
 }  // namespace eomc::model

@@ -105,6 +105,7 @@ void build_rigid_body(const scene::Scene& scene, SymbolTable& symbols, Model& mo
     body.formulation = given.formulation;
     body.formulation_pos = given.formulation_pos;
     body.initial_pos = given.initial_pos;
+    body.inertia_pos = given.inertia_pos;
     std::vector<std::string> reserved(rigid_physical_names.begin(), rigid_physical_names.end());
     for (const auto& n : rigid_formulation_state_names(given.formulation)) reserved.push_back(n);
     for (const auto& p : scene.parameters)

@@ -17,25 +17,32 @@ namespace eomc::model {
 
 using GiNaC::ex;
 
-// The value of `e` at `values`, with the size of its terms (Σ |term| of its sum) so that a
-// residual is judged relative to the magnitudes that cancel in it; NaN where it is undefined. The
-// terms as written, not expanded: a scene's power of a sum could expand past any memory.
-static std::pair<double, double> value_and_size(const ex& e, const GiNaC::exmap& values) {
-    const auto number = [&](const ex& term) {
-        const auto value = real_value(term, values);
-        return value ? value->to_double() : std::numeric_limits<double>::quiet_NaN();
-    };
-    double size = 0.0;
-    if (GiNaC::is_a<GiNaC::add>(e))
-        for (const ex& term : e) size += std::abs(number(term));
-    else
-        size = std::abs(number(e));
-    return {number(e), size};
+// The magnitude of what cancels in e's value: Σ|term| over a sum, the product of the factors'
+// magnitudes over a product, |base|'s magnitude to a positive power; |value| elsewhere. For
+// (x² + y² − l²)² it is (x² + y² + l²)², so a square of a residual at round-off is judged by the
+// size of its terms and not by its own (Higham, Accuracy and Stability of Numerical Algorithms,
+// 2nd ed., §3.1: the rounding of a computed sum is bounded by ε Σ|term|).
+static double magnitude(const ex& e, const GiNaC::exmap& values) {
+    if (GiNaC::is_a<GiNaC::add>(e) || GiNaC::is_a<GiNaC::mul>(e)) {
+        const bool sum = GiNaC::is_a<GiNaC::add>(e);
+        double out = sum ? 0.0 : 1.0;
+        for (const ex& term : e) out = sum ? out + magnitude(term, values) : out * magnitude(term, values);
+        return out;
+    }
+    if (GiNaC::is_a<GiNaC::power>(e) && GiNaC::is_a<GiNaC::numeric>(e.op(1))) {
+        const GiNaC::numeric exponent = GiNaC::ex_to<GiNaC::numeric>(e.op(1));
+        if (exponent.is_real() && exponent.is_positive()) return std::pow(magnitude(e.op(0), values), exponent.to_double());
+    }
+    const auto value = real_value(e, values);
+    return value ? std::abs(value->to_double()) : std::numeric_limits<double>::quiet_NaN();
 }
 
-// `e` at the initial state (t = 0, q0, q̇0, the quasi-velocities' initial values) and the
-// parameters' defaults.
-static std::pair<double, double> at_initial_state(const ex& e, const Model& model) {
+std::pair<double, double> value_and_magnitude(const ex& e, const GiNaC::exmap& values) {
+    const auto value = real_value(e, values);
+    return {value ? value->to_double() : std::numeric_limits<double>::quiet_NaN(), magnitude(e, values)};
+}
+
+GiNaC::exmap initial_values(const Model& model) {
     GiNaC::exmap values = model.parameter_defaults();
     values[model.t] = 0;
     for (const auto& c : model.coordinates) {
@@ -43,7 +50,15 @@ static std::pair<double, double> at_initial_state(const ex& e, const Model& mode
         values[c.q_dot] = GiNaC::numeric(c.rate);
     }
     for (const auto& v : model.quasi_velocities) values[v.symbol] = GiNaC::numeric(v.initial);
-    return value_and_size(e, values);
+    if (model.rigid) {
+        for (std::size_t i = 0; i < 3; ++i) {
+            values[model.rigid->omega[i]] = GiNaC::numeric(model.rigid->omega0[i]);
+            values[model.rigid->gamma[i]] = GiNaC::numeric(model.rigid->vertical0[i]);
+        }
+        if (model.rigid->attitude)
+            for (std::size_t k = 0; k < 4; ++k) values[(*model.rigid->attitude)[k]] = GiNaC::numeric(model.rigid->attitude0[k]);
+    }
+    return values;
 }
 
 // Whether `e` vanishes identically in t, q, q̇ (parameters at their defaults): GiNaC's own zero
@@ -61,7 +76,7 @@ static bool vanishes_identically(const ex& e, const Model& model) {
             values[c.q_dot] = GiNaC::numeric(uniform(random));
         }
         for (const auto& v : model.quasi_velocities) values[v.symbol] = GiNaC::numeric(uniform(random));
-        const auto [value, size] = value_and_size(e, values);
+        const auto [value, size] = value_and_magnitude(e, values);
         // Not finite (a pole, an overflow): not shown to vanish.
         if (!std::isfinite(value) || !std::isfinite(size) || std::abs(value) > 1e-9 * (1.0 + size)) return false;
     }
@@ -106,15 +121,30 @@ static void check_linear_in_rates(const ex& phi, const Model& model, const Sourc
                                           what, holonomic_key));
 }
 
-// A row's expression at the initial state and the defaults, with the size of its terms; refused at
-// `pos` when it is not a real number there. `level` names it in the message ("f(q0, 0)").
-static std::pair<double, double> row_at_initial_state(const ex& e, const Model& model, const SourcePos& pos,
-                                                      const std::string& name, const char* noun, const char* level) {
-    const auto value_size = at_initial_state(e, model);
+// A row's expression at `values` with its magnitude; refused at `pos` when it is not a real number
+// there. `level` names it in the message ("f(q0, 0)").
+static std::pair<double, double> row_at(const ex& e, const GiNaC::exmap& values, const SourcePos& pos,
+                                        const std::string& name, const char* noun, const char* level) {
+    const auto value_size = value_and_magnitude(e, values);
     if (!std::isfinite(value_size.first))
         throw InputError(pos, fmt::format("the {} '{}' does not evaluate to a real number at the initial state ({})", noun,
                                           name, level));
     return value_size;
+}
+
+void check_constraint_start(const Model& model, const Constraint& row, const GiNaC::exmap& values,
+                            const std::string& at) {
+    const auto check = [&](const ex& e, const char* level) {
+        const auto [value, size] = row_at(e, values, row.pos, row.name, "constraint", level);
+        if (std::abs(value) > 1e-9 * size)
+            throw InputError(row.pos, fmt::format("the initial state violates the constraint '{}': {} = {:.6g} "
+                                                  "(not 0) {}",
+                                                  row.name, level, value, at));
+    };
+    // The velocity-level row φ: ḟ = ∂_t f + Σ ∂f/∂q_s q̇_s for a holonomic row.
+    if (row.holonomic) check(row.expression, "f(q0, 0)");
+    check(row.holonomic ? velocity_form(row.expression, model) : row.expression,
+          row.holonomic ? "df/dt(q0, q0_dot, 0)" : "phi(q0, q0_dot, 0)");
 }
 
 // [[constraint]] rows: parsed with the scene's symbols and checked (Mei, §6.6; Lur'e, ch. 2).
@@ -146,21 +176,12 @@ void build_constraints(const scene::Scene& scene, const SymbolTable& symbols, Mo
                                                                "row in the rates as kinematic = \"...\")"
                                                              : "");
         row.expression = symbols.parse(given.expression, given.holonomic ? configuration : phase, what);
-        // The velocity-level row φ: ḟ = ∂_t f + Σ ∂f/∂q_s q̇_s for a holonomic row.
-        ex phi = row.expression;
-        if (row.holonomic) phi = velocity_form(row.expression, model);
-        else check_linear_in_rates(row.expression, model, row.pos, fmt::format("kinematic constraint '{}'", given.name),
-                                   "holonomic");
+        if (!row.holonomic)
+            check_linear_in_rates(row.expression, model, row.pos, fmt::format("kinematic constraint '{}'", given.name),
+                                  "holonomic");
         // The initial state must satisfy the row (positions and velocities), at the defaults.
-        const auto check = [&](const ex& e, const char* level) {
-            const auto [value, size] = row_at_initial_state(e, model, row.pos, given.name, "constraint", level);
-            if (std::abs(value) > 1e-9 * size)
-                throw InputError(row.pos, fmt::format("the initial state violates the constraint '{}': {} = {:.6g} "
-                                                      "(not 0) at the initial values and the default parameters",
-                                                      given.name, level, value));
-        };
-        if (row.holonomic) check(row.expression, "f(q0, 0)");
-        check(phi, row.holonomic ? "df/dt(q0, q0_dot, 0)" : "phi(q0, q0_dot, 0)");
+        check_constraint_start(model, row, initial_values(model),
+                               "at the initial values and the default parameters");
         model.constraints.push_back(std::move(row));
     }
 }
@@ -203,7 +224,7 @@ void build_unilateral(const scene::Scene& scene, const SymbolTable& symbols, Mod
         // The initial state inside the admissible set: f(q0, 0) >= 0 (or φ >= 0), to round-off.
         const char* level = given.holonomic ? "f(q0, 0)" : "phi(q0, q0_dot, 0)";
         const auto [value, size] =
-            row_at_initial_state(row.expression, model, row.pos, given.name, "unilateral constraint", level);
+            row_at(row.expression, initial_values(model), row.pos, given.name, "unilateral constraint", level);
         if (value < -1e-9 * size)
             throw InputError(row.pos, fmt::format("the initial state violates the unilateral constraint '{}': {} = {:.6g} "
                                                   "(must be >= 0) at the initial values and the default parameters",

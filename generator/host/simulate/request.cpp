@@ -138,6 +138,7 @@ void resolve_start(const SimulationRequest& r, const KernelLibrary& lib, std::ve
         if (!std::isfinite(value)) throw InputError(where, fmt::format("{}={}: the value must be finite", name, value));
         (p >= 0 ? parameters[static_cast<std::size_t>(p)] : x[static_cast<std::size_t>(s)]) = value;
     }
+    if (r.check_start && !r.overrides.empty()) r.check_start(r.overrides);
 }
 
 }  // namespace eomc::host
