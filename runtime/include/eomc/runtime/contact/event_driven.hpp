@@ -55,10 +55,12 @@
 //    t_k). Every impact the integration resolves is integrated first: the series takes over only
 //    once Δt_k is below zeno_resolution (100) times the error σ_k of an impact time (8 ε |t| + the
 //    gap's tolerance over |ġ⁻|), so the impacts it skips are worth less than the ones already
-//    made carry. The series' own error is about Δt_k δr / (1 − r)², δr the ratios' spread: the
-//    impacts go on until that falls below the integrator's tolerance in t (rtol |t| + atol), or stops falling, which is
-//    where the round-off of the impact times (ε |q| / |ġ⁻| each) outweighs the ratios' drift (a
-//    pendulum leaning on a wall: r_k → e only as the bounces shrink). Then the state moves there: each
+//    made carry. (The ratios then agree to zeno_rtol (1 − r) besides what the impact times' errors
+//    make of them, 4 σ_k / Δt_k.) The series' own error is about Δt_k δr / (1 − r)², δr the
+//    ratios' spread: the impacts go on until that falls below the integrator's tolerance in t
+//    (rtol |t| + atol), or stops falling, which is where the round-off of the impact times
+//    outweighs the ratios' drift (a pendulum leaning on a wall: r_k → e only as the bounces
+//    shrink). The last integrated impact is shown at its time; then the state moves to t∞, each
 //    coordinate extrapolated by the same series from the last two post-impact states, then
 //    projected onto g_α = 0, ġ_α = 0 (for the bouncing ball exactly rest on the floor). The contact
 //    phase follows. (The accumulation point of the bouncing ball: Mei ch. 6; K.H. Johansson,
