@@ -6,6 +6,7 @@
 #define BOOST_TEST_MODULE runtime_projected_observers
 #include <boost/test/unit_test.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -78,4 +79,41 @@ BOOST_AUTO_TEST_CASE(fixed_step_observers_see_the_projected_state) {
   rt::integrate_fixed(stepper, sys, x, 0.0, 20.0, 0.05,
                       [&](double, const rt::State<double>& xs) { worst = std::max(worst, off(xs)); });
   BOOST_TEST(worst <= bound);
+}
+
+// An edit at an event (an impact law, a manoeuvre) may leave the manifold: here it stretches the
+// state by 1.5 where y crosses zero upwards (t = 2π, 4π, 6π before 20). The integration restarts
+// from the projected edit, and so the observer's row at t_e shows that state, not the stretched one
+// (0.5 · 2.5 = 1.25 off). Adaptive and fixed-step drivers alike.
+BOOST_AUTO_TEST_CASE(edited_states_are_projected_before_the_observer_sees_them) {
+  rt::EventSpec spec;
+  spec.direction = rt::EventDirection::up;
+  spec.action = rt::EventAction::edit;
+  spec.cooldown = 0.5;  // y stays at zero after the stretch: no second crossing read there
+  auto g = [](double, const rt::State<double>& xs, rt::State<double>& out) { out[0] = xs[1]; };
+  auto stretch = [](const rt::EventHit<double>&, rt::State<double>& xs) {
+    xs[0] *= 1.5;
+    xs[1] *= 1.5;
+  };
+  for (const bool fixed : {false, true}) {
+    Circle sys;
+    rt::State<double> x{1.0, 0.0};
+    double worst = 0.0;
+    auto observe = [&](double, const rt::State<double>& xs) { worst = std::max(worst, off(xs)); };
+    rt::EventLocator<double> locator({spec});
+    rt::EventOutcome<double> out;
+    if (fixed) {
+      rt::Rk4<double> stepper;
+      out = rt::integrate_fixed_events(stepper, sys, x, 0.0, 20.0, 0.05, locator, g, observe,
+                                       [](const rt::EventHit<double>&) {}, stretch);
+    } else {
+      rt::Dopri5<double> stepper;
+      out = rt::integrate_adaptive_events(stepper, sys, x, 0.0, 20.0, 0.0, rt::Tolerances{1e-6, 1e-6}, locator, g,
+                                          observe, [](const rt::EventHit<double>&) {}, stretch);
+    }
+    BOOST_TEST_MESSAGE((fixed ? "rk4" : "dopri5") << ": " << out.edits << " edits, observed off the circle by " << worst);
+    BOOST_TEST(out.edits == 3u);
+    BOOST_TEST(worst <= bound);
+    BOOST_TEST(off(x) <= bound);
+  }
 }

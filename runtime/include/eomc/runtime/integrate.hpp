@@ -55,7 +55,8 @@ auto projection(Sys& sys) {
 enum class StepEnd { go_on, stop, restart };
 
 // on_step(t_old, t_new, x) may return void, or bool (false stops the loop after that step), or
-// StepEnd: then it is called with t_new and x as lvalues it may overwrite for a restart.
+// StepEnd: then it is called with t_new and x as lvalues it may overwrite for a restart, with a
+// state already projected (the loop projects before the callback, not after it).
 template <class F, class S>
 inline constexpr bool restarts = std::is_same_v<std::invoke_result_t<F&, S, S&, State<S>&>, StepEnd>;
 
@@ -98,9 +99,9 @@ Stats fixed_loop(Stepper& stepper, Sys& sys, State<S>& x, S t0, S t1, S h, NoPro
     if (end == StepEnd::stop) break;
     if constexpr (restarts<OnStep, S>) {
       if (end == StepEnd::restart) {
-        if constexpr (Projecting<Sys, S>) sys.project(t, x);
-        // The state was edited at t inside the step: the stepper forgets what it carried, and the
-        // step is redone from t to the same grid point (none left when t is that point).
+        // The state was edited at t inside the step (and projected by handle_events): the stepper
+        // forgets what it carried, and the step is redone from t to the same grid point (none left
+        // when t is that point).
         stepper.reset();
         checker.check_state(t, x);
         if (t != t_next) {
@@ -190,10 +191,9 @@ Stats adaptive_loop(Stepper<S>& stepper, Sys& sys, State<S>& x, S t0, S t1, S h0
       if (end == StepEnd::stop) break;
       if constexpr (restarts<OnAccept, S>) {
         if (end == StepEnd::restart) {
-          if constexpr (Projecting<Sys, S>) sys.project(t, x);
-          // The state was edited at t (a discontinuity): the integration starts afresh there, no
-          // FSAL derivative, dense output, controller memory or step size carried over it ([HNW]
-          // Sect. II.6, "Discontinuities").
+          // The state was edited at t (a discontinuity, projected by handle_events): the integration
+          // starts afresh there, no FSAL derivative, dense output, controller memory or step size
+          // carried over it ([HNW] Sect. II.6, "Discontinuities").
           stepper.reset();
           checker.check_state(t, x);
           checker.check_derivative(t, stepper.prepare(sys, x, t));
@@ -300,6 +300,17 @@ inline void require_no_edits(const std::vector<EventSpec>& specs) {
 // observer call), stop at a stopping one, or edit the state at an editing one: t_new and x become
 // the event's time and the edited state, the locator restarts there, the observer sees it, and the
 // loop restarts the stepper.
+//
+// With a Projecting system x arrives projected, and the locator compares g's sign at the step's
+// start with its sign at that projected end, with the dense output (the step as integrated,
+// unprojected) in between. The projected end is the one to compare: it is the state the next step
+// starts from and whose g opens the next bracket, so the brackets chain without a gap and a
+// crossing is seen exactly once. Compared at the unprojected end, a g that only the projection
+// moved across zero would be missed by both steps or seen by both. Such a crossing lies within the
+// projection's correction (the size of the step's local error) of t_new, where Brent's method,
+// which needs only the bracket's signs, puts it. The located states and an edited state are
+// projected (project, nothing for other systems) before anyone sees them: the locator's restart
+// and the observer get the state the integration restarts from.
 template <class S, class G, class StateAt, class Project, class Obs, class OnEvent, class Edit>
 StepEnd handle_events(EventLocator<S>& events, G& g, S t_old, S& t_new, State<S>& x, StateAt&& state_at,
                       Project&& project, std::vector<EventHit<S>>& hits, EventOutcome<S>& out, Obs& observer,
@@ -325,6 +336,7 @@ StepEnd handle_events(EventLocator<S>& events, G& g, S t_old, S& t_new, State<S>
     x = hit.x;
     edit(hit, x);
     t_new = hit.t;
+    project(t_new, x);
     ++out.edits;
     out.last_edit_t = hit.t;
     out.last_edit_event = hit.index;
