@@ -42,7 +42,7 @@ struct BasicPendulumCartesian {
     static constexpr int n_invariants = 1;
     static constexpr int n_outputs = 3;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
-    static constexpr bool separable = true;
+    static constexpr bool separable = false;
     // True when jacobian() (∂ẋ/∂x) was generated: `eomc generate --jacobian`, [kernel] jacobian,
     // --variational, or a method that needs it.
     static constexpr bool has_jacobian = false;
@@ -113,15 +113,6 @@ struct BasicPendulumCartesian {
         constrained_rates_(t, x, rate.data(), constraint_lambda_.data(), constraint_reaction_.data(), p);
         for (int a = 0; a < n_constraints; ++a) out[0 + a] = constraint_lambda_[std::size_t(a)];
         for (int k = 0; k < n_velocities; ++k) out[0 + n_constraints + k] = constraint_reaction_[std::size_t(k)];
-    }
-
-    // q̈ = a(t, q): the velocities do not enter the forces, so they are left at zero.
-    template <class S>
-    static void acceleration(S t, const S* q, S* a, const Parameters& p) {
-        std::array<S, n_state> x{}, rate;
-        for (int i = 0; i < n_coordinates; ++i) x[i] = q[i];
-        rhs(t, x.data(), rate.data(), p);
-        for (int i = 0; i < n_coordinates; ++i) a[i] = rate[velocity_offset + i];
     }
 
     // Bilateral constraint rows: M u̇ − Wᵀλ = f, W u̇ = −bias − stabilisation; λ is output as

@@ -128,8 +128,10 @@ FirstOrderForm lagrange_form(const model::Model& model, const Equations& eqs) {
     // The unilateral rows (Mei, ch. 6) as derived; a caller's Equations built without them get them here.
     form.unilateral = eqs.unilateral.empty() && !model.unilateral.empty() ? unilateral_rows(model) : eqs.unilateral;
     for (const auto& e : model.events) form.events.push_back({e.name, e.when, e.direction, e.terminal});
-    // Controls λ(t, q, q̇) make the accelerations depend on the rates.
-    form.separable = is_separable(model, form) && form.programs.empty();
+    // Controls λ(t, q, q̇) make the accelerations depend on the rates. Constraint rows make a kernel
+    // no splitting method may step: q̈ = a(q) there would hold no reaction of the rows and no
+    // projection back onto them (a Cartesian pendulum under verlet left its rod by 20).
+    form.separable = is_separable(model, form) && form.programs.empty() && form.constraints.empty();
     if (model.newtonian) {
         const auto fundamental = inverse::forms(model, eqs).fundamental;
         for (const auto& r : inverse::santilli_conditions(model, fundamental))

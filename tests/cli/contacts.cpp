@@ -181,3 +181,14 @@ BOOST_AUTO_TEST_CASE(the_csv_of_a_constrained_run_holds_the_projected_state) {
   BOOST_TEST(rod <= 8 * eps * l * l);
   BOOST_TEST(rate <= 8 * eps);
 }
+
+BOOST_AUTO_TEST_CASE(a_splitting_method_is_refused_on_a_constrained_scene) {
+  // verlet steps q̈ = a(q) and never projects: on the Cartesian pendulum it left the rod by 20 with
+  // exit 0. The rows make the kernel non-separable: refused at the flag, exit 2.
+  const fs::path dir = test_support::scratch("cli-contacts", "verlet");
+  const Result r = test_support::run_eomc(std::string("simulate '") + EOMC_SOURCE_DIR + "/scenes/pendulum_cartesian.toml' "
+                                          "--integrator verlet --step 0.001 --cache-dir '" + (dir / "cache").string() + "'",
+                                          dir);
+  BOOST_TEST(r.status == 2);
+  BOOST_TEST(r.err.find("no constraint rows") != std::string::npos);
+}

@@ -103,7 +103,8 @@ void check_separable(const runtime::IntegratorInfo& method, const SourcePos& whe
                      const std::string& scene_name) {
     if (method.needs_separable && !separable)
         throw InputError(where, fmt::format("the {} integrator needs a separable system (q̈ = a(t, q) with a constant "
-                                            "mass matrix, forces free of the velocities), and {} is not one; use {} "
+                                            "mass matrix, forces free of the velocities, no constraint rows), and {} "
+                                            "is not one; use {} "
                                             "for a symplectic fixed-step method",
                                             method.name, scene_name,
                                             runtime::integrator_list([](const runtime::IntegratorInfo& i) {
