@@ -26,11 +26,11 @@ InvariantWatch::InvariantWatch(const KernelLibrary& lib, const KernelLibrary::Pa
       max_drift_(value_.size(), 0.0), phase_start_(value_.size()), jump_change_(value_.size(), 0.0) {}
 
 void InvariantWatch::observe(double t, const State<double>& xs) {
-    const std::vector<double> before = value_;
+    if (jump_pending_) before_jump_ = value_;  // the last value before the jump (no copy on other steps)
     lib_.invariants(t, xs.data(), value_.data(), parameters_);
     if (!started_) initial_ = phase_start_ = value_, started_ = true;
     if (jump_pending_) {
-        for (std::size_t i = 0; i < value_.size(); ++i) jump_change_[i] += value_[i] - before[i];
+        for (std::size_t i = 0; i < value_.size(); ++i) jump_change_[i] += value_[i] - before_jump_[i];
         phase_start_ = value_;
         ++jumps_;
         jump_pending_ = false;

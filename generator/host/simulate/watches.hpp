@@ -33,7 +33,7 @@ public:
 private:
     const KernelLibrary& lib_;
     const KernelLibrary::Parameters& parameters_;
-    std::vector<double> value_, initial_, max_drift_, phase_start_, jump_change_;
+    std::vector<double> value_, initial_, max_drift_, phase_start_, jump_change_, before_jump_;
     std::size_t jumps_ = 0;
     bool started_ = false, jump_pending_ = false;
 };
