@@ -100,6 +100,7 @@ struct Options {
     cli::EnsembleOptions ensemble;
     mechanics::inverse::SearchBudget search_budget;
     unsigned degree = mechanics::rigid::default_search_degree;
+    std::size_t integral_work = mechanics::rigid::default_search_work;
     std::optional<double> spin;  // equilibria of a rigid body: Ω of the sleeping families
 };
 
@@ -195,6 +196,12 @@ Commands declare_commands(CLI::App& app, Options& o) {
     c.integrals->add_option("--format", o.format, "text | latex | json")->check(CLI::IsMember({"text", "latex", "json"}));
     c.integrals->add_option("--degree", o.degree, "the highest total degree searched (default 4; at most 8)")
         ->check(CLI::Range(1, 8));
+    c.integrals
+        ->add_option("--search-budget", o.integral_work,
+                     fmt::format("entry operations the exact elimination may take, over all degrees, before the search "
+                                 "stops undecided at the degree it was in (default {}, about a minute)",
+                                 mechanics::rigid::default_search_work))
+        ->check(CLI::PositiveNumber);
     orbit_formulation(c.integrals);
 
     c.run = app.add_subcommand("run", "derive + generate + simulate: the whole job on one scene");
@@ -235,7 +242,7 @@ void integrals_command(const Pipeline& p, const Options& o) {
                                      o.scene_path));
     const auto system = mechanics::rigid::euler_poisson(*p.model.rigid);
     std::ostringstream text;
-    report::print_rigid_integrals(p.model, mechanics::rigid::search_rigid_integrals(p.model, system, o.degree),
+    report::print_rigid_integrals(p.model, mechanics::rigid::search_rigid_integrals(p.model, system, o.degree, o.integral_work),
                                   derivation_format(o.format), text);
     std::cout << text.str();
 }
@@ -277,8 +284,14 @@ void simulate_command(const Pipeline& p, Options& o, bool whole_job) {
     const host::SimulationRequest request = cli::simulation_request(p, header, o.simulate);
     cli::check_overrides_against_scene(o.scene_path, o.front, o.simulate.overrides);
     cli::check_start(p, request.overrides, set_flags(o.simulate.overrides));
+    // Every check that can refuse, before the derivation is printed, the header written or the
+    // kernel compiled.
     const host::RunSettings settings = host::resolve_settings(request);
+    host::validate_request(request);
     host::check_separable(*settings.method, request.integrator_pos, ir.separable, ir.scene_name);
+    host::check_contact_settings(host::KernelShape{ir.scene_name, ir.contact_names.size(), ir.event_names}, request,
+                                 settings);
+    if (whole_job) check_output_target(header_path);
     // Gains too large for the explicit integrator chosen (Mei ch. 3): warned, the run still made.
     for (const std::string& w : host::program_stiffness_warnings(p.model, *settings.method, settings.step, request.t_end))
         std::cerr << "eomc: warning: " << w << "\n";

@@ -10,7 +10,9 @@
 #include <unordered_map>
 
 #include "codegen/canonical_order.hpp"
+#include "codegen/cpp_text.hpp"
 #include "codegen/kernel_ir.hpp"
+#include "symbolic/exact_constants.hpp"
 
 namespace eomc::codegen {
 
@@ -139,7 +141,13 @@ Block eliminate_common_subexpressions(const std::vector<ex>& outputs, const std:
     Eliminator eliminator(temp_prefix);
     std::size_t before = 0;
     std::vector<ex> canonical;
-    for (const ex& e : outputs) canonical.push_back(canonical_form(e));
+    for (const ex& e : outputs) {
+        try {
+            canonical.push_back(canonical_form(symbolic::fold_ill_conditioned_constants(e)));
+        } catch (const symbolic::ConstantOutOfReach& reach) {
+            throw EmitError(reach.what());
+        }
+    }
     for (const ex& e : canonical) {
         before += count_operations(e);
         eliminator.count(e);

@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cstdlib>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
@@ -15,6 +14,7 @@
 #include "codegen/cpp_text.hpp"
 #include "host/toolchain.hpp"
 #include "support/input_file.hpp"
+#include "support/output_file.hpp"
 
 namespace eomc::host {
 
@@ -66,29 +66,34 @@ std::string gnuplot_text(const std::string& s) {
     return out;
 }
 
+// gnuplot opens its output by name, following links and replacing what is there, and cannot be
+// told otherwise. So it writes into this process's own mkdtemp directory (mode 0700, removed on
+// SIGINT/SIGTERM/SIGHUP with the script and the log), and the PNG is published from there the way
+// every CSV is: written whole to an O_EXCL|O_NOFOLLOW temporary beside the target and renamed.
 std::string write_plot(const std::function<std::string(const std::string&, const fs::path&)>& script_for,
                        const fs::path& png) {
     const std::string gnuplot = find_gnuplot();
     if (gnuplot.empty())
         return "gnuplot was not found (install gnuplot-nox); " + png.string() + " was not written";
+    check_output_target(png);  // before gnuplot runs: a refused target costs no drawing
     TempDir dir("eomc-plot-");
-    const fs::path partial = png.parent_path() / fmt::format(".{}.{}.tmp", png.filename().string(), ::getpid());
+    const fs::path drawn = dir.path() / "plot.png";
     std::string log;
     for (const char* terminal : {"pngcairo", "png"}) {
         const fs::path script = dir.path() / "plot.gp";
-        std::ofstream(script) << script_for(terminal, partial);
+        write_file_atomically(script, script_for(terminal, drawn));
         const int status = run_process({gnuplot, script.string()}, dir.path() / "gnuplot.log", true);
-        if (WIFEXITED(status) && WEXITSTATUS(status) == 0 && fs::exists(partial)) {
-            std::error_code ec;
-            fs::rename(partial, png, ec);
-            if (!ec) return "";
-            log = ec.message();
-            break;
+        if (WIFEXITED(status) && WEXITSTATUS(status) == 0 && fs::is_regular_file(fs::symlink_status(drawn))) {
+            const std::string bytes = read_whole_file(drawn);
+            if (bytes.compare(0, 8, "\x89PNG\r\n\x1a\n") != 0) {
+                log = fmt::format("gnuplot exited with status 0 but wrote {} bytes that are not a PNG", bytes.size());
+                break;
+            }
+            write_file_atomically(png, bytes);
+            return "";
         }
         log = read_whole_file(dir.path() / "gnuplot.log");
     }
-    std::error_code ignored;
-    fs::remove(partial, ignored);
     return fmt::format("gnuplot failed, {} was not written:\n{}", png.string(), log);
 }
 

@@ -213,8 +213,25 @@ struct SimulationResult {
 // runtime::IntegrationError when the integration fails (then no CSV is left behind).
 SimulationResult simulate(const SimulationRequest& request);
 
-// The checks simulate() makes before compiling: resolve_settings, its result dropped.
+// The checks simulate() makes before compiling: resolve_settings, its result dropped, and the
+// CSV's target (a regular file or nothing).
 void validate_request(const SimulationRequest& request);
+
+// What a run's checks need to know of a kernel before it is compiled: the generator's IR has it,
+// and so has a loaded library.
+struct KernelShape {
+    std::string scene_name;
+    std::size_t contacts = 0;             // unilateral rows
+    std::vector<std::string> event_names;  // the scene's [events]
+};
+
+// The checks of a run with unilateral rows that need only the kernel's shape and the settings:
+// scene events only with the event-driven method, no --variational, at most 64 rows, the
+// sequential impact law only event-driven, Moreau–Jean's step and step budget, an adaptive
+// dense-output integrator for the event-driven method. Nothing for a kernel without contacts.
+// Throws InputError at the option or scene table that chose the setting. The command line calls
+// it before it writes or compiles anything; simulate() again on the loaded kernel.
+void check_contact_settings(const KernelShape& kernel, const SimulationRequest& request, const RunSettings& settings);
 
 class KernelLibrary;
 // simulate() on a kernel already loaded (request.header_text, struct_name and cache_dir unused):

@@ -34,7 +34,8 @@ void integrals_text(const mechanics::rigid::RigidIntegrals& found, std::ostream&
         out << "  not searched: " << found.not_searched << "\n";
         return;
     }
-    if (found.found.empty()) out << "  none\n";
+    if (!found.undecided.empty()) out << "  " << found.undecided << "\n";
+    if (found.found.empty()) out << (found.undecided.empty() ? "  none\n" : "  none below that degree\n");
     for (std::size_t k = 0; k < found.found.size(); ++k) {
         const auto& f = found.found[k];
         out << "  " << found.names[k] << " (degree " << f.degree << ")"
@@ -46,7 +47,7 @@ void integrals_text(const mechanics::rigid::RigidIntegrals& found, std::ostream&
 
 void integrals_json(const mechanics::rigid::RigidIntegrals& found, std::ostream& out) {
     out << "{\"degree\": " << found.degree << ", \"not_searched\": " << json_string(found.not_searched)
-        << ", \"found\": [";
+        << ", \"undecided\": " << json_string(found.undecided) << ", \"work\": " << found.work << ", \"found\": [";
     for (std::size_t k = 0; k < found.found.size(); ++k) {
         const auto& f = found.found[k];
         out << (k ? ", " : "") << "{\"name\": " << json_string(found.names[k]) << ", \"degree\": " << f.degree
@@ -63,6 +64,7 @@ void integrals_latex(const mechanics::rigid::RigidIntegrals& found, std::ostream
         out << "Not searched: " << latex_escape(found.not_searched) << "\n";
         return;
     }
+    if (!found.undecided.empty()) out << latex_escape(found.undecided) << ".\n\n";
     if (found.found.empty()) out << "None beyond the energy, area and geometric integrals.\n";
     for (std::size_t k = 0; k < found.found.size(); ++k) {
         const auto& f = found.found[k];

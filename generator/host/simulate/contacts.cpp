@@ -98,22 +98,11 @@ void check_contact_run(const Run& run, const runtime::contact::ContactSystem<dou
     const RunSettings& s = run.settings;
     const std::string& scene = lib.scene_name();
     const SourcePos rows_pos{"[[unilateral]]"};
-    const bool event_driven = s.contact_method == ContactMethod::event_driven;
     if (!lib.constraint_names().empty() && !lib.has_constraint_rows())
         throw InputError(rows_pos, fmt::format("{}: the kernel has bilateral rows ({}) beside unilateral ones but no "
                                                "constraint_rows(); regenerate it with this eomc",
                                                scene, join(lib.constraint_names())));
-    if (!lib.event_names().empty() && !event_driven)
-        throw InputError(run.request.contact_method_pos,
-                         fmt::format("{}: scene events ({}) together with unilateral rows need contact method "
-                                     "event_driven; moreau_jean does not locate them yet",
-                                     scene, join(lib.event_names())));
-    if (run.request.variational)
-        throw InputError(SourcePos{"--variational"}, fmt::format("{}: the state-transition matrix is not defined "
-                                                                 "across impacts; run without --variational", scene));
-    if (sys.contacts.size() > 64)
-        throw InputError(rows_pos, fmt::format("{}: {} unilateral rows; the CSV's active-set bitmask holds 64", scene,
-                                               sys.contacts.size()));
+    check_contact_settings(KernelShape{scene, sys.contacts.size(), lib.event_names()}, run.request, s);
     require_rates_are_velocities(run, x);
     for (std::size_t a = 0; a < sys.contacts.size(); ++a)
         if (!runtime::contact::valid_restitution(sys.contacts[a].restitution))
@@ -127,25 +116,6 @@ void check_contact_run(const Run& run, const runtime::contact::ContactSystem<dou
             throw InputError(rows_pos, fmt::format("{}: the initial state violates the unilateral row {}: {} = {} < 0",
                                                    scene, lib.contact_names()[a],
                                                    lib.contact_kinematic()[a] ? "phi" : "f", number(g0[a])));
-    }
-    if (!event_driven && s.impact_law == runtime::contact::ImpactLaw::sequential)
-        throw InputError(run.request.impact_law_pos, fmt::format("{}: the sequential impact law needs contact method "
-                                                                 "event_driven; Moreau-Jean resolves every step's "
-                                                                 "impacts simultaneously",
-                                                                 scene));
-    if (!event_driven) {
-        if (!(std::isfinite(s.step) && s.step > 0.0))
-            throw InputError(SourcePos{"--step"},
-                             fmt::format("the moreau_jean step must be positive and finite, not {}", s.step));
-        check_fixed_step_budget(run.request, "moreau_jean", s.step);
-    } else if (s.method->fixed_step() || !s.method->dense_output) {
-        throw InputError(run.request.integrator_pos,
-                         fmt::format("{}: the event-driven contact method needs an adaptive integrator with dense "
-                                     "output ({}), not {}; or use contact method moreau_jean",
-                                     scene,
-                                     runtime::integrator_list(
-                                         [](const auto& i) { return !i.fixed_step() && i.dense_output; }, ", ", " or "),
-                                     s.method->name));
     }
 }
 

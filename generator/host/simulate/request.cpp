@@ -12,6 +12,7 @@
 #include "host/simulate.hpp"
 #include "host/simulate/output.hpp"
 #include "support/diagnostic.hpp"
+#include "support/output_file.hpp"
 
 namespace eomc::host {
 
@@ -89,7 +90,44 @@ RunSettings resolve_settings(const SimulationRequest& r) {
     return s;
 }
 
-void validate_request(const SimulationRequest& request) { (void)resolve_settings(request); }
+void validate_request(const SimulationRequest& request) {
+    (void)resolve_settings(request);
+    if (!request.csv_path.empty()) check_output_target(request.csv_path);
+}
+
+void check_contact_settings(const KernelShape& kernel, const SimulationRequest& r, const RunSettings& s) {
+    if (kernel.contacts == 0) return;
+    const std::string& scene = kernel.scene_name;
+    const bool event_driven = s.contact_method == runtime::contact::ContactMethod::event_driven;
+    if (!kernel.event_names.empty() && !event_driven)
+        throw InputError(r.contact_method_pos,
+                         fmt::format("{}: scene events ({}) together with unilateral rows need contact method "
+                                     "event_driven; moreau_jean does not locate them yet",
+                                     scene, join(kernel.event_names)));
+    if (r.variational)
+        throw InputError(SourcePos{"--variational"}, fmt::format("{}: the state-transition matrix is not defined "
+                                                                 "across impacts; run without --variational", scene));
+    if (kernel.contacts > 64)
+        throw InputError(SourcePos{"[[unilateral]]"},
+                         fmt::format("{}: {} unilateral rows; the CSV's active-set bitmask holds 64", scene, kernel.contacts));
+    if (!event_driven && s.impact_law == runtime::contact::ImpactLaw::sequential)
+        throw InputError(r.impact_law_pos, fmt::format("{}: the sequential impact law needs contact method "
+                                                       "event_driven; Moreau-Jean resolves every step's "
+                                                       "impacts simultaneously",
+                                                       scene));
+    if (!event_driven) {
+        require_positive(s.step, SourcePos{"--step"}, "the moreau_jean step");
+        check_fixed_step_budget(r, "moreau_jean", s.step);
+    } else if (s.method->fixed_step() || !s.method->dense_output) {
+        throw InputError(r.integrator_pos,
+                         fmt::format("{}: the event-driven contact method needs an adaptive integrator with dense "
+                                     "output ({}), not {}; or use contact method moreau_jean",
+                                     scene,
+                                     runtime::integrator_list(
+                                         [](const auto& i) { return !i.fixed_step() && i.dense_output; }, ", ", " or "),
+                                     s.method->name));
+    }
+}
 
 std::string describe_method(const RunSettings& s, bool show_compensated) {
     const char* compensated = show_compensated && s.compensated ? ", compensated" : "";

@@ -210,16 +210,34 @@ Row minus_multiple(const Row& a, const Rational& f, const Row& b) {
     return out;
 }
 
+// The elimination's work in entry operations (one a − f·b per entry of a and b): what the search
+// is budgeted in, a count rather than a clock so the verdict is the same on every machine.
+class WorkMeter {
+public:
+    explicit WorkMeter(std::size_t budget) : budget_(budget) {}
+    void spend(std::size_t entries) {
+        spent_ += entries;
+        if (budget_ && spent_ > budget_) throw SearchBudgetExhausted(spent_);
+    }
+    std::size_t spent() const { return spent_; }
+
+private:
+    std::size_t budget_, spent_ = 0;
+};
+
 // Row echelon form built one row at a time; reduced() gives the reduced row echelon form, the
 // one basis of the row space with each leading entry 1 and zeros above and below it (unique,
 // so the reported integrals do not depend on the order rows came in).
 class Echelon {
 public:
+    explicit Echelon(WorkMeter& work) : work_(work) {}
+
     bool insert(Row r) {
         while (!r.empty()) {
             const auto it = rows_.find(r.front().first);
             if (it == rows_.end()) break;
             const Rational f = r.front().second;
+            work_.spend(r.size() + it->second.size());
             r = minus_multiple(r, f, it->second);
         }
         if (r.empty()) return false;
@@ -242,6 +260,7 @@ public:
                 const auto at = std::lower_bound(r.begin(), r.end(), col, [](const auto& e, std::size_t c) { return e.first < c; });
                 if (at == r.end() || at->first != col) continue;
                 const Rational f = at->second;
+                work_.spend(r.size() + p->second.size());
                 r = minus_multiple(r, f, p->second);
             }
             out.emplace(it->first, std::move(r));
@@ -256,6 +275,7 @@ public:
     }
 
 private:
+    WorkMeter& work_;
     std::map<std::size_t, Row> rows_;
 };
 
@@ -280,8 +300,8 @@ struct Basis {
 };
 
 // The null space of the equations (rows over `columns` unknowns), as a basis.
-std::vector<Row> null_space(const std::vector<Row>& equations, std::size_t columns) {
-    Echelon e;
+std::vector<Row> null_space(const std::vector<Row>& equations, std::size_t columns, WorkMeter& work) {
+    Echelon e(work);
     for (const auto& r : equations) e.insert(r);
     const auto rref = e.reduced();
     // x_free = 1, x_pivot = −R[pivot][free] for each free column.
@@ -313,8 +333,8 @@ std::vector<Row> equations_of(const std::vector<Polynomial>& columns) {
 // The rows of span(solutions)'s reduced echelon basis whose leading monomial no element of
 // span(trivial) has: a basis of solutions modulo trivial (trivial ⊆ solutions), and the
 // canonical one, since both leading-monomial sets and the reduced basis are unique.
-std::vector<Row> complement(const std::vector<Row>& solutions, const std::vector<Row>& trivial) {
-    Echelon s, t;
+std::vector<Row> complement(const std::vector<Row>& solutions, const std::vector<Row>& trivial, WorkMeter& work) {
+    Echelon s(work), t(work);
     for (const auto& r : solutions) s.insert(r);
     for (const auto& r : trivial) t.insert(r);
     const auto taken = t.pivots();
@@ -377,7 +397,7 @@ void confirm(const ex& F, const ex& cofactor, const ex& g, const IntegralSearchI
 
 }  // namespace
 
-std::vector<FoundIntegral> search_polynomial_integrals(const IntegralSearchInput& input) {
+std::vector<FoundIntegral> search_polynomial_integrals(const IntegralSearchInput& input, std::size_t* work_spent) {
     const std::size_t n = input.state.size();
     if (input.field.size() != n)
         throw std::invalid_argument("integral search: the field has " + std::to_string(input.field.size()) +
@@ -406,6 +426,7 @@ std::vector<FoundIntegral> search_polynomial_integrals(const IntegralSearchInput
     for (const auto& k : input.known) known.push_back(integral_of(k.value, "known integral " + k.name));
 
     const unsigned d = input.degree;
+    WorkMeter work(input.work_budget);
     const Basis F_basis(n, d);
     std::vector<Polynomial> rates;
     for (const auto& m : F_basis.monomials) rates.push_back(rate_of(Polynomial{{m, 1}}, field));
@@ -416,8 +437,8 @@ std::vector<FoundIntegral> search_polynomial_integrals(const IntegralSearchInput
         if (degree_of(p) <= d) trivial.push_back(F_basis.row_of(p));
 
     std::vector<FoundIntegral> found;
-    const std::vector<Row> integrals = null_space(equations_of(rates), F_basis.monomials.size());
-    for (const auto& r : complement(integrals, trivial)) {
+    const std::vector<Row> integrals = null_space(equations_of(rates), F_basis.monomials.size(), work);
+    for (const auto& r : complement(integrals, trivial, work)) {
         const Polynomial F = primitive(F_basis.polynomial_of(r));
         FoundIntegral f;
         f.value = expression_of(F, input.state);
@@ -444,7 +465,7 @@ std::vector<FoundIntegral> search_polynomial_integrals(const IntegralSearchInput
         }
         // The F part of each solution (F, Λ).
         std::vector<Row> conditional;
-        for (const auto& r : null_space(equations_of(columns), columns.size())) {
+        for (const auto& r : null_space(equations_of(columns), columns.size(), work)) {
             Row F_part;
             for (const auto& [j, v] : r)
                 if (j < rates.size()) F_part.emplace_back(j, v);
@@ -456,7 +477,7 @@ std::vector<FoundIntegral> search_polynomial_integrals(const IntegralSearchInput
         trivial_here.insert(trivial_here.end(), integrals.begin(), integrals.end());
         for (const auto& m : monomials_up_to(n, int(d) - int(deg_g)))
             trivial_here.push_back(F_basis.row_of(product(Polynomial{{m, 1}}, g)));
-        for (const auto& r : complement(conditional, trivial_here)) {
+        for (const auto& r : complement(conditional, trivial_here, work)) {
             const Polynomial F = primitive(F_basis.polynomial_of(r));
             const auto cofactor = exact_quotient(rate_of(F, field), g);
             if (!cofactor) throw std::logic_error("integral search: a conditional integral's rate is not a multiple of " + c.name);
@@ -470,6 +491,7 @@ std::vector<FoundIntegral> search_polynomial_integrals(const IntegralSearchInput
             found.push_back(std::move(f));
         }
     }
+    if (work_spent) *work_spent = work.spent();
     return found;
 }
 

@@ -16,7 +16,9 @@
 // serials: monomials are ordered by their exponent vectors.
 #pragma once
 
+#include <cstddef>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -46,6 +48,16 @@ struct IntegralSearchInput {
     // Level sets of first integrals (each checked to be one) on which conditional integrals
     // are sought; none: unconditional integrals only.
     std::vector<LevelCondition> conditions;
+    // The elimination's budget in entry operations (0: none). The exact elimination's cost grows
+    // steeply with the degree (the heavy gyrostat: 1 s at degree 5, 35 s at 6, past 900 s at 7).
+    std::size_t work_budget = 0;
+};
+
+// The budget ran out before the search could decide: no integral is reported for this degree.
+struct SearchBudgetExhausted : std::runtime_error {
+    explicit SearchBudgetExhausted(std::size_t spent)
+        : std::runtime_error("the integral search ran out of its work budget"), spent(spent) {}
+    std::size_t spent;
 };
 
 struct FoundIntegral {
@@ -70,7 +82,9 @@ struct FoundIntegral {
 // Throws std::invalid_argument when the field, a known integral or a condition is not a
 // polynomial in the state with rational coefficients (a parameter left as a symbol), when the
 // sizes disagree, or when a known integral or condition is not a first integral.
-std::vector<FoundIntegral> search_polynomial_integrals(const IntegralSearchInput& input);
+// work_spent, when given, receives the entry operations the elimination took.
+std::vector<FoundIntegral> search_polynomial_integrals(const IntegralSearchInput& input,
+                                                       std::size_t* work_spent = nullptr);
 
 // The exact rational a scene meant by a decimal parameter: the shortest decimal that reads back
 // as v (0.5 → 1/2, 0.1 → 1/10, 2.5e-3 → 1/400), when it has at most max_significant_digits

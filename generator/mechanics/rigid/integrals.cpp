@@ -10,7 +10,8 @@ namespace eomc::mechanics::rigid {
 
 using GiNaC::ex;
 
-RigidIntegrals search_rigid_integrals(const model::Model& model, const EulerPoisson& system, unsigned degree) {
+RigidIntegrals search_rigid_integrals(const model::Model& model, const EulerPoisson& system, unsigned degree,
+                                      std::size_t work_budget) {
     const model::RigidBody& body = *model.rigid;
     RigidIntegrals out;
     out.degree = degree;
@@ -42,7 +43,20 @@ RigidIntegrals search_rigid_integrals(const model::Model& model, const EulerPois
     try {
         for (unsigned d = 1; d <= degree; ++d) {
             in.degree = d;
-            for (auto& f : search_polynomial_integrals(in)) {
+            in.work_budget = std::max<std::size_t>(1, work_budget - out.work);  // 0 would mean no budget
+            std::size_t spent = 0;
+            std::vector<FoundIntegral> at_d;
+            try {
+                at_d = search_polynomial_integrals(in, &spent);
+            } catch (const SearchBudgetExhausted& e) {
+                out.work += e.spent;
+                out.undecided = fmt::format("undecided at degree {}: the search stopped after its budget of {} entry "
+                                            "operations (--search-budget); the integrals of degree ≤ {} are decided",
+                                            d, work_budget, d - 1);
+                break;
+            }
+            out.work += spent;
+            for (auto& f : at_d) {
                 const bool repeated = std::any_of(out.found.begin(), out.found.end(), [&](const FoundIntegral& g) {
                     return g.conditional == f.conditional && (g.value - f.value).expand().is_zero();
                 });
