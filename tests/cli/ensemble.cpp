@@ -3,7 +3,11 @@
 #define BOOST_TEST_MODULE cli_ensemble
 #include <boost/test/unit_test.hpp>
 
+#include <cstdlib>
+#include <limits>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "command.hpp"
 
@@ -166,5 +170,97 @@ BOOST_AUTO_TEST_CASE(an_equilibrium_sweep_writes_its_verdicts) {
     const auto bad = run_eomc("sweep " + hoop + " --grid theta=0:1:2 --equilibria -o " + (dir / "no.csv").string(), dir);
     BOOST_TEST(bad.status == 2);
     BOOST_TEST(bad.err.find("--grid theta=0:1:2") != std::string::npos, bad.err);
+    BOOST_TEST(!fs::exists(dir / "no.csv"));
+}
+
+namespace {
+
+// The CSV's rows as cells (no quoted commas in these tests' messages).
+std::vector<std::vector<std::string>> csv_rows(const std::string& text) {
+    std::vector<std::vector<std::string>> rows;
+    std::stringstream in(text);
+    for (std::string line; std::getline(in, line);) {
+        std::vector<std::string> cells;
+        std::stringstream cells_in(line);
+        for (std::string cell; std::getline(cells_in, cell, ',');) cells.push_back(cell);
+        rows.push_back(cells);
+    }
+    return rows;
+}
+
+}  // namespace
+
+// A member that ends at a subnormal value (x_dot = 7.5e-322 after γ = 50 has damped it): its
+// --observe columns are the double values, as for any other member; CLN, which has no subnormal
+// floats, used to stop the whole sweep after every member ran ("floating point underflow", exit
+// 1, no CSV).
+BOOST_AUTO_TEST_CASE(an_observation_of_a_subnormal_final_state_is_its_value) {
+    const fs::path dir = scratch("cli-ensemble", "subnormal-state");
+    const auto r = run_eomc("sweep " + damped + cache +
+                                " --grid gamma=1:50:2 --set w=0 --set x_dot=1 --integrator rk4 --step 0.01 --t-end 14.8"
+                                " --observe 'V=x_dot' --observe 'R=x_dot/x' --observe 'L=log(-x)' -o " +
+                                (dir / "s.csv").string(),
+                            dir);
+    BOOST_TEST_REQUIRE(r.status == 0, r.err);
+    const auto rows = csv_rows(slurp(dir / "s.csv"));
+    BOOST_TEST_REQUIRE(rows.size() == 3u);
+    BOOST_TEST(slurp(dir / "s.csv").rfind("member,gamma,status,t,x,x_dot,V,R,L,events,message\n", 0) == 0u);
+    for (std::size_t m : {1u, 2u}) {
+        BOOST_TEST_INFO("member " << m - 1);
+        BOOST_TEST(rows[m][2] == "ok");
+        BOOST_TEST(rows[m][6] == rows[m][5]);  // V = x_dot, to the last digit
+        const double x = std::stod(rows[m][4]), v = std::strtod(rows[m][5].c_str(), nullptr);
+        BOOST_TEST(std::strtod(rows[m][7].c_str(), nullptr) == v / x);
+        BOOST_TEST(rows[m][8].empty());  // the log of a negative number: no real value
+    }
+    const double v = std::strtod(rows[2][5].c_str(), nullptr);
+    BOOST_TEST((v > 0 && v < std::numeric_limits<double>::min()));  // the case: a subnormal end
+}
+
+// A subnormal draw is refused as its member's bad input, like an infinite one (the start's checks
+// hand the value to CLN), with its reason; the other members run, and their --observe column is
+// their draw. Every member subnormal: the command's bad input, exit 2.
+BOOST_AUTO_TEST_CASE(a_subnormal_draw_is_refused_and_the_others_run) {
+    const fs::path dir = scratch("cli-ensemble", "subnormal-draw");
+    const std::string ball = EOMC_SOURCE_DIR "/scenes/disk_tube_ball.toml";
+    const auto r = run_eomc("ensemble " + ball + cache +
+                                " --vary 'r=lognormal(-708.3,1)' --samples 12 --seed 2 --t-end 0.01 --observe X=r -o " +
+                                (dir / "d.csv").string(),
+                            dir);
+    BOOST_TEST_REQUIRE(r.status == 0, r.err);
+    const std::string csv = slurp(dir / "d.csv");
+    const auto rows = csv_rows(csv);
+    BOOST_TEST_REQUIRE(rows.size() == 13u);
+    std::vector<std::string> lines;
+    std::stringstream in(csv);
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+    std::size_t ok = 0, refused = 0;
+    for (std::size_t m = 1; m < rows.size(); ++m) {
+        BOOST_TEST_INFO("member " << m - 1);
+        const double drawn = std::strtod(rows[m][1].c_str(), nullptr);
+        if (drawn < std::numeric_limits<double>::min()) {
+            ++refused;
+            BOOST_TEST(rows[m][2] == "failed");
+            BOOST_TEST(lines[m].find(",\"--set: error: r=") != std::string::npos, lines[m]);
+            BOOST_TEST(lines[m].find("a subnormal value") != std::string::npos, lines[m]);
+            BOOST_TEST(rows[m][7].empty());
+        } else {
+            ++ok;
+            BOOST_TEST(rows[m][2] == "ok");
+            BOOST_TEST(rows[m][7] == rows[m][1]);  // X = r, the draw
+        }
+    }
+    BOOST_TEST(ok > 0u);
+    BOOST_TEST(refused > 0u);
+    BOOST_TEST(r.out.find(std::to_string(ok) + " ok, 0 stopped by a terminal event, " + std::to_string(refused) + " failed") !=
+                   std::string::npos,
+               r.out);
+    const auto all = run_eomc("ensemble " + ball + cache +
+                                  " --vary 'r=lognormal(-712,0.001)' --samples 3 --t-end 0.01 --observe X=r -o " +
+                                  (dir / "no.csv").string(),
+                              dir);
+    BOOST_TEST(all.status == 2, all.err);
+    BOOST_TEST(all.err.find("every member was refused") != std::string::npos, all.err);
+    BOOST_TEST(all.err.find("a subnormal value") != std::string::npos, all.err);
     BOOST_TEST(!fs::exists(dir / "no.csv"));
 }
