@@ -27,8 +27,7 @@ using Clock = std::chrono::steady_clock;
 
 // One member: the base run with the member's inputs as --set overrides.
 MemberResult run_member(const SimulationRequest& proto, const KernelLibrary& lib, const EnsembleSpec& spec,
-                        const std::vector<std::string>& names, const BoundObservations& observe, std::size_t index,
-                        std::optional<InputError>& refusal) {
+                        const std::vector<std::string>& names, const BoundObservations& observe, std::size_t index) {
     MemberResult m;
     m.index = index;
     m.inputs = spec.inputs(index);
@@ -56,7 +55,8 @@ MemberResult run_member(const SimulationRequest& proto, const KernelLibrary& lib
     } catch (const InputError& e) {  // this member's values refused (a start below a surface, …)
         m.message = e.what();
         m.refused = true;
-        refusal.emplace(e);
+        m.refused_at = e.where();
+        m.refusal = e.message();
     } catch (const std::exception& e) {
         m.message = e.what();
     } catch (...) {  // nothing may leave a pool thread (std::terminate)
@@ -71,7 +71,7 @@ MemberResult run_member(const SimulationRequest& proto, const KernelLibrary& lib
 // is refused, or whose lane fails, runs alone through run_member (the same row as without --batch).
 void run_batch(const SimulationRequest& proto, const KernelLibrary& lib, const EnsembleSpec& spec,
                const std::vector<std::string>& names, const BoundObservations& observe,
-               const std::vector<std::size_t>& indices, MemberResult* out, std::optional<InputError>* refusals) {
+               const std::vector<std::size_t>& indices, MemberResult* out) {
     std::vector<LaneStart> starts;
     std::vector<std::size_t> lane_of;  // position in `indices` of each lane
     std::vector<std::size_t> alone;
@@ -107,7 +107,7 @@ void run_batch(const SimulationRequest& proto, const KernelLibrary& lib, const E
             m.observed.assign(observe.size(), MemberResult::nan);  // no events in a batch; expressions later
         }
     }
-    for (std::size_t j : alone) out[j] = run_member(proto, lib, spec, names, observe, indices[j], refusals[j]);
+    for (std::size_t j : alone) out[j] = run_member(proto, lib, spec, names, observe, indices[j]);
 }
 
 }  // namespace
@@ -152,7 +152,6 @@ EnsembleResult run_ensemble(const EnsembleRequest& request) {
     const std::size_t batches = request.batch ? (mine + lib.batch_width() - 1) / lib.batch_width() : mine;
     const unsigned threads = static_cast<unsigned>(std::clamp<std::size_t>(std::min(wanted, batches), 1, wanted));
     result.threads = threads;
-    std::vector<std::optional<InputError>> refusals(mine);
     std::atomic<std::size_t> next{0}, done{0};
     // Members done out of all.
     ProgressBar progress(
@@ -167,11 +166,10 @@ EnsembleResult run_ensemble(const EnsembleRequest& request) {
             if (request.batch) {
                 std::vector<std::size_t> indices;
                 for (std::size_t j = 0; j < count; ++j) indices.push_back(request.rank + (k + j) * request.ranks);
-                run_batch(proto, lib, request.spec, result.input_names, observe, indices, &result.members[k],
-                          &refusals[k]);
+                run_batch(proto, lib, request.spec, result.input_names, observe, indices, &result.members[k]);
             } else {
                 result.members[k] = run_member(proto, lib, request.spec, result.input_names, observe,
-                                               request.rank + k * request.ranks, refusals[k]);
+                                               request.rank + k * request.ranks);
             }
             const std::size_t d = done.fetch_add(count, std::memory_order_relaxed) + count;
             if (reports) progress.update(d);
@@ -196,10 +194,7 @@ EnsembleResult run_ensemble(const EnsembleRequest& request) {
     result.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
     // Bad input for every member is bad input for the command, not a table of identical failures
     // (with several ranks, rank 0 decides once it holds them all).
-    if (request.ranks == 1 && mine > 0 &&
-        std::all_of(refusals.begin(), refusals.end(), [](const auto& r) { return r.has_value(); }))
-        throw InputError(refusals.front()->where(),
-                         fmt::format("every member was refused; member 0: {}", refusals.front()->message()));
+    if (request.ranks == 1) refuse_if_all_refused(result);
     return result;
 }
 

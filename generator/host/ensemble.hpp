@@ -45,6 +45,8 @@ struct MemberResult {
     std::size_t events = 0;      // located events (and contact events)
     std::vector<double> observed;  // the --observe columns (NaN: none, or the member failed)
     bool refused = false;        // failed as bad input (its values refused), not in the integration
+    SourcePos refused_at;        // then the InputError's place and message (`message` is the whole line)
+    std::string refusal;
 };
 
 struct EnsembleResult {
@@ -59,12 +61,13 @@ struct EnsembleResult {
 };
 
 // Throws InputError for a bad request or specification (unknown names, a bad method, …) before
-// any member runs, and when every member is refused as bad input (the first one's error); a
-// member that fails otherwise is recorded and the others run on.
+// any member runs, and, in one process, when every member is refused as bad input
+// (refuse_if_all_refused); a member that fails otherwise is recorded and the others run on.
 EnsembleResult run_ensemble(const EnsembleRequest& request);
 
 // Throws InputError when every member was refused as bad input: then the specification is bad,
-// not the members (run_ensemble calls it; after an MPI gather, rank 0 does).
+// not the members. At the first member's place: "every member was refused; member 0: …" (run_ensemble
+// calls it in one process; after an MPI gather, rank 0 does: the same line).
 void refuse_if_all_refused(const EnsembleResult& result);
 
 // One row per member: member, the inputs, status, t, the final state, <invariant>_max_drift, the

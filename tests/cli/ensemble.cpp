@@ -12,6 +12,7 @@
 #include "command.hpp"
 
 namespace fs = std::filesystem;
+using test_support::run_command;
 using test_support::run_eomc;
 using test_support::scratch;
 using test_support::slurp;
@@ -117,26 +118,92 @@ BOOST_AUTO_TEST_CASE(a_sweep_draws_its_picture) {
     BOOST_TEST(!fs::exists(dir / "h.png"));
 }
 
+// The MPI tests run only where eomc is built with MPI and CMake found mpirun (not in sanitizer
+// builds); elsewhere Boost.Test reports them skipped, with the reason.
+namespace {
+
 #ifdef EOMC_MPIEXEC
-// Under mpirun -np 2 (oversubscribed on a small machine) each rank runs every other member and
-// rank 0 gathers them: the CSV and the statistics are the bytes of one process.
-BOOST_AUTO_TEST_CASE(two_mpi_ranks_give_the_bytes_of_one_process) {
+const std::string mpiexec = EOMC_MPIEXEC;
+#else
+const std::string mpiexec;
+#endif
+
+boost::test_tools::assertion_result mpi_available(boost::unit_test::test_unit_id) {
+    boost::test_tools::assertion_result available(!mpiexec.empty());
+    available.message() << "eomc is built without MPI or CMake found no mpirun: the MPI test is skipped";
+    return available;
+}
+
+// `mpirun -np 2` (oversubscribed on a small machine) of eomc, killed after 60 s: a job that hangs
+// fails its test instead of hanging it. CI runs as root, which Open MPI refuses unless told.
+test_support::Result mpirun(const std::string& arguments, const fs::path& dir, const std::string& env = "") {
+    return test_support::run_command("timeout 60 " + mpiexec + " -np 2 --oversubscribe -x EOMC_TEST_FAIL_RANK " +
+                                         EOMC_EXECUTABLE + " " + arguments,
+                                     dir, "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " + env);
+}
+
+std::size_t occurrences(const std::string& text, const std::string& line) {
+    std::size_t n = 0;
+    for (auto at = text.find(line); at != std::string::npos; at = text.find(line, at + 1)) ++n;
+    return n;
+}
+
+}  // namespace
+
+// Each rank runs every other member and rank 0 gathers them: the CSV and the statistics are the
+// bytes of one process.
+BOOST_AUTO_TEST_CASE(two_mpi_ranks_give_the_bytes_of_one_process, *boost::unit_test::precondition(mpi_available)) {
     const fs::path dir = scratch("cli-ensemble", "mpi");
     const std::string args = "ensemble " + damped + cache +
                              " --vary 'w=lognormal(0,0.2)' --vary 'gamma=uniform(0,0.3)' --samples 101 --seed 5"
                              " --t-end 5 --threads 1 --format json -o ";
     const auto one = run_eomc(args + (dir / "one.csv").string(), dir);
     BOOST_TEST_REQUIRE(one.status == 0, one.err);
-    // CI runs as root, which Open MPI refuses unless told.
-    const auto two = test_support::run_command(std::string(EOMC_MPIEXEC) + " -np 2 --oversubscribe " +
-                                                   EOMC_EXECUTABLE + " " + args + (dir / "two.csv").string(),
-                                               dir, "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1");
+    const auto two = mpirun(args + (dir / "two.csv").string(), dir);
     BOOST_TEST_REQUIRE(two.status == 0, two.err);
     BOOST_TEST(slurp(dir / "one.csv") == slurp(dir / "two.csv"));
     BOOST_TEST(two.out.find("\"ranks\": 2,") != std::string::npos, two.out);
     BOOST_TEST(one.out.substr(one.out.find("\"statistics\"")) == two.out.substr(two.out.find("\"statistics\"")));
 }
-#endif
+
+// An error on one rank ends the job with the one-process run's message, printed once, and its exit
+// status; nothing is written. Rank 1's member ending at a subnormal value used to throw there
+// while rank 0 waited in MPI_Gather and rank 1 in MPI_Finalize: the job hung with no output.
+BOOST_AUTO_TEST_CASE(an_error_on_one_mpi_rank_ends_the_job_as_one_process_would,
+                     *boost::unit_test::precondition(mpi_available)) {
+    const fs::path dir = scratch("cli-ensemble", "mpi-errors");
+    // Member 1 (rank 1's) ends at x_dot = 7.5e-322.
+    const std::string sweep = "sweep " + damped + cache +
+                              " --grid gamma=1:50:2 --set w=0 --set x_dot=1 --integrator rk4 --step 0.01 --t-end 14.8"
+                              " --observe X=x_dot --threads 1 -o ";
+    const auto one = run_eomc(sweep + (dir / "one.csv").string(), dir);
+    BOOST_TEST_REQUIRE(one.status == 0, one.err);
+    const auto two = mpirun(sweep + (dir / "two.csv").string(), dir);
+    BOOST_TEST_REQUIRE(two.status == 0, two.err);
+    BOOST_TEST(slurp(dir / "one.csv") == slurp(dir / "two.csv"));
+
+    // Rank 1 alone fails (the test hook): the job ends with rank 1's error, as one process ends
+    // with it, printed once (by rank 0), exit 2.
+    const auto alone = run_command(std::string(EOMC_EXECUTABLE) + " " + sweep + (dir / "no.csv").string(), dir,
+                                   "EOMC_TEST_FAIL_RANK=0");
+    BOOST_TEST_REQUIRE(alone.status == 2, alone.err);
+    const auto failed = mpirun(sweep + (dir / "no.csv").string(), dir, "EOMC_TEST_FAIL_RANK=1");
+    BOOST_TEST(failed.status == alone.status, failed.err);
+    BOOST_TEST(occurrences(failed.err, alone.err) == 1u, failed.err);
+    BOOST_TEST(!fs::exists(dir / "no.csv"));
+
+    // Every member refused on every rank: the one-process line and status.
+    const std::string refused = "ensemble " + std::string(EOMC_SOURCE_DIR) + "/scenes/disk_tube_ball.toml" + cache +
+                                " --vary 'r=lognormal(-712,0.001)' --samples 3 --t-end 0.01 --observe X=r -o " +
+                                (dir / "no.csv").string();
+    const auto refused_one = run_eomc(refused, dir);
+    BOOST_TEST_REQUIRE(refused_one.status == 2, refused_one.err);
+    BOOST_TEST(refused_one.err.find("every member was refused; member 0: r=") != std::string::npos, refused_one.err);
+    const auto refused_two = mpirun(refused, dir);
+    BOOST_TEST(refused_two.status == 2, refused_two.err);
+    BOOST_TEST(occurrences(refused_two.err, refused_one.err) == 1u, refused_two.err);
+    BOOST_TEST(!fs::exists(dir / "no.csv"));
+}
 
 // --batch as a user meets it: the rk4 CSV of the linear oscillator the same bytes as without; a
 // method the batch does not run refused at --batch, exit 2, nothing written.
