@@ -299,7 +299,8 @@ void equilibria_sweep_command(const Pipeline& p, const Options& o, const host::E
         throw InputError(SourcePos{"--equilibria"}, "an equilibrium sweep takes the relative equilibria (or a rigid "
                                                     "body's permanent rotations), not the KKT equilibria of "
                                                     "[[unilateral]] gaps");
-    const host::EquilibriumSweep sweep = host::sweep_equilibria(p.model, p.equations, spec);
+    const host::EquilibriumSweep sweep =
+        host::sweep_equilibria(p.model, p.equations, spec, {o.ensemble.budget_s, true, o.ensemble.progress});
     const auto script = [&](const std::string& terminal, const fs::path& png) {
         return host::equilibria_plot_script(sweep, spec, terminal, png);
     };
@@ -329,13 +330,23 @@ std::pair<int, std::string> error_report(std::exception_ptr error, const std::st
     }
 }
 
-// A `sweep` or `ensemble` request, everything checked before the first run.
-host::EnsembleRequest ensemble_request(const Pipeline& p, const Options& o, const host::EnsembleSpec& spec) {
+// A `sweep` or `ensemble` request, everything checked before the first run; the memory its rows
+// will hold (on rank 0, which gathers them from `ranks`) before anything is allocated or compiled.
+host::EnsembleRequest ensemble_request(const Pipeline& p, const Options& o, const host::EnsembleSpec& spec,
+                                       std::size_t ranks) {
     host::EnsembleRequest r;
     r.spec = spec;
+    r.members_flag = SourcePos{spec.vary.empty() ? "--grid" : "--samples"};
+    r.budget_s = o.ensemble.budget_s;
+    r.progress_always = o.ensemble.progress;
     codegen::KernelIR ir;
     const std::string header =
         host::kernel_header(p, nullptr, &ir, host::method_needs_jacobian(chosen_integrator(p, o)));
+    host::check_ensemble_memory(spec.members(),
+                                host::ensemble_bytes_per_member(spec.input_names().size(), ir.state.size(),
+                                                                ir.invariant_names.size(), o.ensemble.observe.size(), ranks),
+                                o.ensemble.max_memory_mib ? *o.ensemble.max_memory_mib << 20 : host::default_memory_limit(),
+                                r.members_flag);
     r.base = cli::simulation_request(p, header, o.simulate);
     std::vector<std::string> parameters, states;  // the kernel's names, known before it compiles
     for (const auto& s : ir.parameters) parameters.push_back(s.name);
@@ -372,7 +383,7 @@ void ensemble_command(const Pipeline& p, const Options& o) {
             equilibria = true;
             return;
         }
-        r = ensemble_request(p, o, r.spec);
+        r = ensemble_request(p, o, r.spec, mpi.size());
         r.rank = mpi.rank();
         r.ranks = mpi.size();
         // A test's way to fail one rank alone (tests/cli/ensemble.cpp): the job must still end.

@@ -15,6 +15,7 @@
 
 #include "eomc/runtime/errors.hpp"
 #include "host/ensemble_batch.hpp"
+#include "host/ensemble_budget.hpp"
 #include "host/kernel_loader.hpp"
 #include "host/simulate/output.hpp"
 
@@ -110,6 +111,21 @@ void run_batch(const SimulationRequest& proto, const KernelLibrary& lib, const E
     for (std::size_t j : alone) out[j] = run_member(proto, lib, spec, names, observe, indices[j]);
 }
 
+// The --observe expressions on the final states, here: GiNaC's expressions are not thread-safe.
+void observe_final_states(const SimulationRequest& proto, const KernelLibrary& lib, const BoundObservations& observe,
+                          EnsembleResult& result) {
+    for (auto& m : result.members) {
+        if (m.status == "failed") continue;
+        std::vector<double> parameters, x;
+        SimulationRequest r = proto;
+        r.check_start = nullptr;  // checked when the member started
+        for (std::size_t k = 0; k < result.input_names.size(); ++k) r.overrides.emplace_back(result.input_names[k], m.inputs[k]);
+        resolve_start(r, lib, parameters, x);
+        for (std::size_t i = 0; i < observe.size(); ++i)
+            if (observe.event(i) < 0) m.observed[i] = observe.evaluate(i, m.t, parameters, m.state);
+    }
+}
+
 }  // namespace
 
 EnsembleResult run_ensemble(const EnsembleRequest& request) {
@@ -155,42 +171,43 @@ EnsembleResult run_ensemble(const EnsembleRequest& request) {
     std::atomic<std::size_t> next{0}, done{0};
     // Members done out of all.
     ProgressBar progress(
-        request.progress, double(mine), [](double done, double all) { return fmt::format("{} / {} runs", done, all); }, 1);
+        request.progress, double(mine), [](double done, double all) { return fmt::format("{} / {} runs", done, all); }, 1,
+        request.progress_always);
     const auto start = Clock::now();
     // Each thread takes the next index (the next batch of `lanes`); every member writes its own
     // slot, so the order in which they finish changes nothing.
     const std::size_t lanes = result.lanes, units = (mine + lanes - 1) / lanes;
+    const auto run_unit = [&](std::size_t u) {  // the members run, as many as it holds
+        const std::size_t k = u * lanes, count = std::min(lanes, mine - k);
+        if (request.batch) {
+            std::vector<std::size_t> indices;
+            for (std::size_t j = 0; j < count; ++j) indices.push_back(request.rank + (k + j) * request.ranks);
+            run_batch(proto, lib, request.spec, result.input_names, observe, indices, &result.members[k]);
+        } else {
+            result.members[k] =
+                run_member(proto, lib, request.spec, result.input_names, observe, request.rank + k * request.ranks);
+        }
+        return count;
+    };
     const auto work = [&](bool reports) {
         for (std::size_t u; (u = next.fetch_add(1, std::memory_order_relaxed)) < units;) {
-            const std::size_t k = u * lanes, count = std::min(lanes, mine - k);
-            if (request.batch) {
-                std::vector<std::size_t> indices;
-                for (std::size_t j = 0; j < count; ++j) indices.push_back(request.rank + (k + j) * request.ranks);
-                run_batch(proto, lib, request.spec, result.input_names, observe, indices, &result.members[k]);
-            } else {
-                result.members[k] = run_member(proto, lib, request.spec, result.input_names, observe,
-                                               request.rank + k * request.ranks);
-            }
+            const std::size_t count = run_unit(u);
             const std::size_t d = done.fetch_add(count, std::memory_order_relaxed) + count;
-            if (reports) progress.update(d);
+            if (reports) progress.update(double(d));
         }
     };
+    if (units > 0) {  // the first, timed: the whole estimated from it, refused past --budget-s before the rest run
+        next = 1;
+        done = run_unit(0);
+        check_work_budget(units, std::chrono::duration<double>(Clock::now() - start).count(), threads,
+                          request.budget_s, request.members_flag, request.batch ? "batch of members" : "member");
+    }
     {
         std::vector<std::jthread> pool;
         for (unsigned i = 1; i < threads; ++i) pool.emplace_back(work, false);
         work(true);
     }
-    // The expressions on the final states, here: GiNaC is not thread-safe.
-    for (auto& m : result.members) {
-        if (m.status == "failed") continue;
-        std::vector<double> parameters, x;
-        SimulationRequest r = proto;
-        r.check_start = nullptr;  // checked when the member started
-        for (std::size_t k = 0; k < result.input_names.size(); ++k) r.overrides.emplace_back(result.input_names[k], m.inputs[k]);
-        resolve_start(r, lib, parameters, x);
-        for (std::size_t i = 0; i < observe.size(); ++i)
-            if (observe.event(i) < 0) m.observed[i] = observe.evaluate(i, m.t, parameters, m.state);
-    }
+    observe_final_states(proto, lib, observe, result);
     result.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
     // Bad input for every member is bad input for the command, not a table of identical failures
     // (with several ranks, rank 0 decides once it holds them all).

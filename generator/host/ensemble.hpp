@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "host/ensemble_budget.hpp"
 #include "host/ensemble_spec.hpp"
 #include "host/observation.hpp"
 #include "host/simulate.hpp"
@@ -25,6 +26,11 @@ struct EnsembleRequest {
     // This process runs the members with index % ranks == rank (MPI: one rank of several).
     std::size_t rank = 0, ranks = 1;
     bool progress = true;    // a bar on stderr when it is a terminal and the run lasts > ~1 s
+    bool progress_always = false;  // --progress: from the start, wherever stderr goes
+    // --budget-s: the members' time, estimated from the first one's (run before the others start),
+    // refused past it as InputError at `members_flag` (--samples, --grid).
+    double budget_s = default_budget_s;
+    SourcePos members_flag;
     // Members a SIMD batch at a time (host/ensemble_batch.hpp; InputError at --batch where the
     // kernel or the method does not allow it). The CSV is the same as without for rk4, bit for bit.
     bool batch = false;

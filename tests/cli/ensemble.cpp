@@ -331,3 +331,61 @@ BOOST_AUTO_TEST_CASE(a_subnormal_draw_is_refused_and_the_others_run) {
     BOOST_TEST(all.err.find("a subnormal value") != std::string::npos, all.err);
     BOOST_TEST(!fs::exists(dir / "no.csv"));
 }
+
+// The memory an ensemble's rows will hold is estimated before anything is allocated or compiled
+// (the kernel cache stays empty), and refused past --max-memory-mib at --samples with the estimate;
+// the same flags under the limit run. 30 million members used to grow past 4 GB before the first ran.
+BOOST_AUTO_TEST_CASE(an_ensemble_too_large_for_memory_is_refused_before_it_compiles) {
+    const fs::path dir = scratch("cli-ensemble", "memory");
+    const std::string args = "ensemble " + damped +
+                             " --vary 'w=normal(1,0.1)' --t-end 0.01 --max-memory-mib 1000 -o " + (dir / "e.csv").string();
+    const auto big = run_eomc(args + " --samples 30000000 --cache-dir " + (dir / "cache").string(), dir);
+    BOOST_TEST(big.status == 2);
+    BOOST_TEST(big.err.rfind("--samples: error: 30000000 members would hold about ", 0) == 0u, big.err);
+    BOOST_TEST(big.err.find("GiB in memory") != std::string::npos, big.err);
+    BOOST_TEST(big.err.find("more than the limit of 1000 MiB (--max-memory-mib") != std::string::npos, big.err);
+    BOOST_TEST(!fs::exists(dir / "cache"));  // refused before the kernel compiled
+    BOOST_TEST(!fs::exists(dir / "e.csv"));
+    const auto grid = run_eomc("sweep " + damped + cache + " --grid w=1:2:10000 --grid gamma=0:1:10000 --max-memory-mib 100",
+                               dir);
+    BOOST_TEST(grid.status == 2);
+    BOOST_TEST(grid.err.rfind("--grid: error: 100000000 members would hold about ", 0) == 0u, grid.err);
+    const auto small = run_eomc(args + cache + " --samples 50 --progress", dir);
+    BOOST_TEST_REQUIRE(small.status == 0, small.err);
+    BOOST_TEST(small.err.find("50 / 50 runs") != std::string::npos, small.err);  // --progress without a terminal
+    BOOST_TEST(csv_rows(slurp(dir / "e.csv")).size() == 51u);
+}
+
+// --budget-s: the work is estimated from the first point's (member's) time before the second runs,
+// and refused past the budget (default an hour) with the estimate and the budget that would run it.
+// `sweep --equilibria` over 10^8 points used to be accepted (days of work).
+BOOST_AUTO_TEST_CASE(work_past_the_budget_is_refused_with_its_estimate) {
+    const fs::path dir = scratch("cli-ensemble", "budget");
+    const std::string hoop = EOMC_SOURCE_DIR "/scenes/bead_on_hoop_damped.toml";
+    const auto huge = run_eomc("sweep " + hoop + " --grid omega=0:8:100000000 --equilibria -o " + (dir / "no.csv").string(),
+                               dir);
+    BOOST_TEST(huge.status == 2);
+    BOOST_TEST(huge.err.rfind("--grid: error: 100000000 grid points would take about ", 0) == 0u, huge.err);
+    BOOST_TEST(huge.err.find("more than --budget-s 3600; ask for fewer, or give --budget-s ") != std::string::npos, huge.err);
+    // The budget it names runs them: it is at least the estimate, which is at least 3600 s.
+    const std::string named = huge.err.substr(huge.err.rfind("--budget-s ") + 11);
+    BOOST_TEST(std::stod(named) > 3600.0, named);
+    BOOST_TEST(!fs::exists(dir / "no.csv"));
+
+    const auto members = run_eomc("ensemble " + damped + cache +
+                                      " --vary 'w=normal(1,0.1)' --samples 100000 --t-end 20 --budget-s 0.001 -o " +
+                                      (dir / "no.csv").string(),
+                                  dir);
+    BOOST_TEST(members.status == 2);
+    BOOST_TEST(members.err.rfind("--samples: error: 100000 members would take about ", 0) == 0u, members.err);
+    BOOST_TEST(!fs::exists(dir / "no.csv"));
+
+    // Within the budget, with --progress: the progress on stderr, the verdicts as without.
+    const auto small = run_eomc("sweep " + hoop + " --grid omega=4:5:2 --equilibria --progress --budget-s 600 -o " +
+                                    (dir / "eq.csv").string(),
+                                dir);
+    BOOST_TEST_REQUIRE(small.status == 0, small.err);
+    BOOST_TEST(small.err.find("100%  2 / 2 grid points") != std::string::npos, small.err);
+    BOOST_TEST(small.out.find("omega = 5: 4 equilibria, 2 stable, 2 unstable") != std::string::npos, small.out);
+    BOOST_TEST(csv_rows(slurp(dir / "eq.csv")).size() == 7u);  // the header, 2 + 4 equilibria
+}
