@@ -207,6 +207,7 @@ EnsembleResult run_ensemble(const EnsembleRequest& request) {
         for (unsigned i = 1; i < threads; ++i) pool.emplace_back(work, false);
         work(true);
     }
+    progress.update(double(mine));  // all done, whichever thread ran the last
     observe_final_states(proto, lib, observe, result);
     result.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
     // Bad input for every member is bad input for the command, not a table of identical failures

@@ -58,7 +58,8 @@ ProgressBar::~ProgressBar() {
 
 void ProgressBar::update(double done) {
     const bool last = always_ && done >= total_;
-    if (!enabled_ || (++calls_ % check_every_ != 0 && !last)) return;
+    if (!enabled_ || finished_ || (++calls_ % check_every_ != 0 && !last)) return;
+    finished_ = last;
     const auto now = Clock::now();
     if (!last && ((!always_ && now - start_ < std::chrono::seconds(1)) || now - last_ < std::chrono::milliseconds(100)))
         return;

@@ -82,7 +82,7 @@ private:
     unsigned check_every_;
     Clock::time_point start_ = Clock::now(), last_{};
     unsigned calls_ = 0;
-    bool drawn_ = false;
+    bool drawn_ = false, finished_ = false;  // finished_: the last update drawn (`always`)
 };
 
 }  // namespace eomc::host
