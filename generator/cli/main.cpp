@@ -3,11 +3,13 @@
 // Exit codes: 0 success, 2 bad input (file:line:column: error: …), 1 any other failure.
 #include <algorithm>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
 #include <iostream>
 #include <optional>
 #include <sstream>
 #include <string>
+#include <utility>
 
 #include <sys/personality.h>
 #include <unistd.h>
@@ -310,7 +312,8 @@ void equilibria_sweep_command(const Pipeline& p, const Options& o, const host::E
         throw InputError(SourcePos{"--equilibria"}, "an equilibrium sweep takes the relative equilibria (or a rigid "
                                                     "body's permanent rotations), not the KKT equilibria of "
                                                     "[[unilateral]] gaps");
-    const host::EquilibriumSweep sweep = host::sweep_equilibria(p.model, p.equations, spec);
+    const host::EquilibriumSweep sweep =
+        host::sweep_equilibria(p.model, p.equations, spec, {o.ensemble.budget_s, true, o.ensemble.progress});
     const auto script = [&](const std::string& terminal, const fs::path& png) {
         return host::equilibria_plot_script(sweep, spec, terminal, png);
     };
@@ -323,22 +326,40 @@ void equilibria_sweep_command(const Pipeline& p, const Options& o, const host::E
             std::cerr << "eomc: warning: " << note << "\n";
 }
 
-// `sweep` and `ensemble`: everything is checked before the first run, and the CSV written whole.
-void ensemble_command(const Pipeline& p, const Options& o) {
-    host::EnsembleRequest r;
-    r.spec = cli::ensemble_spec(o.ensemble);
-    if (!o.ensemble.output.empty()) check_output_target(o.ensemble.output);
-    if (!o.ensemble.plot.empty()) check_output_target(o.ensemble.plot);
-    if (host::has_control_character(o.ensemble.plot))  // the path reaches the plot script
-        throw InputError(SourcePos{"--plot"}, "the path contains a control character");
-    if (o.ensemble.equilibria) {
-        if (!o.ensemble.observe.empty() || o.ensemble.batch)
-            throw InputError(SourcePos{"--equilibria"}, "an equilibrium sweep runs nothing: --observe and --batch do not apply");
-        return equilibria_sweep_command(p, o, r.spec);
+// An error as main reports it: the exit status and the line printed (a JobError: as the MPI ranks
+// agreed, its text on rank 0 only).
+std::pair<int, std::string> error_report(std::exception_ptr error, const std::string& scene_path) {
+    try {
+        std::rethrow_exception(error);
+    } catch (const host::JobError& e) {
+        return {e.status(), e.text()};
+    } catch (const InputError& e) {
+        return {2, e.what()};
+    } catch (const codegen::EmitError& e) {
+        // The scene asks for what a kernel cannot hold (a constant beyond double's range, …).
+        return {2, codegen::comment_text(scene_path) + ": error: " + e.what()};
+    } catch (const std::exception& e) {
+        return {1, std::string("eomc: error: ") + e.what()};
     }
+}
+
+// A `sweep` or `ensemble` request, everything checked before the first run; the memory its rows
+// will hold (on rank 0, which gathers them from `ranks`) before anything is allocated or compiled.
+host::EnsembleRequest ensemble_request(const Pipeline& p, const Options& o, const host::EnsembleSpec& spec,
+                                       std::size_t ranks) {
+    host::EnsembleRequest r;
+    r.spec = spec;
+    r.members_flag = SourcePos{spec.vary.empty() ? "--grid" : "--samples"};
+    r.budget_s = o.ensemble.budget_s;
+    r.progress_always = o.ensemble.progress;
     codegen::KernelIR ir;
     const std::string header =
         host::kernel_header(p, nullptr, &ir, host::method_needs_jacobian(chosen_integrator(p, o)));
+    host::check_ensemble_memory(spec.members(),
+                                host::ensemble_bytes_per_member(spec.input_names().size(), ir.state.size(),
+                                                                ir.invariant_names.size(), o.ensemble.observe.size(), ranks),
+                                o.ensemble.max_memory_mib ? *o.ensemble.max_memory_mib << 20 : host::default_memory_limit(),
+                                r.members_flag);
     r.base = cli::simulation_request(p, header, o.simulate);
     std::vector<std::string> parameters, states;  // the kernel's names, known before it compiles
     for (const auto& s : ir.parameters) parameters.push_back(s.name);
@@ -352,10 +373,41 @@ void ensemble_command(const Pipeline& p, const Options& o) {
     r.threads = o.ensemble.threads;
     r.batch = o.ensemble.batch;
     for (const auto& text : o.ensemble.observe) r.observe.push_back(host::parse_observation(text));
-    const host::MpiSession mpi;  // rank 0 of 1 unless launched by mpirun
-    r.rank = mpi.rank();
-    r.ranks = mpi.size();
-    host::EnsembleResult result = host::run_ensemble(r);
+    return r;
+}
+
+// `sweep` and `ensemble`: everything is checked before the first run, and the CSV written whole.
+// Under mpirun every rank checks and runs its share, and an error on any rank ends the job with
+// the one-process run's message (printed once, by rank 0) and exit status.
+void ensemble_command(const Pipeline& p, const Options& o) {
+    const host::MpiSession mpi([&](std::exception_ptr e) { return error_report(e, o.scene_path); });
+    host::EnsembleRequest r;
+    host::EnsembleResult result;
+    bool equilibria = false;
+    mpi.agree([&] {
+        r.spec = cli::ensemble_spec(o.ensemble);
+        if (!o.ensemble.output.empty()) check_output_target(o.ensemble.output);
+        if (!o.ensemble.plot.empty()) check_output_target(o.ensemble.plot);
+        if (host::has_control_character(o.ensemble.plot))  // the path reaches the plot script
+            throw InputError(SourcePos{"--plot"}, "the path contains a control character");
+        if (o.ensemble.equilibria) {
+            if (!o.ensemble.observe.empty() || o.ensemble.batch)
+                throw InputError(SourcePos{"--equilibria"}, "an equilibrium sweep runs nothing: --observe and --batch do not apply");
+            equilibria = true;
+            return;
+        }
+        r = ensemble_request(p, o, r.spec, mpi.size());
+        r.rank = mpi.rank();
+        r.ranks = mpi.size();
+        // A test's way to fail one rank alone (tests/cli/ensemble.cpp): the job must still end.
+        if (const char* rank = std::getenv("EOMC_TEST_FAIL_RANK"); rank && std::to_string(r.rank) == rank)
+            throw InputError(SourcePos{"EOMC_TEST_FAIL_RANK"}, "this rank was asked to fail");
+        result = host::run_ensemble(r);
+    });
+    if (equilibria) {  // no kernel, nothing to share: rank 0 sweeps
+        if (mpi.rank() == 0) equilibria_sweep_command(p, o, r.spec);
+        return;
+    }
     if (!mpi.gather(result)) return;  // rank 0 writes and prints for all
     host::refuse_if_all_refused(result);
     const std::string& column = o.ensemble.plot_column.empty() && !result.state_names.empty()
@@ -481,16 +533,10 @@ int main(int argc, char** argv) {
         else if (c.inverse->parsed()) inverse_command(p, o);
         else if (c.control->parsed()) control_command(p, o);
         else if (c.integrals->parsed()) integrals_command(p, o);
-    } catch (const InputError& e) {
-        std::cerr << e.what() << "\n";
-        return 2;
-    } catch (const codegen::EmitError& e) {
-        // The scene asks for what a kernel cannot hold (a constant beyond double's range, …).
-        std::cerr << codegen::comment_text(o.scene_path) << ": error: " << e.what() << "\n";
-        return 2;
-    } catch (const std::exception& e) {
-        std::cerr << "eomc: error: " << e.what() << "\n";
-        return 1;
+    } catch (const std::exception&) {
+        const auto [status, text] = error_report(std::current_exception(), o.scene_path);
+        if (!text.empty()) std::cerr << text << "\n";
+        return status;
     }
     return 0;
 }

@@ -210,6 +210,17 @@ void add_ensemble_options(CLI::App* cmd, EnsembleOptions& o, bool sweep) {
                                             : "a PNG (gnuplot): the histogram of --plot-column");
     cmd->add_option("--plot-column", o.plot_column, "t, a state variable or <invariant>_max_drift (default: the "
                                                     "first state variable)");
+    cmd->add_option("--budget-s", o.budget_s,
+                    fmt::format("refuse work estimated above this many seconds: the first {} timed, times their "
+                                "number (default {:.0f})",
+                                sweep ? "run (or, with --equilibria, grid point)" : "member", host::default_budget_s))
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--max-memory-mib", o.max_memory_mib, "refuse an ensemble whose rows, CSV and statistics are "
+                                                          "estimated above this many MiB, before it compiles "
+                                                          "(default: half the physical memory)")
+        ->check(CLI::PositiveNumber);
+    cmd->add_flag("--progress", o.progress, "a progress line on stderr from the start, even when it is not a terminal "
+                                            "(without it: a bar on a terminal, after a second)");
 }
 
 host::EnsembleSpec ensemble_spec(const EnsembleOptions& o) {

@@ -13,6 +13,7 @@
 #include <CLI/CLI.hpp>
 
 #include "host/bench.hpp"
+#include "host/ensemble_budget.hpp"
 #include "host/ensemble_spec.hpp"
 #include "host/pipeline.hpp"
 #include "host/simulate.hpp"
@@ -58,6 +59,9 @@ struct EnsembleOptions {
     bool equilibria = false;  // sweep --equilibria: verdicts per grid point (host/equilibria_sweep.hpp)
     std::string output, format = "text";
     std::string plot, plot_column;  // --plot FILE.png, --plot-column NAME ("" = the first state variable)
+    double budget_s = host::default_budget_s;  // --budget-s: the work estimated, refused past it
+    std::optional<std::size_t> max_memory_mib;  // --max-memory-mib (default: half the physical memory)
+    bool progress = false;  // --progress: a progress line on stderr even when it is not a terminal
 };
 
 void add_ensemble_options(CLI::App* cmd, EnsembleOptions& o, bool sweep);

@@ -15,6 +15,7 @@
 
 #include "eomc/runtime/errors.hpp"
 #include "host/ensemble_batch.hpp"
+#include "host/ensemble_budget.hpp"
 #include "host/kernel_loader.hpp"
 #include "host/simulate/output.hpp"
 
@@ -27,8 +28,7 @@ using Clock = std::chrono::steady_clock;
 
 // One member: the base run with the member's inputs as --set overrides.
 MemberResult run_member(const SimulationRequest& proto, const KernelLibrary& lib, const EnsembleSpec& spec,
-                        const std::vector<std::string>& names, const BoundObservations& observe, std::size_t index,
-                        std::optional<InputError>& refusal) {
+                        const std::vector<std::string>& names, const BoundObservations& observe, std::size_t index) {
     MemberResult m;
     m.index = index;
     m.inputs = spec.inputs(index);
@@ -56,7 +56,8 @@ MemberResult run_member(const SimulationRequest& proto, const KernelLibrary& lib
     } catch (const InputError& e) {  // this member's values refused (a start below a surface, …)
         m.message = e.what();
         m.refused = true;
-        refusal.emplace(e);
+        m.refused_at = e.where();
+        m.refusal = e.message();
     } catch (const std::exception& e) {
         m.message = e.what();
     } catch (...) {  // nothing may leave a pool thread (std::terminate)
@@ -71,7 +72,7 @@ MemberResult run_member(const SimulationRequest& proto, const KernelLibrary& lib
 // is refused, or whose lane fails, runs alone through run_member (the same row as without --batch).
 void run_batch(const SimulationRequest& proto, const KernelLibrary& lib, const EnsembleSpec& spec,
                const std::vector<std::string>& names, const BoundObservations& observe,
-               const std::vector<std::size_t>& indices, MemberResult* out, std::optional<InputError>* refusals) {
+               const std::vector<std::size_t>& indices, MemberResult* out) {
     std::vector<LaneStart> starts;
     std::vector<std::size_t> lane_of;  // position in `indices` of each lane
     std::vector<std::size_t> alone;
@@ -107,7 +108,22 @@ void run_batch(const SimulationRequest& proto, const KernelLibrary& lib, const E
             m.observed.assign(observe.size(), MemberResult::nan);  // no events in a batch; expressions later
         }
     }
-    for (std::size_t j : alone) out[j] = run_member(proto, lib, spec, names, observe, indices[j], refusals[j]);
+    for (std::size_t j : alone) out[j] = run_member(proto, lib, spec, names, observe, indices[j]);
+}
+
+// The --observe expressions on the final states, here: GiNaC's expressions are not thread-safe.
+void observe_final_states(const SimulationRequest& proto, const KernelLibrary& lib, const BoundObservations& observe,
+                          EnsembleResult& result) {
+    for (auto& m : result.members) {
+        if (m.status == "failed") continue;
+        std::vector<double> parameters, x;
+        SimulationRequest r = proto;
+        r.check_start = nullptr;  // checked when the member started
+        for (std::size_t k = 0; k < result.input_names.size(); ++k) r.overrides.emplace_back(result.input_names[k], m.inputs[k]);
+        resolve_start(r, lib, parameters, x);
+        for (std::size_t i = 0; i < observe.size(); ++i)
+            if (observe.event(i) < 0) m.observed[i] = observe.evaluate(i, m.t, parameters, m.state);
+    }
 }
 
 }  // namespace
@@ -152,54 +168,51 @@ EnsembleResult run_ensemble(const EnsembleRequest& request) {
     const std::size_t batches = request.batch ? (mine + lib.batch_width() - 1) / lib.batch_width() : mine;
     const unsigned threads = static_cast<unsigned>(std::clamp<std::size_t>(std::min(wanted, batches), 1, wanted));
     result.threads = threads;
-    std::vector<std::optional<InputError>> refusals(mine);
     std::atomic<std::size_t> next{0}, done{0};
     // Members done out of all.
     ProgressBar progress(
-        request.progress, double(mine), [](double done, double all) { return fmt::format("{} / {} runs", done, all); }, 1);
+        request.progress, double(mine), [](double done, double all) { return fmt::format("{} / {} runs", done, all); }, 1,
+        request.progress_always);
     const auto start = Clock::now();
     // Each thread takes the next index (the next batch of `lanes`); every member writes its own
     // slot, so the order in which they finish changes nothing.
     const std::size_t lanes = result.lanes, units = (mine + lanes - 1) / lanes;
+    const auto run_unit = [&](std::size_t u) {  // the members run, as many as it holds
+        const std::size_t k = u * lanes, count = std::min(lanes, mine - k);
+        if (request.batch) {
+            std::vector<std::size_t> indices;
+            for (std::size_t j = 0; j < count; ++j) indices.push_back(request.rank + (k + j) * request.ranks);
+            run_batch(proto, lib, request.spec, result.input_names, observe, indices, &result.members[k]);
+        } else {
+            result.members[k] =
+                run_member(proto, lib, request.spec, result.input_names, observe, request.rank + k * request.ranks);
+        }
+        return count;
+    };
     const auto work = [&](bool reports) {
         for (std::size_t u; (u = next.fetch_add(1, std::memory_order_relaxed)) < units;) {
-            const std::size_t k = u * lanes, count = std::min(lanes, mine - k);
-            if (request.batch) {
-                std::vector<std::size_t> indices;
-                for (std::size_t j = 0; j < count; ++j) indices.push_back(request.rank + (k + j) * request.ranks);
-                run_batch(proto, lib, request.spec, result.input_names, observe, indices, &result.members[k],
-                          &refusals[k]);
-            } else {
-                result.members[k] = run_member(proto, lib, request.spec, result.input_names, observe,
-                                               request.rank + k * request.ranks, refusals[k]);
-            }
+            const std::size_t count = run_unit(u);
             const std::size_t d = done.fetch_add(count, std::memory_order_relaxed) + count;
-            if (reports) progress.update(d);
+            if (reports) progress.update(double(d));
         }
     };
+    if (units > 0) {  // the first, timed: the whole estimated from it, refused past --budget-s before the rest run
+        next = 1;
+        done = run_unit(0);
+        check_work_budget(units, std::chrono::duration<double>(Clock::now() - start).count(), threads,
+                          request.budget_s, request.members_flag, request.batch ? "batch of members" : "member");
+    }
     {
         std::vector<std::jthread> pool;
         for (unsigned i = 1; i < threads; ++i) pool.emplace_back(work, false);
         work(true);
     }
-    // The expressions on the final states, here: GiNaC is not thread-safe.
-    for (auto& m : result.members) {
-        if (m.status == "failed") continue;
-        std::vector<double> parameters, x;
-        SimulationRequest r = proto;
-        r.check_start = nullptr;  // checked when the member started
-        for (std::size_t k = 0; k < result.input_names.size(); ++k) r.overrides.emplace_back(result.input_names[k], m.inputs[k]);
-        resolve_start(r, lib, parameters, x);
-        for (std::size_t i = 0; i < observe.size(); ++i)
-            if (observe.event(i) < 0) m.observed[i] = observe.evaluate(i, m.t, parameters, m.state);
-    }
+    progress.update(double(mine));  // all done, whichever thread ran the last
+    observe_final_states(proto, lib, observe, result);
     result.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
     // Bad input for every member is bad input for the command, not a table of identical failures
     // (with several ranks, rank 0 decides once it holds them all).
-    if (request.ranks == 1 && mine > 0 &&
-        std::all_of(refusals.begin(), refusals.end(), [](const auto& r) { return r.has_value(); }))
-        throw InputError(refusals.front()->where(),
-                         fmt::format("every member was refused; member 0: {}", refusals.front()->message()));
+    if (request.ranks == 1) refuse_if_all_refused(result);
     return result;
 }
 

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "host/ensemble_budget.hpp"
 #include "host/ensemble_spec.hpp"
 #include "host/observation.hpp"
 #include "host/simulate.hpp"
@@ -25,6 +26,11 @@ struct EnsembleRequest {
     // This process runs the members with index % ranks == rank (MPI: one rank of several).
     std::size_t rank = 0, ranks = 1;
     bool progress = true;    // a bar on stderr when it is a terminal and the run lasts > ~1 s
+    bool progress_always = false;  // --progress: from the start, wherever stderr goes
+    // --budget-s: the members' time, estimated from the first one's (run before the others start),
+    // refused past it as InputError at `members_flag` (--samples, --grid).
+    double budget_s = default_budget_s;
+    SourcePos members_flag;
     // Members a SIMD batch at a time (host/ensemble_batch.hpp; InputError at --batch where the
     // kernel or the method does not allow it). The CSV is the same as without for rk4, bit for bit.
     bool batch = false;
@@ -45,6 +51,8 @@ struct MemberResult {
     std::size_t events = 0;      // located events (and contact events)
     std::vector<double> observed;  // the --observe columns (NaN: none, or the member failed)
     bool refused = false;        // failed as bad input (its values refused), not in the integration
+    SourcePos refused_at;        // then the InputError's place and message (`message` is the whole line)
+    std::string refusal;
 };
 
 struct EnsembleResult {
@@ -59,12 +67,13 @@ struct EnsembleResult {
 };
 
 // Throws InputError for a bad request or specification (unknown names, a bad method, …) before
-// any member runs, and when every member is refused as bad input (the first one's error); a
-// member that fails otherwise is recorded and the others run on.
+// any member runs, and, in one process, when every member is refused as bad input
+// (refuse_if_all_refused); a member that fails otherwise is recorded and the others run on.
 EnsembleResult run_ensemble(const EnsembleRequest& request);
 
 // Throws InputError when every member was refused as bad input: then the specification is bad,
-// not the members (run_ensemble calls it; after an MPI gather, rank 0 does).
+// not the members. At the first member's place: "every member was refused; member 0: …" (run_ensemble
+// calls it in one process; after an MPI gather, rank 0 does: the same line).
 void refuse_if_all_refused(const EnsembleResult& result);
 
 // One row per member: member, the inputs, status, t, the final state, <invariant>_max_drift, the

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
+
 #ifdef EOMC_WITH_MPI
 #include <mpi.h>
 #endif
@@ -68,6 +70,10 @@ std::string pack(const std::vector<MemberResult>& members) {
         put_doubles(out, m.observed);
         put_u64(out, m.events);
         put_u64(out, m.refused);
+        put_text(out, m.refused_at.file);
+        put_u64(out, static_cast<std::uint64_t>(m.refused_at.line));
+        put_u64(out, static_cast<std::uint64_t>(m.refused_at.column));
+        put_text(out, m.refusal);
     }
     return out;
 }
@@ -86,6 +92,10 @@ void unpack(const char* p, std::size_t n, std::vector<MemberResult>& to) {
         m.observed = r.doubles();
         m.events = r.u64();
         m.refused = r.u64() != 0;
+        m.refused_at.file = r.text();
+        m.refused_at.line = static_cast<int>(r.u64());
+        m.refused_at.column = static_cast<int>(r.u64());
+        m.refusal = r.text();
         to.push_back(std::move(m));
     }
 }
@@ -98,7 +108,7 @@ bool launched_by_mpirun() {
 
 }  // namespace
 
-MpiSession::MpiSession() {
+MpiSession::MpiSession(ErrorReport report) : report_(std::move(report)) {
     if (!launched_by_mpirun()) return;
     int initialized = 0;
     MPI_Initialized(&initialized);
@@ -115,23 +125,62 @@ MpiSession::~MpiSession() {
     if (active_) MPI_Finalize();
 }
 
+void MpiSession::agree(const std::function<void()>& work) const {
+    if (!active_ || size_ == 1) return work();
+    std::exception_ptr error;
+    try {
+        work();
+    } catch (...) {
+        error = std::current_exception();
+    }
+    const int mine = error ? static_cast<int>(rank_) : static_cast<int>(size_);
+    int first = mine;  // the lowest failing rank; size_ when none failed
+    MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+    if (first == static_cast<int>(size_)) return;
+    std::pair<int, std::string> report{1, ""};
+    if (first == static_cast<int>(rank_)) report = report_(error);
+    MPI_Bcast(&report.first, 1, MPI_INT, first, MPI_COMM_WORLD);
+    if (first != 0) {  // its text to rank 0, which prints it
+        std::uint64_t length = report.second.size();
+        if (rank_ == static_cast<std::size_t>(first)) {
+            MPI_Send(&length, 1, MPI_UINT64_T, 0, 0, MPI_COMM_WORLD);
+            MPI_Send(report.second.data(), static_cast<int>(length), MPI_CHAR, 0, 1, MPI_COMM_WORLD);
+        } else if (rank_ == 0) {
+            MPI_Recv(&length, 1, MPI_UINT64_T, first, 0, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+            report.second.assign(length, '\0');
+            MPI_Recv(report.second.data(), static_cast<int>(length), MPI_CHAR, first, 1, MPI_COMM_WORLD,
+                     MPI_STATUS_IGNORE);
+        }
+    }
+    throw JobError(report.first, rank_ == 0 ? report.second : std::string());
+}
+
 bool MpiSession::gather(EnsembleResult& result) const {
     if (!active_ || size_ == 1) return true;
-    const std::string mine = pack(result.members);
-    if (mine.size() > static_cast<std::size_t>(INT32_MAX)) throw std::runtime_error("a rank's ensemble rows exceed 2 GiB");
+    constexpr std::size_t limit = static_cast<std::size_t>(INT32_MAX);  // MPI counts are ints
+    std::string mine;
+    agree([&] {
+        mine = pack(result.members);
+        if (mine.size() > limit)
+            throw std::runtime_error(fmt::format("rank {}'s ensemble rows are {} bytes, more than MPI's 2 GiB a "
+                                                 "message; run more ranks or fewer --samples",
+                                                 rank_, mine.size()));
+    });
+    const std::uint64_t size = mine.size();
+    std::uint64_t total = 0;
+    MPI_Allreduce(&size, &total, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
+    std::string all;
+    agree([&] {  // the same verdict on every rank, before anyone gathers
+        if (total > limit)
+            throw std::runtime_error(fmt::format("the ensemble rows are {} bytes, more than MPI's 2 GiB a gather; "
+                                                 "run fewer --samples",
+                                                 total));
+        if (rank_ == 0) all.resize(total);
+    });
     const int count = static_cast<int>(mine.size());
     std::vector<int> counts(size_), offsets(size_);
     MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
-    std::string all;
-    if (rank_ == 0) {
-        std::size_t total = 0;
-        for (std::size_t r = 0; r < size_; ++r) {
-            offsets[r] = static_cast<int>(total);
-            total += static_cast<std::size_t>(counts[r]);
-        }
-        if (total > static_cast<std::size_t>(INT32_MAX)) throw std::runtime_error("the ensemble rows exceed 2 GiB");
-        all.resize(total);
-    }
+    for (std::size_t r = 1; r < size_; ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
     MPI_Gatherv(mine.data(), count, MPI_BYTE, all.data(), counts.data(), offsets.data(), MPI_BYTE, 0, MPI_COMM_WORLD);
     double wall = result.wall_s;
     MPI_Reduce(&result.wall_s, &wall, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
@@ -147,8 +196,9 @@ bool MpiSession::gather(EnsembleResult& result) const {
 
 #else
 
-MpiSession::MpiSession() = default;
+MpiSession::MpiSession(ErrorReport report) : report_(std::move(report)) {}
 MpiSession::~MpiSession() = default;
+void MpiSession::agree(const std::function<void()>& work) const { work(); }
 bool MpiSession::gather(EnsembleResult&) const { return true; }
 
 #endif

@@ -53,8 +53,9 @@ double quantile(const std::vector<double>& sorted, double p) {
 void refuse_if_all_refused(const EnsembleResult& result) {
     if (!result.members.empty() &&
         std::all_of(result.members.begin(), result.members.end(), [](const MemberResult& m) { return m.refused; }))
-        throw InputError(SourcePos{}, fmt::format("every member was refused; member {}: {}", result.members.front().index,
-                                                  result.members.front().message));
+        throw InputError(result.members.front().refused_at,
+                         fmt::format("every member was refused; member {}: {}", result.members.front().index,
+                                     result.members.front().refusal));
 }
 
 std::string ensemble_csv(const EnsembleResult& r) {

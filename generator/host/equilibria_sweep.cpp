@@ -1,6 +1,7 @@
 #include "host/equilibria_sweep.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <exception>
 #include <limits>
@@ -9,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "host/gnuplot.hpp"
+#include "host/simulate/output.hpp"
 #include "support/diagnostic.hpp"
 #include "support/json.hpp"
 
@@ -16,7 +18,6 @@ namespace eomc::host {
 
 namespace {
 
-std::string number(double v) { return fmt::format("{:.17g}", v); }
 std::string json_number(double v) { return std::isfinite(v) ? number(v) : "null"; }
 
 }  // namespace
@@ -33,12 +34,40 @@ double largest_growth(const mechanics::rigid::PermanentRotation& r) {
     return r.reduced.empty() ? std::numeric_limits<double>::quiet_NaN() : growth;
 }
 
+namespace {
+
+constexpr std::size_t spin_axis = static_cast<std::size_t>(-1);
+
+// Point i: the equilibria with its parameter values (set in `at_point`, a copy of the model).
+EquilibriumPoint solve_point(const mechanics::Equations& equations, const EnsembleSpec& spec,
+                             const std::vector<std::size_t>& parameter_of, bool rigid, std::size_t i,
+                             model::Model& at_point) {
+    EquilibriumPoint point;
+    point.index = i;
+    point.inputs = spec.inputs(i);
+    std::optional<double> spin;
+    for (std::size_t k = 0; k < parameter_of.size(); ++k) {
+        if (parameter_of[k] == spin_axis) spin = point.inputs[k];
+        else at_point.parameters[parameter_of[k]].value = point.inputs[k];
+    }
+    try {
+        if (rigid) point.rotations = mechanics::rigid::rigid_equilibria(at_point, spin).rotations;
+        else point.equilibria = mechanics::relative_equilibria(at_point, equations);
+    } catch (const InputError&) {
+        throw;  // the scene, not the point: the same everywhere
+    } catch (const std::exception& e) {
+        point.error = e.what();
+    }
+    return point;
+}
+
+}  // namespace
+
 EquilibriumSweep sweep_equilibria(const model::Model& model, const mechanics::Equations& equations,
-                                  const EnsembleSpec& spec) {
+                                  const EnsembleSpec& spec, const SweepLimits& limits) {
     if (!spec.vary.empty())
         throw InputError(spec.vary.front().where, "--equilibria sweeps a grid of parameters (--grid), not random draws");
     const bool rigid = model.kind() == model::ModelKind::rigid;
-    constexpr std::size_t spin_axis = static_cast<std::size_t>(-1);
     std::vector<std::size_t> parameter_of;
     for (const auto& axis : spec.grid) {
         if (rigid && axis.name == "spin") {
@@ -61,24 +90,17 @@ EquilibriumSweep sweep_equilibria(const model::Model& model, const mechanics::Eq
     else
         for (const auto& c : model.coordinates) sweep.coordinate_names.push_back(c.name);
     model::Model at_point = model;  // the equations stay symbolic; only the values change
-    for (std::size_t i = 0; i < spec.members(); ++i) {
-        EquilibriumPoint point;
-        point.index = i;
-        point.inputs = spec.inputs(i);
-        std::optional<double> spin;
-        for (std::size_t k = 0; k < parameter_of.size(); ++k) {
-            if (parameter_of[k] == spin_axis) spin = point.inputs[k];
-            else at_point.parameters[parameter_of[k]].value = point.inputs[k];
-        }
-        try {
-            if (rigid) point.rotations = mechanics::rigid::rigid_equilibria(at_point, spin).rotations;
-            else point.equilibria = mechanics::relative_equilibria(at_point, equations);
-        } catch (const InputError&) {
-            throw;  // the scene, not the point: the same everywhere
-        } catch (const std::exception& e) {
-            point.error = e.what();
-        }
-        sweep.points.push_back(std::move(point));
+    const std::size_t points = spec.members();
+    ProgressBar progress(
+        limits.progress, double(points), [](double done, double all) { return fmt::format("{} / {} grid points", done, all); },
+        1, limits.always);
+    const auto start = std::chrono::steady_clock::now();
+    for (std::size_t i = 0; i < points; ++i) {
+        sweep.points.push_back(solve_point(equations, spec, parameter_of, rigid, i, at_point));
+        if (i == 0)  // the first point's time × the points: refused before the second runs
+            check_work_budget(points, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+                              1, limits.budget_s, SourcePos{"--grid"}, "grid point");
+        progress.update(double(i + 1));
     }
     return sweep;
 }

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "host/ensemble_budget.hpp"
 #include "host/ensemble_spec.hpp"
 #include "mechanics/relative/equilibria.hpp"
 #include "mechanics/rigid/equilibria.hpp"
@@ -34,12 +35,20 @@ struct EquilibriumSweep {
     std::vector<EquilibriumPoint> points;
 };
 
+// What a sweep may take: --budget-s (the time estimated after the first point, refused past it
+// at --grid), and its progress bar (stderr a terminal, or --progress: `always`).
+struct SweepLimits {
+    double budget_s = default_budget_s;
+    bool progress = true, always = false;
+};
+
 // Throws InputError at the --grid of a name that is not a parameter (an equilibrium has no initial
-// values), for random draws (--vary) and, from relative_equilibria, for a carrier that is not steady.
+// values), for random draws (--vary), for a grid whose points would take longer than
+// limits.budget_s (the first point's time × the points, before the second runs) and, from relative_equilibria, for a carrier that is not steady.
 // For a [rigid_body] scene the grid may also sweep `spin`, the Ω of the families ω = Ω γ (the
 // sleeping top's r0; absent: `eomc equilibria`'s default, ω0·γ0).
 EquilibriumSweep sweep_equilibria(const model::Model& model, const mechanics::Equations& equations,
-                                  const EnsembleSpec& spec);
+                                  const EnsembleSpec& spec, const SweepLimits& limits = {});
 
 // The largest real part among an equilibrium's eigenvalues (its growth rate when > 0); for a
 // permanent rotation, among those on its leaf.

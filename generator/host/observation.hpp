@@ -1,7 +1,8 @@
 // `--observe` for `eomc sweep` and `eomc ensemble`: extra columns per member. NAME=EXPR is an
 // expression in the scene's own syntax over t, the parameters and the state variables, parsed by
 // the scene's expression parser (model/expression_parser.hpp: its bounds and its errors at the
-// character) and evaluated numerically on each member's final state; event:NAME is the time of the
+// character) and evaluated in double arithmetic on each member's final state (a subnormal or huge
+// value gives what IEEE 754 gives; nothing of CLN's range limits applies); event:NAME is the time of the
 // member's first NAME event (empty when it had none). Nothing of the text reaches generated code or a
 // shell: an expression becomes a GiNaC expression evaluated in this process.
 #pragma once
@@ -42,7 +43,9 @@ public:
     const std::vector<std::string>& columns() const { return columns_; }
     // Observation i's event index into `events`, or -1 for an expression.
     int event(std::size_t i) const { return events_[i]; }
-    // Expression i at a final state (NaN where it has no real value). Not thread-safe (GiNaC).
+    // Expression i at a final state, in double arithmetic (NaN where it has no real value: a pole,
+    // a root of a negative number, a function outside its domain). Never throws. Not thread-safe
+    // (it walks GiNaC expressions).
     double evaluate(std::size_t i, double t, const std::vector<double>& parameters, const std::vector<double>& state) const;
 
 private:

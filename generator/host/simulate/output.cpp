@@ -45,28 +45,31 @@ void CsvOutput::commit() {
     out_->commit();
 }
 
-ProgressBar::ProgressBar(bool wanted, double total, Label label, unsigned check_every)
-    : enabled_(wanted && ::isatty(STDERR_FILENO)), total_(total), label_(std::move(label)),
-      check_every_(std::max(1u, check_every)) {}
+ProgressBar::ProgressBar(bool wanted, double total, Label label, unsigned check_every, bool always)
+    : enabled_(wanted && (always || ::isatty(STDERR_FILENO))), terminal_(::isatty(STDERR_FILENO) != 0),
+      always_(always), total_(total), label_(std::move(label)), check_every_(std::max(1u, check_every)) {}
 
 ProgressBar::ProgressBar(bool wanted, double t_end)
     : ProgressBar(wanted, t_end, [](double t, double end) { return fmt::format("t = {:.6g} / {:.6g}", t, end); }, 64) {}
 
 ProgressBar::~ProgressBar() {
-    if (drawn_) std::fputs("\r\033[K", stderr);
+    if (drawn_ && terminal_) std::fputs("\r\033[K", stderr);
 }
 
 void ProgressBar::update(double done) {
-    if (!enabled_ || ++calls_ % check_every_ != 0) return;
+    const bool last = always_ && done >= total_;
+    if (!enabled_ || finished_ || (++calls_ % check_every_ != 0 && !last)) return;
+    finished_ = last;
     const auto now = Clock::now();
-    if (now - start_ < std::chrono::seconds(1) || now - last_ < std::chrono::milliseconds(100)) return;
+    if (!last && ((!always_ && now - start_ < std::chrono::seconds(1)) || now - last_ < std::chrono::milliseconds(100)))
+        return;
     last_ = now;
     const double fraction = total_ > 0 ? std::clamp(done / total_, 0.0, 1.0) : 1.0;
     constexpr int width = 30;
     const int filled = static_cast<int>(fraction * width);
-    std::fprintf(stderr, "\r[%s%s] %3d%%  %s", std::string(filled, '#').c_str(),
+    std::fprintf(stderr, "%s[%s%s] %3d%%  %s%s", terminal_ ? "\r" : "", std::string(filled, '#').c_str(),
                  std::string(width - filled, ' ').c_str(), static_cast<int>(fraction * 100),
-                 label_(done, total_).c_str());
+                 label_(done, total_).c_str(), terminal_ ? "" : "\n");
     std::fflush(stderr);
     drawn_ = true;
 }

@@ -62,7 +62,10 @@ private:
 class ProgressBar {
 public:
     using Label = std::function<std::string(double done, double total)>;
-    ProgressBar(bool wanted, double total, Label label, unsigned check_every);
+    // Drawn on stderr when `wanted` and stderr is a terminal, once the run passes a second; with
+    // `always` (--progress) from the start and wherever stderr goes, a line each update when it is
+    // not a terminal, the last update (done ≥ total) always drawn.
+    ProgressBar(bool wanted, double total, Label label, unsigned check_every, bool always = false);
     // A run's time: "t = 1.5 / 10".
     ProgressBar(bool wanted, double t_end);
     ProgressBar(const ProgressBar&) = delete;
@@ -73,13 +76,13 @@ public:
 
 private:
     using Clock = std::chrono::steady_clock;
-    bool enabled_;
+    bool enabled_, terminal_, always_;
     double total_;
     Label label_;
     unsigned check_every_;
     Clock::time_point start_ = Clock::now(), last_{};
     unsigned calls_ = 0;
-    bool drawn_ = false;
+    bool drawn_ = false, finished_ = false;  // finished_: the last update drawn (`always`)
 };
 
 }  // namespace eomc::host

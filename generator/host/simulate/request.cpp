@@ -2,6 +2,7 @@
 // start state with the request's overrides.
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -175,6 +176,12 @@ void resolve_start(const SimulationRequest& r, const KernelLibrary& lib, std::ve
         if (p >= 0 && s >= 0)
             throw InputError(where, fmt::format("'{}' names both a parameter and a state variable", name));
         if (!std::isfinite(value)) throw InputError(where, fmt::format("{}={}: the value must be finite", name, value));
+        // As --set refuses it (support/decimal.cpp): the start's checks and the scene's exact
+        // arithmetic hand values to CLN, which has no subnormal floats ("floating point underflow").
+        if (value != 0 && std::abs(value) < std::numeric_limits<double>::min())
+            throw InputError(where, fmt::format("{}={}: a subnormal value (below 2.2e-308 in magnitude), which eomc's "
+                                                "exact arithmetic cannot hold",
+                                                name, value));
         (p >= 0 ? parameters[static_cast<std::size_t>(p)] : x[static_cast<std::size_t>(s)]) = value;
     }
     if (r.check_start && !r.overrides.empty()) r.check_start(r.overrides);
