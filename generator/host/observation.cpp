@@ -11,6 +11,7 @@
 #include "model/expression_parser.hpp"
 #include "scene/scene.hpp"
 #include "support/identifier.hpp"
+#include "symbolic/exact_constants.hpp"
 
 namespace eomc::host {
 
@@ -63,7 +64,12 @@ BoundObservations::BoundObservations(const std::vector<Observation>& observation
             continue;
         }
         events_.push_back(-1);
-        expressions_.push_back(table.parse(scene::Expr{o.expression, o.where}, allowed, "an --observe expression"));
+        const GiNaC::ex parsed = table.parse(scene::Expr{o.expression, o.where}, allowed, "an --observe expression");
+        try {  // sin(10^300) in double arithmetic would be sin of the nearest double, an unrelated value
+            expressions_.push_back(symbolic::fold_ill_conditioned_constants(parsed));
+        } catch (const symbolic::ConstantOutOfReach& e) {
+            throw InputError(at, e.what());
+        }
     }
 }
 

@@ -179,6 +179,19 @@ BOOST_AUTO_TEST_CASE(a_constant_beyond_doubles_reach_is_evaluated_exactly_or_ref
     const double x1 = std::stod(r.out.substr(at + 5));
     BOOST_TEST(std::abs(x1 - 0.4928752125801884983) < 1e-14, x1);
 
+    // --observe the same: −3.9430017006415080 = 4a at omega = 4 (it was rounding noise).
+    r = run("sweep " + hoop + " --grid omega=4:4:1 --t-end 0.01 --observe 'S=sin(10^300)*omega' -o " +
+                (dir / "s.csv").string() + cache,
+            dir);
+    BOOST_TEST_REQUIRE(r.status == 0, r.err);
+    const std::string csv = slurp(dir / "s.csv");
+    const auto row = csv.find("\n0,4,ok,");
+    BOOST_TEST_REQUIRE(row != std::string::npos, csv);
+    const std::string cells = csv.substr(row + 1);
+    std::size_t comma = 0;
+    for (int k = 0; k < 6; ++k) comma = cells.find(',', comma) + 1;  // member,omega,status,t,theta,theta_dot,S
+    BOOST_TEST(std::abs(std::stod(cells.substr(comma)) - 4 * -0.9857504251603769966) < 1e-15, cells);
+
     r = run("generate " + scene("exp(10^4)") + " -o " + dir.string(), dir);
     BOOST_TEST(r.status == 2);
     BOOST_TEST(r.err.find("the constant exp(10000) is outside the range of double") != std::string::npos, r.err);
