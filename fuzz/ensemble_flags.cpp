@@ -5,8 +5,11 @@
 // an InputError. What the command does with an accepted specification must not throw at all: a few
 // members' inputs are drawn and each observation is evaluated at two fixed states. Anything else —
 // a crash, undefined behaviour, another exception, a hang, unbounded memory — is a finding.
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <string>
 #include <string_view>
@@ -22,6 +25,24 @@ namespace {
 const std::vector<std::string> parameters{"w", "omega", "g", "R", "k", "m", "l", "C", "Cd", "CdA_m", "gamma", "spin", "a", "b"};
 const std::vector<std::string> states{"theta", "q", "x", "z0", "theta_dot", "q_dot", "x_dot", "z0_dot"};
 const std::vector<std::string> events{"re_entry", "impact"};
+
+// A member's inputs: a grid point between its axis's ends, a uniform draw in [a, b], and no NaN.
+void check_inputs(const eomc::host::EnsembleSpec& spec, std::size_t index) {
+    const std::vector<double> x = spec.inputs(index);
+    const auto finding = [&](std::size_t k, const char* what) {
+        std::fprintf(stderr, "member %zu: input %zu = %.17g %s\n", index, k, x[k], what);
+        std::abort();
+    };
+    for (std::size_t k = 0; k < spec.grid.size(); ++k)
+        if (!(x[k] >= spec.grid[k].first && x[k] <= spec.grid[k].last)) finding(k, "is not between the grid's ends");
+    for (std::size_t k = 0; k < spec.vary.size(); ++k) {
+        const double v = x[spec.grid.size() + k];
+        const auto& d = spec.vary[k];
+        if (std::isnan(v)) finding(spec.grid.size() + k, "is not a number");
+        if (d.kind == eomc::host::Distribution::uniform && !(v >= d.a && v <= d.b))
+            finding(spec.grid.size() + k, "is not in the uniform distribution's range");
+    }
+}
 
 }  // namespace
 
@@ -68,7 +89,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     // Accepted: nothing below may throw (the ensemble runs it on every member).
     const std::size_t members = spec.members();
     for (const std::size_t i : {std::size_t{0}, members / 2, members - 1})
-        if (i < members) (void)spec.inputs(i);
+        if (i < members) check_inputs(spec, i);
     const double big = std::numeric_limits<double>::max(), tiny = std::numeric_limits<double>::min();
     const std::vector<std::vector<double>> points{{0.5, -1.0, 2.0, 0.0}, {big, -tiny, -big, tiny}};
     for (std::size_t i = 0; i < bound.size(); ++i)
