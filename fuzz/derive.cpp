@@ -30,7 +30,7 @@ std::size_t nodes(const GiNaC::ex& e, std::size_t limit) {
 
 bool small(const eomc::model::Model& m) {
     constexpr std::size_t max_nodes = 400;
-    if (m.velocity_names().size() > 3 || m.orbit || m.particles.size() > 3) return false;
+    if (m.velocity_names().size() > 3 || m.particles.size() > 3) return false;
     if (m.constraints.size() + m.unilateral.size() + m.programs.size() + m.events.size() > 4) return false;
     std::size_t total = nodes(m.potential, max_nodes);
     if (m.kinetic_energy) total += nodes(*m.kinetic_energy, max_nodes);
