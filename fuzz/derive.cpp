@@ -1,7 +1,8 @@
 // libFuzzer target: any bytes as a scene, taken through the front end past build_model — the
 // equations derived (mechanics::derive: the [[program]] rows' count and rank, the degenerate
 // [[unilateral]] and [[constraint]] rows, the [rigid_body] formulations), Hamilton's form when the
-// scene asks for it, then lowered and emitted as a kernel header — the way `eomc generate` does.
+// scene asks for it, then lowered and emitted as a kernel header — the way `eomc generate` does —
+// and the start checked as `eomc simulate` checks it (mechanics::check_start).
 // A refusal must be an InputError or an EmitError (both exit 2 in cli/main.cpp); anything else is a
 // finding. The symbolic work grows with the model, so only small ones go past build_model: at most
 // three velocities and four rows, and expressions of a bounded size (a scene beyond these is
@@ -15,6 +16,7 @@
 #include "codegen/kernel_ir.hpp"
 #include "mechanics/canonical/hamiltonian.hpp"
 #include "mechanics/derive.hpp"
+#include "mechanics/start.hpp"
 #include "model/model.hpp"
 #include "scene/scene.hpp"
 #include "support/diagnostic.hpp"
@@ -62,6 +64,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 ? eomc::codegen::lower(model, eomc::mechanics::canonical_equations(model, equations).form)
                 : eomc::codegen::lower(model, equations);
         (void)eomc::codegen::emit_header(ir, {"fuzz", false});
+        eomc::mechanics::check_start(model, equations, eomc::mechanics::start_values(model, {}),
+                                     "with the scene's initial values and default parameters");
     } catch (const eomc::InputError&) {
         // a refusal with its place
     } catch (const eomc::codegen::EmitError&) {
