@@ -1,5 +1,6 @@
 #include "host/ensemble_spec.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -70,7 +71,11 @@ double standard_normal(std::mt19937_64& rng) {  // Box–Muller, the cosine bran
 double GridAxis::value(std::size_t i) const {
     if (count <= 1) return first;
     if (i + 1 >= count) return last;  // the end point exactly
-    return first + (last - first) * static_cast<double>(i) / static_cast<double>(count - 1);
+    // (b − a)·i/(n − 1) keeps the points of a decimal range exact (0:12:121 gives i/10); where (b − a)·i
+    // overflows (a range near double's limit: -1e308:1e3:83 gave inf from i = 2), the fraction first.
+    const double span = last - first, k = static_cast<double>(i), n = static_cast<double>(count - 1);
+    const double step = std::isfinite(span * k) ? span * k / n : span * (k / n);
+    return std::clamp(first + step, first, last);  // rounding never steps past an end
 }
 
 GridAxis parse_grid(std::string_view text) {

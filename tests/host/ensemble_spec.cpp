@@ -46,6 +46,26 @@ BOOST_AUTO_TEST_CASE(grid_points_are_evenly_spaced_and_end_exactly) {
     BOOST_TEST(parse_grid("x=2:2:1").value(0) == 2.0);
 }
 
+// Found by fuzz_ensemble_flags: (b − a)·i overflowed for a range near double's limit, so the
+// points of -1e308:1e3:83 from i = 2 on were inf (a member run with k = inf).
+BOOST_AUTO_TEST_CASE(grid_points_near_doubles_limit_stay_between_the_ends) {
+    for (const char* text : {"k=-1e308:1e03:83", "k=-8e307:8e307:1000", "k=0:1.7e308:100000000"}) {
+        BOOST_TEST_INFO(text);
+        const GridAxis a = parse_grid(text);
+        double previous = a.first;
+        for (std::size_t i : {std::size_t{0}, std::size_t{1}, std::size_t{2}, a.count / 2, a.count - 2, a.count - 1}) {
+            const double v = a.value(i);
+            BOOST_TEST(std::isfinite(v));
+            BOOST_TEST(v >= previous);
+            BOOST_TEST(v <= a.last);
+            previous = v;
+        }
+        BOOST_TEST(a.value(a.count - 1) == a.last);
+    }
+    const GridAxis a = parse_grid("k=-1e308:1e03:83");  // (b − a)·(i/82): near 1e308·i/82
+    BOOST_TEST(a.value(41) == -1e308 + 1e308 * (41.0 / 82.0));
+}
+
 BOOST_AUTO_TEST_CASE(bad_grids_are_refused_at_the_flag) {
     expect_error([] { parse_grid("k=1:0:5"); }, "--grid k=1:0:5", "reversed");
     expect_error([] { parse_grid("k=1:1:5"); }, "--grid", "empty");
