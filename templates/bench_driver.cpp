@@ -25,6 +25,8 @@
 //   --reference-values V1,...     the error of a run is the Euclidean distance of its judged columns
 //                                 from these
 //   --drift-invariants A,...      the drift is measured on these invariants only (default: all)
+//   --budget-s S                  a run (the reference's too) stops once its pace projects it past S
+//                                 seconds (default 3600)
 
 #include "bench_config.hpp"
 
@@ -136,6 +138,7 @@ struct Options {
   double min_time = 0.02;            // timed repetitions add up to at least this many seconds ...
   int repeats = 3;                   // ... and are at least this many
   double max_run_time = 2.0;         // a fixed-step sweep stops once one run takes longer
+  double budget_s = 3600.0;          // a run (the reference's too) stops once its pace projects it past this
   double reference_tolerance = 1e-26;
   bool reference_only = false;                   // print the reference's judged values and exit
   std::vector<std::string> judged{"x", "y", "z"};  // the columns compared at t_end
@@ -195,6 +198,7 @@ Options parse(int argc, char** argv) {
     else if (arg == "--min-time") o.min_time = number(value, "--min-time");
     else if (arg == "--repeats") o.repeats = static_cast<int>(number(value, "--repeats"));
     else if (arg == "--max-run-time") o.max_run_time = number(value, "--max-run-time");
+    else if (arg == "--budget-s") o.budget_s = number(value, "--budget-s");
     else if (arg == "--reference-tolerance") o.reference_tolerance = number(value, "--reference-tolerance");
     else if (arg == "--reference-values") o.reference_values = value_list(value);
     else if (arg == "--judge") o.judged = split(value);
@@ -264,12 +268,51 @@ struct Outcome {
   std::size_t evals = 0, steps = 0, rejected = 0;
 };
 
+// The time one run may take (--budget-s), judged from its pace: every 1024 right-hand sides, once
+// it has run 2 s, the time so far × t_end / t. A run past it stops with the projection, so that
+// `--t-end 1e300` is refused in seconds rather than computed for hours. Every system below ticks
+// it; a run begins it.
+class RunBudget {
+ public:
+  double limit_s = 3600.0;
+
+  void begin(double t_end) {
+    start_ = Clock::now();
+    t_end_ = t_end;
+    calls_ = 0;
+  }
+  void tick(double t) {
+    if ((++calls_ & 1023u) != 0) return;
+    const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
+    if (elapsed < 2.0) return;
+    const double projected = t > 0 ? elapsed * t_end_ / t : std::numeric_limits<double>::infinity();
+    if (projected <= limit_s) return;
+    char buf[320];
+    std::snprintf(buf, sizeof buf,
+                  "at its pace over the first %.3g s (to t = %.6g of t_end = %.6g) the run would take about %.3g s, "
+                  "more than the budget of %.6g s (--budget-s)",
+                  elapsed, t, t_end_, projected, limit_s);
+    throw OverBudget(buf);
+  }
+
+  struct OverBudget : std::runtime_error {
+    using std::runtime_error::runtime_error;
+  };
+
+ private:
+  Clock::time_point start_ = Clock::now();
+  double t_end_ = 1.0;
+  unsigned calls_ = 0;
+};
+RunBudget run_budget;
+
 // The systems, each counting its calls. (A template only so that project() can be constrained.)
 template <class M = K>
 struct CountedRhsT {
   std::size_t* count;
   void operator()(double t, const State& x, State& dxdt) const {
     ++*count;
+    run_budget.tick(t);
     M::rhs(t, x.data(), dxdt.data(), parameters);
   }
   void project(double t, State& x) const
@@ -300,6 +343,7 @@ struct OdeintRhs {
   std::size_t* count;
   void operator()(const OState& x, OState& dxdt, double t) const {
     ++*count;
+    run_budget.tick(t);
     K::rhs(t, x.data(), dxdt.data(), parameters);
   }
 };
@@ -366,6 +410,7 @@ Outcome ours_splitting(double t_end, double steps, bool observe) {
     std::size_t* count = &o.evals;
     auto acc = [count](double t, const State& q, State& a) {
       ++*count;
+      run_budget.tick(t);
       M::acceleration(t, q.data(), a.data(), parameters);
     };
     DriftMeter drift;
@@ -556,6 +601,7 @@ struct Reference {
 
 // The kernel as a system of the runtime (its drivers take the system by reference: copy it into a variable).
 constexpr auto float128_rhs = [](Q t, const rt::State<Q>& x, rt::State<Q>& dxdt) {
+  run_budget.tick(static_cast<double>(t));
   K::rhs(t, x.data(), dxdt.data(), parameters);
 };
 
@@ -566,6 +612,7 @@ rt::Limits float128_limits() {
 }
 
 std::array<Q, n_state> float128_run(double t_end, double tol) {
+  run_budget.begin(t_end);
   rt::State<Q> x(K::initial_state.begin(), K::initial_state.end());
   rt::Dop853<Q> stepper(rt::Dop853<Q>::default_settings(), false);
   auto sys = float128_rhs;
@@ -613,6 +660,7 @@ double error_of(const State& x, const Reference& ref) {
 template <class M = K>
 std::array<Q, n_state> float128_run_unless_terminal(double t_end, double tol) {
   if constexpr (rt::EventKernel<M, Q>) {
+    run_budget.begin(t_end);
     rt::State<Q> x(M::initial_state.begin(), M::initial_state.end());
     rt::Dop853<Q> stepper(rt::Dop853<Q>::default_settings(), true);  // the locator needs dense output
     std::vector<rt::EventSpec> specs;
@@ -809,17 +857,28 @@ void sweep(const Method& m, const Judge& judge, Progress& bar, std::size_t& done
     double error = 0.0, observed_s = 0.0;
     try {
       const auto start = Clock::now();
+      run_budget.begin(o.t_end);
       out = m.run(o.t_end, setting, true);
       observed_s = seconds_since(start);
       error = judge.error(out.x);
       if (!std::isfinite(error)) throw std::runtime_error("non-finite final state");
+    } catch (const RunBudget::OverBudget& e) {
+      // The settings that follow (tighter, or more steps) cost more: the method's sweep ends here.
+      if (failures++ == 0) first_failure = format_setting(m.kind, setting) + ": " + e.what();
+      stop = true;
+      continue;
     } catch (const std::exception& e) {
       // Too large a step (a fixed-step method blowing up, an implicit stage iteration that does
       // not converge) or a controller that gives up: no row, a note.
       if (failures++ == 0) first_failure = format_setting(m.kind, setting) + ": " + e.what();
       continue;
     }
-    const auto [seconds, reps] = time_runs([&] { (void)m.run(o.t_end, setting, false); }, o.min_time, o.repeats);
+    const auto [seconds, reps] = time_runs(
+        [&] {
+          run_budget.begin(o.t_end);
+          (void)m.run(o.t_end, setting, false);
+        },
+        o.min_time, o.repeats);
     std::printf("%s,%s,%s,%.10g,%.17g,", m.name, m.library, m.kind == Kind::adaptive ? "tolerance" : "steps", setting,
                 error);
     if (K::n_invariants > 0) std::printf("%.17g", out.drift);
@@ -842,6 +901,7 @@ void sweep(const Method& m, const Judge& judge, Progress& bar, std::size_t& done
 
 int main(int argc, char** argv) {
   const Options o = parse(argc, argv);
+  run_budget.limit_s = o.budget_s;
   const std::vector<Method> methods = chosen_methods(o);
   const std::vector<Column> columns = judged_columns(o);
 

@@ -131,6 +131,13 @@ void add_simulate_options(CLI::App* cmd, SimulateOptions& o) {
     add_integration_options(cmd, o);
     cmd->add_option("--output", o.output, "trajectory CSV (t, state, invariants)");
     cmd->add_option("--summary", o.summary, "text | json")->check(CLI::IsMember({"text", "json"}));
+    cmd->add_option("--budget-s", o.budget_s,
+                    fmt::format("stop a run whose pace, once it has run for {:.0f} s, projects it past this many "
+                                "seconds, with the projection (default {:.0f})",
+                                host::SimulationRequest::budget_probe_s, host::default_budget_s))
+        ->check(CLI::PositiveNumber);
+    cmd->add_flag("--progress", o.progress, "a progress line on stderr from the start, even when it is not a terminal "
+                                            "(without it: a bar on a terminal, after a second)");
     cmd->add_option("--max-rows", o.max_rows,
                     fmt::format("the most rows the CSV may hold (default {}); a run that would write more leaves no CSV",
                                 host::SimulationRequest::default_max_rows))
@@ -157,6 +164,8 @@ host::SimulationRequest simulation_request(const host::Pipeline& p, const std::s
     r.cache_dir = o.cache_dir;
     r.max_steps = o.max_steps;
     r.max_rows = o.max_rows;
+    r.budget_s = o.budget_s;
+    r.progress_always = o.progress;
     // A scene with unilateral rows: its [contact] method, unless --contact-method chose.
     if (!o.contact_method.empty()) {
         r.contact_method = o.contact_method;
@@ -283,6 +292,10 @@ void add_bench_options(CLI::App* cmd, BenchOptions& o) {
     cmd->add_option("--min-time", o.min_time, "seconds the timed repetitions of a run add up to at least (default 0.02)")
         ->check(CLI::NonNegativeNumber);
     cmd->add_option("--repeats", o.repeats, "fewest timed repetitions of a run (default 3)")->check(CLI::PositiveNumber);
+    cmd->add_option("--budget-s", o.budget_s,
+                    "stop a run (the reference's too) once its pace, after 2 s, projects it past this many seconds, "
+                    "with the projection (default 3600)")
+        ->check(CLI::PositiveNumber);
     cmd->add_option("--odeint-state", o.odeint_state,
                       "vector (default: the container eomc's runtime steps) | array (std::array of the kernel's size)")
         ->check(CLI::IsMember({"vector", "array"}));
@@ -318,6 +331,7 @@ host::BenchRequest bench_request(const host::Pipeline& p, const std::string& hea
     r.out_dir = out_dir;
     r.cache_dir = o.cache_dir;
     r.reference_tolerance = o.reference_tolerance;
+    r.budget_s = o.budget_s;
     return r;
 }
 

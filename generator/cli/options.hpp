@@ -41,6 +41,8 @@ struct SimulateOptions {
     std::string cache_dir;
     std::optional<std::size_t> max_steps;
     std::size_t max_rows = host::SimulationRequest::default_max_rows;
+    double budget_s = host::default_budget_s;  // simulate/run --budget-s: the run's projected time
+    bool progress = false;                     // simulate/run --progress
 };
 
 // The run's method and inputs (--t-end … --set, --cache-dir, --max-steps), shared with the ensembles.
@@ -90,6 +92,7 @@ struct BenchOptions {
     double reference_tolerance = 1e-26;
     double min_time = 0.02;
     int repeats = 3;
+    double budget_s = host::default_budget_s;
 };
 
 void add_bench_options(CLI::App* cmd, BenchOptions& o);

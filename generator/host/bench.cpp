@@ -115,7 +115,8 @@ FormulationReference formulation_reference(const BenchRequest& request, const fs
         std::cerr << "computing the float128 " << request.axis.reference << " reference for " << request.scene_name
                   << " over t = 0 .. " << fmt::format("{:.6g}", request.t_end) << " (once; it is cached as "
                   << cached.string() << ")\n";
-        text = run_driver({driver.string(), "--reference-only", "--t-end", fmt::format("{:.17g}", request.t_end),
+        text = run_driver({driver.string(), "--reference-only", "--budget-s", fmt::format("{:.17g}", request.budget_s),
+                           "--t-end", fmt::format("{:.17g}", request.t_end),
                            "--reference-tolerance", fmt::format("{:.17g}", request.reference_tolerance), "--judge",
                            judged});
         write_file_atomically(cached, text);

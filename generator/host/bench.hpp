@@ -91,6 +91,7 @@ struct BenchRequest {
     std::vector<std::string> skipped;   // formulations that do not take the scene, with the reason (notes)
     FormulationAxis axis;
     double reference_tolerance = 1e-26; // rtol = atol of the float128 reference run
+    double budget_s = 3600.0;           // one run's projected seconds, the reference's too (--budget-s)
 };
 
 // One run of one method at one setting (one CSV row).

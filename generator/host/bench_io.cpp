@@ -112,7 +112,8 @@ std::vector<std::string> sweep_arguments(const BenchRequest& request, const std:
     if (!request.tolerances.empty()) argv.insert(argv.end(), {"--tolerances", number_list(request.tolerances)});
     if (!steps.empty()) argv.insert(argv.end(), {"--steps", number_list(steps)});
     argv.insert(argv.end(), {"--min-time", fmt::format("{:.17g}", request.min_time == 0.0 ? 1e-9 : request.min_time),
-                             "--repeats", std::to_string(request.repeats)});
+                             "--repeats", std::to_string(request.repeats), "--budget-s",
+                             fmt::format("{:.17g}", request.budget_s)});
     return argv;
 }
 

@@ -159,6 +159,7 @@ EnsembleResult run_ensemble(const EnsembleRequest& request) {
     proto.header_text.clear();  // the members share the loaded kernel: no copy of its text each
     proto.csv_path.clear();
     proto.progress = false;
+    proto.budget_s = 0;  // the ensemble's own budget (check_work_budget) bounds its members
 
     // This rank's members: index = rank + k·ranks.
     const std::size_t mine = total > request.rank ? (total - request.rank + request.ranks - 1) / request.ranks : 0;

@@ -39,6 +39,12 @@ struct SimulationRequest {
     std::string summary_format = "text";                    // "text" | "json"
     std::string cache_dir;                                  // "" = $XDG_CACHE_HOME/eomc or ~/.cache/eomc
     bool progress = true;  // progress bar on stderr, only when stderr is a terminal and the run lasts > ~1 s
+    bool progress_always = false;  // --progress: from the start, wherever stderr goes (a line per update)
+    // Wall-clock seconds the run may take, projected from its pace once it has run budget_probe_s
+    // (the time so far × t_end / t): past it the run stops with the projection, and no CSV. 0: none
+    // (the library's default; the command line's is default_budget_s).
+    double budget_s = 0.0;
+    static constexpr double budget_probe_s = 2.0;
     // Integrate the state-transition matrix too: the state is (x, Φ) with Φ(0) = I, Φ row-major,
     // its entries named Phi_<i>_<j> (indices into the kernel's state). The kernel must have been
     // generated with --variational.

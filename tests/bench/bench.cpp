@@ -315,6 +315,21 @@ BOOST_AUTO_TEST_CASE(float128_reference_agrees_with_closed_form) {
     }
 }
 
+// A run (the reference's too) stops once its pace projects it past --budget-s (issue 29): --t-end
+// 1e300 computed a float128 reference for minutes before it failed. Now it is refused after 2 s
+// with the projection. (A double run of a method on this small kernel meets the runtime's budget
+// of 10^7 steps sooner; on a larger one the projection stops it, as a note.)
+BOOST_AUTO_TEST_CASE(a_run_past_its_budget_stops_with_its_projection) {
+    const fs::path dir = scratch("budget");
+    const fs::path numeric = write_scene(dir, oscillator_scene);  // the float128 reference
+    const Result r = run(eomc_bench(numeric, dir / "numeric", "--methods dop853 --tolerances 1e-6 --t-end 1e300 --budget-s 100"),
+                   dir);
+    BOOST_TEST(r.status == 1);
+    BOOST_TEST(r.err.find("the reference run failed: at its pace over the first") != std::string::npos, r.err);
+    BOOST_TEST(r.err.find("more than the budget of 100 s (--budget-s)") != std::string::npos, r.err);
+    BOOST_TEST(!fs::exists(dir / "numeric" / "work_precision.csv"));
+}
+
 // ---------------------------------------------------------------------------------------------
 // Bad input: exit 2, a message that names the problem, nothing written.
 // ---------------------------------------------------------------------------------------------

@@ -135,6 +135,24 @@ BOOST_AUTO_TEST_CASE(run_refuses_before_it_writes_the_header_or_compiles) {
     BOOST_TEST(!fs::exists(dir / "cache"));
 }
 
+// ---- simulate: a run that its own pace projects past --budget-s stops, with the projection ------
+
+// Moreau–Jean at step 1e-7 to t = 5 is 5·10^7 steps: within the step budget, but about half a
+// minute of work. With --budget-s 5 it stops once it has run 2 s, says how long it would take,
+// and --progress drew its line on stderr (not a terminal here) from the start.
+BOOST_AUTO_TEST_CASE(a_run_projected_past_its_budget_stops_with_the_projection) {
+    const fs::path dir = scratch("simulate-budget");
+    const Result r = run("simulate " + std::string(EOMC_SOURCE_DIR "/scenes/bouncing_ball.toml") +
+                             " --contact-method moreau_jean --step 1e-7 --t-end 5 --budget-s 5 --progress --cache-dir " +
+                             (dir / "cache").string(),
+                         dir);
+    BOOST_TEST(r.status == 2);
+    BOOST_TEST(r.err.find("--budget-s: error: bouncing_ball: at its pace over the first 2 s (to t = ") != std::string::npos,
+               r.err);
+    BOOST_TEST(r.err.find("more than the budget of 5 s") != std::string::npos, r.err);
+    BOOST_TEST(r.err.find("%  t = ") != std::string::npos, r.err);  // the progress line
+}
+
 // ---- integrals: a work budget and an "undecided at degree N" verdict --------------------------
 
 // The exact elimination grows steeply with the degree (the heavy gyrostat: 1 s at degree 5,

@@ -1,5 +1,10 @@
 // The recorder of a run's observed points (runs.hpp).
+#include <chrono>
+#include <limits>
+
 #include <fmt/format.h>
+
+#include "host/ensemble_budget.hpp"
 
 #include "host/simulate/runs.hpp"
 
@@ -24,7 +29,10 @@ Recorder::Recorder(const Run& run, const std::vector<std::string>& state_names,
                    const std::vector<std::string>& extra_columns, bool event_column, const runtime::State<double>& x0)
     : run_(run), state_names_(state_names), event_column_(event_column),
       csv_(run.request.csv_path, columns(run.lib, state_names, extra_columns, event_column), run.request.max_rows),
-      progress_(run.request.progress, run.request.t_end), invariants_(run.lib, run.parameters),
+      progress_(run.request.progress, run.request.t_end,
+                [](double t, double end) { return fmt::format("t = {:.6g} / {:.6g}", t, end); }, 64,
+                run.request.progress_always),
+      invariants_(run.lib, run.parameters),
       outputs_(run.lib.output_names().size()), x_last_(x0) {}
 
 void Recorder::record(double t, const runtime::State<double>& xs, const std::string* event, std::string_view extra) {
@@ -35,6 +43,22 @@ void Recorder::record(double t, const runtime::State<double>& xs, const std::str
     t_last_ = t;
     x_last_ = xs;
     progress_.update(t);
+    check_budget(t);
+}
+
+void Recorder::check_budget(double t) {
+    const double budget = run_.request.budget_s, t_end = run_.request.t_end;
+    if (!(budget > 0) || ++budget_calls_ % 64 != 0) return;
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    if (elapsed < SimulationRequest::budget_probe_s || !(t_end > 0)) return;
+    const double projected = t > 0 ? elapsed * t_end / t : std::numeric_limits<double>::infinity();
+    if (projected <= budget) return;
+    throw InputError(SourcePos{"--budget-s"},
+                     fmt::format("{}: at its pace over the first {} (to t = {} of t_end = {}) the run would take about "
+                                 "{}, more than the budget of {}; raise --budget-s, shorten --t-end, or loosen the "
+                                 "step or tolerances (nothing was written)",
+                                 run_.lib.scene_name(), duration_text(elapsed), number(t), number(t_end),
+                                 duration_text(projected), duration_text(budget)));
 }
 
 void Recorder::finish(double t, const runtime::State<double>& x, SimulationResult& result) {

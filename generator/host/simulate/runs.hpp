@@ -3,6 +3,7 @@
 // the CSV rows and keeps the last accepted state for a post-mortem.
 #pragma once
 
+#include <chrono>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -69,6 +70,9 @@ public:
     std::runtime_error row_limit(const CsvOutput::RowLimit& limit, std::string_view method) const;
 
 private:
+    // Stops the run (InputError at --budget-s) once its pace projects it past request.budget_s.
+    void check_budget(double t);
+
     const Run& run_;
     std::vector<std::string> state_names_;
     bool event_column_;
@@ -78,6 +82,8 @@ private:
     std::vector<double> outputs_;
     double t_last_ = 0.0;
     runtime::State<double> x_last_;
+    std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+    unsigned budget_calls_ = 0;
 };
 
 }  // namespace eomc::host
