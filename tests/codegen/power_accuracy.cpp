@@ -1,0 +1,224 @@
+// The checked-in kernels whose powers the printer writes as multiplications and sqrt (x^(5/2) =
+// x*x*sqrt(x), x^4 = (x*x)*(x*x)) and whose half-integer powers share one sqrt and one division
+// (codegen/cse.cpp, HalfPowers), against the derivation they came from: forcing, the explicit
+// rates and the invariants in double at random states, against the same expressions of the
+// first-order form evaluated by GiNaC in 40 digits, within a running rounding bound.
+//
+// The bound (first order in the unit round-off u = 2⁻⁵³; Higham, Accuracy and Stability, §3.1),
+// formed node by node over the derived expression at the point, as an absolute error e(·):
+//   an input            e = 0 (the state and the parameters are doubles)
+//   a number c          e = 0 when an integer below 2⁵³, else u|c| (printed as S(a)/S(b) or rounded)
+//   a sum of n terms    e = Σ e_i + (n−1) u Σ|v_i|            (any order of summation)
+//   a product of n      e = Σ_i e_i Π_{j≠i}|v_j| + (n−1) u |v|
+//   b^p, |p| ≤ 32       e = |v| (|p| e_b/|b| + (2P + 4) u)     the base's error scaled by |p| (the
+//                        shared forms b^(−k/2) = d·b^((J−k)/2), d = 1/(b^((J−1)/2)·sqrt(b)), are
+//                        the same power of the same computed b: the first-order propagation is p's),
+//                        plus its own roundings: a sqrt, a division, the binary powerings to
+//                        b^((J−1)/2) and b^((J−k)/2) and two products, at most 2P + 4 with P the
+//                        largest |p| among the function's powers
+//   f(a), libm          e = |f'(a)| e_a + 2u|f(a)|               (glibc: under 1 ulp)
+// The canonical form the emitter prints factors sums (a·b + a·c = a·(b + c)), which only lowers
+// this bound; the kernel must agree to twice it (the doubling covers the second-order terms).
+#define BOOST_TEST_MODULE power_accuracy
+#include <boost/test/unit_test.hpp>
+
+#include <cmath>
+#include <cstring>
+#include <functional>
+#include <map>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "foucault_pendulum.hpp"
+#include "geo_equinoctial.hpp"
+#include "kepler_e06.hpp"
+#include "kovalevskaya_top.hpp"
+#include "leo_drag.hpp"
+#include "leo_j2.hpp"
+#include "pleiades.hpp"
+#include "relative_orbit.hpp"
+
+#include "mechanics/derive.hpp"
+#include "mechanics/first_order.hpp"
+#include "model/model.hpp"
+#include "scenes.hpp"
+
+using GiNaC::ex;
+using GiNaC::numeric;
+
+namespace {
+
+const numeric u = numeric(2).power(-53);
+
+// A double as the exact rational it is (GiNaC would keep a double float and round every later
+// operation to double).
+numeric exact(double x) {
+    int exponent = 0;
+    const double mantissa = std::frexp(x, &exponent);
+    const long m = static_cast<long>(std::ldexp(mantissa, 53));
+    return numeric(m) * numeric(2).power(exponent - 53);
+}
+
+struct Bounded {
+    numeric value, error;
+};
+
+class RoundingBound {
+public:
+    RoundingBound(GiNaC::exmap inputs, numeric largest_power) : inputs_(std::move(inputs)), P_(largest_power) {}
+
+    Bounded operator()(const ex& e) {
+        if (auto it = memo_.find(e); it != memo_.end()) return it->second;
+        const Bounded b = evaluate(e);
+        memo_.emplace(e, b);
+        return b;
+    }
+
+private:
+    Bounded evaluate(const ex& e) {
+        if (GiNaC::is_a<GiNaC::symbol>(e)) {
+            const auto it = inputs_.find(e);
+            if (it == inputs_.end()) throw std::runtime_error("no value for " + GiNaC::ex_to<GiNaC::symbol>(e).get_name());
+            return {GiNaC::ex_to<numeric>(it->second.evalf()), 0};
+        }
+        if (GiNaC::is_a<numeric>(e)) {
+            const numeric c = GiNaC::ex_to<numeric>(e);
+            const bool exact_int = c.is_integer() && GiNaC::abs(c) <= numeric(2).power(53);
+            return {GiNaC::ex_to<numeric>(c.evalf()), exact_int ? numeric(0) : GiNaC::abs(c) * u};
+        }
+        if (GiNaC::is_a<GiNaC::constant>(e)) {
+            const numeric c = GiNaC::ex_to<numeric>(e.evalf());
+            return {c, GiNaC::abs(c) * u};
+        }
+        std::vector<Bounded> ops;
+        for (std::size_t i = 0; i < e.nops(); ++i) ops.push_back((*this)(e.op(i)));
+        if (GiNaC::is_a<GiNaC::add>(e)) {
+            numeric v = 0, err = 0, magnitude = 0;
+            for (const auto& o : ops) v += o.value, err += o.error, magnitude += GiNaC::abs(o.value);
+            return {v, err + numeric(long(ops.size()) - 1) * u * magnitude};
+        }
+        if (GiNaC::is_a<GiNaC::mul>(e)) {
+            numeric v = 1, err = 0;
+            for (const auto& o : ops) v *= o.value;
+            for (std::size_t i = 0; i < ops.size(); ++i) {
+                numeric others = 1;
+                for (std::size_t j = 0; j < ops.size(); ++j)
+                    if (j != i) others *= GiNaC::abs(ops[j].value);
+                err += ops[i].error * others;
+            }
+            return {v, err + numeric(long(ops.size()) - 1) * u * GiNaC::abs(v)};
+        }
+        if (GiNaC::is_a<GiNaC::power>(e) && GiNaC::is_a<numeric>(e.op(1))) {
+            const numeric p = GiNaC::ex_to<numeric>(e.op(1));
+            const numeric v = GiNaC::ex_to<numeric>(GiNaC::pow(ops[0].value, p).evalf());
+            const numeric own = eomc::codegen::multiplied_power(p) ? 2 * P_ + 4 : numeric(2);
+            return {v, GiNaC::abs(v) * (GiNaC::abs(p) * ops[0].error / GiNaC::abs(ops[0].value) + own * u)};
+        }
+        if (GiNaC::is_a<GiNaC::function>(e) && e.nops() == 1) {
+            const GiNaC::symbol z("z");
+            const ex f = GiNaC::ex_to<GiNaC::function>(e).thiscontainer(GiNaC::exvector{z});
+            const numeric v = GiNaC::ex_to<numeric>(f.subs(z == ops[0].value).evalf());
+            const numeric slope = GiNaC::ex_to<numeric>(f.diff(z).subs(z == ops[0].value).evalf());
+            return {v, GiNaC::abs(slope) * ops[0].error + 2 * u * GiNaC::abs(v)};
+        }
+        throw std::runtime_error("no rounding rule for this node");
+    }
+
+    GiNaC::exmap inputs_;
+    numeric P_;
+    std::map<ex, Bounded, GiNaC::ex_is_less> memo_;
+};
+
+// The largest |p| of a numeric power in the expressions.
+numeric largest_power(const std::vector<ex>& expressions) {
+    numeric largest = 0;
+    std::function<void(const ex&)> walk = [&](const ex& e) {
+        if (GiNaC::is_a<GiNaC::power>(e) && GiNaC::is_a<numeric>(e.op(1)))
+            if (GiNaC::abs(GiNaC::ex_to<numeric>(e.op(1))) > largest) largest = GiNaC::abs(GiNaC::ex_to<numeric>(e.op(1)));
+        for (std::size_t i = 0; i < e.nops(); ++i) walk(e.op(i));
+    };
+    for (const ex& e : expressions) walk(e);
+    return largest;
+}
+
+struct Stats {
+    double worst = 0;  // the largest |kernel − reference| / bound seen
+    int checked = 0;
+};
+
+// Kernel values `got` against the expressions at the inputs, each within twice its bound.
+void compare(const std::string& what, const std::vector<ex>& expressions, const std::vector<double>& got,
+             const GiNaC::exmap& inputs, Stats& stats) {
+    RoundingBound bound(inputs, largest_power(expressions));
+    for (std::size_t i = 0; i < expressions.size(); ++i) {
+        const Bounded b = bound(expressions[i]);
+        const double reference = b.value.to_double(), limit = 2 * b.error.to_double() + 1e-300;
+        const double difference = std::abs(got[i] - reference);
+        BOOST_TEST(difference <= limit, what << "[" << i << "]: kernel " << got[i] << ", derivation " << reference
+                                              << ", |difference| " << difference << " > bound " << limit);
+        stats.worst = std::max(stats.worst, difference / limit);
+        ++stats.checked;
+    }
+}
+
+template <class K>
+void check_kernel(const std::string& scene) {
+    GiNaC::Digits = 40;
+    const auto model = test_support::bundled_model(scene);
+    const auto form = eomc::mechanics::first_order_form(model, eomc::mechanics::derive(model));
+    BOOST_TEST_REQUIRE(form.state.size() == std::size_t(K::n_state));
+    std::mt19937_64 random(20261128);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    Stats stats;
+    for (int point = 0; point < 8; ++point) {
+        // Near the scene's initial state: 10 % relative, 0.01 absolute (entries that start at 0).
+        double x[K::n_state];
+        GiNaC::exmap inputs;
+        const double t = 0.5 * (1 + unit(random));
+        inputs[model.t] = exact(t);
+        for (int i = 0; i < K::n_state; ++i) {
+            x[i] = K::initial_state[i] * (1 + 0.1 * unit(random)) + 0.01 * unit(random);
+            inputs[form.state[i].symbol] = exact(x[i]);
+        }
+        typename K::Parameters p;
+        double values[K::n_parameters > 0 ? K::n_parameters : 1];
+        std::memcpy(values, &p, sizeof p);
+        for (int j = 0; j < K::n_parameters; ++j)
+            for (const auto& parameter : model.parameters)
+                if (parameter.name == K::parameter_names[j]) inputs[parameter.symbol] = exact(values[j]);
+
+        std::vector<double> f(K::n_velocities), rates(K::n_state), invariants(K::n_invariants);
+        K::forcing(t, x, f.data(), p);
+        K::rhs(t, x, rates.data(), p);
+        K::invariants(t, x, invariants.data(), p);
+        compare(scene + " forcing", form.forcing, f, inputs, stats);
+        std::vector<ex> explicit_rates;
+        std::vector<double> explicit_got;
+        for (const auto& [index, rate] : form.explicit_rates) {
+            explicit_rates.push_back(rate);
+            explicit_got.push_back(rates[index]);
+        }
+        compare(scene + " explicit rate", explicit_rates, explicit_got, inputs, stats);
+        std::vector<ex> invariant_values;
+        for (const auto& invariant : form.invariants) invariant_values.push_back(invariant.value);
+        compare(scene + " invariant", invariant_values, invariants, inputs, stats);
+    }
+    BOOST_TEST_MESSAGE(scene << ": " << stats.checked << " values, largest |difference| / bound " << stats.worst);
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(gravity_kernels_agree_with_their_derivation) {
+    check_kernel<eomc::models::LeoJ2>("leo_j2");
+    check_kernel<eomc::models::LeoDrag>("leo_drag");
+    check_kernel<eomc::models::KeplerE06>("kepler_e06");
+    check_kernel<eomc::models::RelativeOrbit>("relative_orbit");
+    check_kernel<eomc::models::GeoEquinoctial>("geo_equinoctial");
+}
+
+BOOST_AUTO_TEST_CASE(many_body_and_rigid_kernels_agree_with_their_derivation) {
+    check_kernel<eomc::models::Pleiades>("pleiades");
+    check_kernel<eomc::models::FoucaultPendulum>("foucault_pendulum");
+    check_kernel<eomc::models::KovalevskayaTop>("kovalevskaya_top");
+}
