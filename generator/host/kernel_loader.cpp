@@ -1,18 +1,22 @@
 #include "host/kernel_loader.hpp"
 
 #include <dlfcn.h>
+#include <sys/wait.h>
 
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <iostream>
+#include <sstream>
 #include <stdexcept>
 
 #include <fmt/format.h>
 
 #include "codegen/templates.hpp"
 #include "support/identifier.hpp"
+#include "support/input_file.hpp"
 #include "support/sha256.hpp"
 
 namespace eomc::host {
@@ -61,13 +65,59 @@ ColumnOf<T, width> copy_column(const T* values, int rows) {
     return column;
 }
 
+// -march=native where the compiler accepts it, and what it means here: the target options the
+// driver hands its compiler proper (-march=znver3 -mavx2 … for GCC, -target-cpu/-target-feature for
+// Clang), so that a cache shared by unlike machines (a home directory on NFS) keeps one object per
+// instruction set. Probed once per process (a preprocessor run of an empty file, ~15 ms). No FMA
+// contraction still (common flags): the instructions change, the roundings do not.
+struct HostTarget {
+    std::vector<std::string> flags;  // empty: the compiler refused, portable code
+    std::string described;
+};
+
+HostTarget probe_host_target() {
+    HostTarget target;
+    TempDir dir("eomc-probe-");
+    const std::filesystem::path log = dir.path() / "probe.log";
+    const std::vector<std::string> argv{compiler(), "-march=native", "-x", "c++", "-E", "-v", "/dev/null",
+                                        "-o", (dir.path() / "empty.ii").string()};
+    try {
+        const int status = run_process(argv, log, true);
+        if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) return target;
+    } catch (const std::exception&) {
+        return target;
+    }
+    std::istringstream text(read_whole_file(log));
+    std::string line, word, previous;
+    while (std::getline(text, line)) {
+        if (line.find("cc1") == std::string::npos) continue;
+        for (std::istringstream words(line); words >> word; previous = word)
+            if (word.rfind("-m", 0) == 0 || previous == "--param" || previous == "-target-cpu" ||
+                previous == "-target-feature")
+                target.described += word + ' ';
+    }
+    // A compiler whose -v says nothing we can read: the key still parts this machine's objects
+    // from the portable ones, by the words of its compiler output.
+    if (target.described.empty()) target.described = "unparsed " + sha256_hex(read_whole_file(log));
+    target.flags = {"-march=native"};
+    return target;
+}
+
+// $EOMC_PORTABLE (non-empty, not "0") asks for portable code, e.g. for a cache shared by unlike machines.
+const HostTarget& host_target() {
+    static const HostTarget native = probe_host_target();
+    static const HostTarget portable;
+    const char* env = std::getenv("EOMC_PORTABLE");
+    return env && *env && std::string(env) != "0" ? portable : native;
+}
+
 }  // namespace
 
 // The adapter and the kernel, built into a shared object with only the adapter's C functions
 // exported (hidden visibility keeps the kernel's template instantiations out of the dynamic
 // symbol table). The adapter is told its kernel on the command line, so its text is the same for
 // every kernel; the flags and both files are in the cache key.
-CompileRequest kernel_request(const std::string& header_text, const std::string& struct_name) {
+CompileRequest kernel_request(const std::string& header_text, const std::string& struct_name, bool batch) {
     if (!is_identifier(struct_name))
         throw std::runtime_error(fmt::format("'{}' is not a C++ identifier (expected the kernel's struct name)", struct_name));
     CompileRequest r;
@@ -78,19 +128,24 @@ CompileRequest kernel_request(const std::string& header_text, const std::string&
                "-DEOMC_KERNEL_HEADER=\"kernel.hpp\"",
                "-DEOMC_KERNEL_STRUCT=" + struct_name,
                "-DEOMC_KERNEL_IDENTITY=\"" + kernel_identity(struct_name, header_text) + "\""};
+    // The SIMD batch only for --batch: <experimental/simd> is most of the adapter's compile.
+    if (batch) r.flags.push_back("-DEOMC_KERNEL_BATCH");
+    const HostTarget& host = host_target();
+    r.flags.insert(r.flags.end(), host.flags.begin(), host.flags.end());
+    if (!host.flags.empty()) r.key_notes.push_back("target " + host.described);
     r.suffix = ".so";
     r.what = "the generated kernel";
     return r;
 }
 
-std::string cache_key(const std::string& header_text, const std::string& struct_name) {
-    return cache_key(kernel_request(header_text, struct_name));
+std::string cache_key(const std::string& header_text, const std::string& struct_name, bool batch) {
+    return cache_key(kernel_request(header_text, struct_name, batch));
 }
 
 KernelLibrary KernelLibrary::load(const std::string& header_text, const std::string& struct_name,
-                                  const std::string& cache_dir) {
+                                  const std::string& cache_dir, bool batch) {
     const auto start = std::chrono::steady_clock::now();
-    const CompileRequest request = kernel_request(header_text, struct_name);
+    const CompileRequest request = kernel_request(header_text, struct_name, batch);
     // Verified against its record before dlopen (which runs the object's initialisers and maps
     // its pages: a truncated file would SIGBUS later): a bad entry is rebuilt, never loaded.
     const Artifact artifact = find_or_compile(request, cache_dir);
@@ -150,7 +205,9 @@ KernelLibrary::Parameters KernelLibrary::make_parameters(const std::vector<doubl
 
 KernelLibrary::Parameters KernelLibrary::make_batch_parameters(const std::vector<double>& values) const {
     const std::size_t lanes = static_cast<std::size_t>(vt_.batch_width);
-    if (lanes == 0) throw std::logic_error(fmt::format("make_batch_parameters: the kernel {} is not batchable", scene_name_));
+    if (lanes == 0)
+        throw std::logic_error(fmt::format("make_batch_parameters: the kernel {} is not batchable, or was loaded without "
+                                           "its batch (KernelLibrary::load's `batch`)", scene_name_));
     if (values.size() != parameter_names_.size() * lanes)
         throw std::invalid_argument(fmt::format("make_batch_parameters: {} values for {} parameters × {} lanes",
                                                 values.size(), parameter_names_.size(), lanes));

@@ -273,6 +273,7 @@ std::string cache_key(const CompileRequest& request) {
     key += "libraries";
     key += '\0';
     for (const auto& l : request.libraries) key += l + '\0';
+    for (const auto& note : request.key_notes) key += "note " + note + '\0';
     key += "runtime " + std::to_string(EOMC_RUNTIME_VERSION) + ' ' + runtime_headers_digest() + '\0';
     for (const auto& file : request.files) {
         key += file.name + '\0';

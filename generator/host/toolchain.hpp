@@ -48,6 +48,9 @@ struct CompileRequest {
     std::vector<std::string> flags;
     // After the source file: e.g. -lquadmath.
     std::vector<std::string> libraries;
+    // What decides the bytes beyond the command line, for the cache key: what -march=native
+    // means on this machine.
+    std::vector<std::string> key_notes;
     std::string suffix;  // of the cached file: ".so", or "" for an executable
     std::string what;    // for messages: "the generated kernel"
 };
