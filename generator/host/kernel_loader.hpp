@@ -27,10 +27,11 @@ public:
     // Compiles (or finds in `cache_dir`, "" = default_cache_dir()) the shared object for the
     // kernel struct eomc::models::<struct_name> defined by `header_text`, and loads it.
     // The compiler is the one that built eomc unless $EOMC_CXX names another (part of the
-    // cache key either way). With `batch` the library also has the SIMD batch of a batchable
-    // kernel (batch_width() > 0; a separate cache entry, four times the compile); without it,
-    // batch_width() is 0. Throws std::runtime_error with the compiler's output when
-    // compilation fails.
+    // cache key either way), targeting this machine's instructions (-march=native where the
+    // compiler accepts it, with what it means here in the key; $EOMC_PORTABLE=1: portable code).
+    // With `batch` the library also has the SIMD batch of a batchable kernel (batch_width() > 0;
+    // a separate cache entry, four times the compile); without it, batch_width() is 0. Throws
+    // std::runtime_error with the compiler's output when compilation fails.
     static KernelLibrary load(const std::string& header_text, const std::string& struct_name,
                               const std::string& cache_dir = "", bool batch = false);
 
