@@ -1,7 +1,8 @@
 // The checked-in kernels whose powers the printer writes as multiplications and sqrt (x^(5/2) =
 // x*x*sqrt(x), x^4 = (x*x)*(x*x)) and whose half-integer powers share one sqrt and one division
 // (codegen/cse.cpp, HalfPowers), against the derivation they came from: forcing, the explicit
-// rates and the invariants in double at random states, against the same expressions of the
+// rates, the invariants and jacobian() (where generated: ∂/∂x of the explicit rates and of M⁻¹f,
+// M inverted symbolically) in double at random states, against the same expressions of the
 // first-order form evaluated by GiNaC in 40 digits, within a running rounding bound.
 //
 // The bound (first order in the unit round-off u = 2⁻⁵³; Higham, Accuracy and Stability, §3.1),
@@ -75,6 +76,26 @@ void compare(const std::string& what, const std::vector<ex>& expressions, const 
     }
 }
 
+// ∂ẋ/∂x as derived, row-major: the explicit rates and u̇ = M⁻¹f differentiated (M⁻¹ in closed form:
+// small or diagonal M only).
+std::vector<ex> derived_jacobian(const eomc::mechanics::FirstOrderForm& form) {
+    const std::size_t n = form.state.size(), m = form.n_velocities();
+    std::vector<ex> rates(n, ex(0));
+    for (const auto& [index, rate] : form.explicit_rates) rates[index] = rate;
+    if (m > 0) {
+        const GiNaC::matrix inverse = GiNaC::ex_to<GiNaC::matrix>(form.mass_matrix).inverse();
+        for (std::size_t k = 0; k < m; ++k) {
+            ex u = 0;
+            for (std::size_t l = 0; l < m; ++l) u += inverse(k, l) * form.forcing[l];
+            rates[form.velocity_offset + k] = u;
+        }
+    }
+    std::vector<ex> jacobian;
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = 0; j < n; ++j) jacobian.push_back(rates[i].diff(form.state[j].symbol));
+    return jacobian;
+}
+
 template <class K>
 void check_kernel(const std::string& scene) {
     GiNaC::Digits = 40;
@@ -116,6 +137,12 @@ void check_kernel(const std::string& scene) {
         std::vector<ex> invariant_values;
         for (const auto& invariant : form.invariants) invariant_values.push_back(invariant.value);
         compare(scene + " invariant", invariant_values, invariants, inputs, stats);
+        if constexpr (K::has_jacobian) {
+            const std::vector<ex> expected = derived_jacobian(form);
+            std::vector<double> J(std::size_t(K::n_state * K::n_state));
+            K::jacobian(t, x, J.data(), p);
+            compare(scene + " jacobian", expected, J, inputs, stats);
+        }
     }
     BOOST_TEST_MESSAGE(scene << ": " << stats.checked << " values, largest |difference| / bound " << stats.worst);
 }
