@@ -1,7 +1,6 @@
 #include "host/kernel_loader.hpp"
 
 #include <dlfcn.h>
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <array>
@@ -9,14 +8,14 @@
 #include <cstdlib>
 #include <cstring>
 #include <iostream>
-#include <sstream>
+#include <fstream>
+#include <set>
 #include <stdexcept>
 
 #include <fmt/format.h>
 
 #include "codegen/templates.hpp"
 #include "support/identifier.hpp"
-#include "support/input_file.hpp"
 #include "support/sha256.hpp"
 
 namespace eomc::host {
@@ -65,50 +64,31 @@ ColumnOf<T, width> copy_column(const T* values, int rows) {
     return column;
 }
 
-// -march=native where the compiler accepts it, and what it means here: the target options the
-// driver hands its compiler proper (-march=znver3 -mavx2 … for GCC, -target-cpu/-target-feature for
-// Clang), so that a cache shared by unlike machines (a home directory on NFS) keeps one object per
-// instruction set. Probed once per process (a preprocessor run of an empty file, ~15 ms). No FMA
-// contraction still (common flags): the instructions change, the roundings do not.
-struct HostTarget {
-    std::vector<std::string> flags;  // empty: the compiler refused, portable code
-    std::string described;
-};
-
-HostTarget probe_host_target() {
-    HostTarget target;
-    TempDir dir("eomc-probe-");
-    const std::filesystem::path log = dir.path() / "probe.log";
-    const std::vector<std::string> argv{compiler(), "-march=native", "-x", "c++", "-E", "-v", "/dev/null",
-                                        "-o", (dir.path() / "empty.ii").string()};
-    try {
-        const int status = run_process(argv, log, true);
-        if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) return target;
-    } catch (const std::exception&) {
-        return target;
-    }
-    std::istringstream text(read_whole_file(log));
-    std::string line, word, previous;
-    while (std::getline(text, line)) {
-        if (line.find("cc1") == std::string::npos) continue;
-        for (std::istringstream words(line); words >> word; previous = word)
-            if (word.rfind("-m", 0) == 0 || previous == "--param" || previous == "-target-cpu" ||
-                previous == "-target-feature")
-                target.described += word + ' ';
-    }
-    // A compiler whose -v says nothing we can read: the key still parts this machine's objects
-    // from the portable ones, by the words of its compiler output.
-    if (target.described.empty()) target.described = "unparsed " + sha256_hex(read_whole_file(log));
-    target.flags = {"-march=native"};
-    return target;
+// The CPU as /proc/cpuinfo describes its first processor (vendor, family, model, name, flags,
+// cache size): what -march=native resolves to, with the compiler (already in the key), so that a
+// cache shared by unlike machines (a home directory on NFS) keeps one object per instruction set.
+// Read once per process; no compiler run, so a cache hit costs nothing more.
+const std::string& host_cpu() {
+    static const std::string described = [] {
+        static const std::set<std::string> wanted{"vendor_id",  "cpu family", "model",    "model name", "flags",
+                                                  "cache size", "Features",   "CPU part", "isa",        "uarch"};
+        std::ifstream in("/proc/cpuinfo");
+        std::string line, text;
+        while (std::getline(in, line) && !line.empty()) {  // the first processor's block
+            const std::size_t colon = line.find(':');
+            const std::size_t end = line.find_last_not_of(" \t", colon == std::string::npos ? 0 : colon - 1);
+            if (colon != std::string::npos && colon > 0 && end != std::string::npos && wanted.count(line.substr(0, end + 1)))
+                text += line + '\n';
+        }
+        return text.empty() ? std::string("unknown") : text;
+    }();
+    return described;
 }
 
 // $EOMC_PORTABLE (non-empty, not "0") asks for portable code, e.g. for a cache shared by unlike machines.
-const HostTarget& host_target() {
-    static const HostTarget native = probe_host_target();
-    static const HostTarget portable;
+bool portable() {
     const char* env = std::getenv("EOMC_PORTABLE");
-    return env && *env && std::string(env) != "0" ? portable : native;
+    return env && *env && std::string(env) != "0";
 }
 
 }  // namespace
@@ -130,9 +110,13 @@ CompileRequest kernel_request(const std::string& header_text, const std::string&
                "-DEOMC_KERNEL_IDENTITY=\"" + kernel_identity(struct_name, header_text) + "\""};
     // The SIMD batch only for --batch: <experimental/simd> is most of the adapter's compile.
     if (batch) r.flags.push_back("-DEOMC_KERNEL_BATCH");
-    const HostTarget& host = host_target();
-    r.flags.insert(r.flags.end(), host.flags.begin(), host.flags.end());
-    if (!host.flags.empty()) r.key_notes.push_back("target " + host.described);
+    // For this machine's instructions where the compiler accepts it (a compiler that refuses it
+    // builds the portable object). No FMA contraction still (common flags): the instructions
+    // change, not the roundings.
+    if (!portable()) {
+        r.optional_flags.push_back("-march=native");
+        r.key_notes.push_back("cpu " + host_cpu());
+    }
     r.suffix = ".so";
     r.what = "the generated kernel";
     return r;

@@ -28,7 +28,7 @@ public:
     // kernel struct eomc::models::<struct_name> defined by `header_text`, and loads it.
     // The compiler is the one that built eomc unless $EOMC_CXX names another (part of the
     // cache key either way), targeting this machine's instructions (-march=native where the
-    // compiler accepts it, with what it means here in the key; $EOMC_PORTABLE=1: portable code).
+    // compiler accepts it, the CPU it describes in the key; $EOMC_PORTABLE=1: portable code).
     // With `batch` the library also has the SIMD batch of a batchable kernel (batch_width() > 0;
     // a separate cache entry, four times the compile); without it, batch_width() is 0. Throws
     // std::runtime_error with the compiler's output when compilation fails.
