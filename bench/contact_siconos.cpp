@@ -12,13 +12,14 @@
 // Each run goes from t = 0 to 5 (past both Zeno points). Reported: the error of the first three
 // impact times and of the tenth against the closed form (the ball) or the mpmath reference (the block,
 // bench/contact_reference.py), the error of (q, q̇) at t = 1 and t = 5, the impacts resolved before
-// t∞, what the run does at t∞, and the wall time (median of --repeats). An impact of a time-stepping
+// t∞, what the run does at t∞, and the wall time (median of --repeats, the two tools' runs alternated). An impact of a time-stepping
 // run is a step with P > 0 after one with P = 0, timed at the step's end (both tools alike).
 //
 //   cmake --build build --target bench_contact_siconos
 //   build/bench/bench_contact_siconos [--repeats N] [--out DIR]   (DIR/contact_{tools,penalty}.{csv,md})
 #include <algorithm>
 #include <chrono>
+#include <utility>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -100,27 +101,47 @@ double median(std::vector<double> v) {
     return v[v.size() / 2];
 }
 
+// One run of `body` into `row`, its wall time appended to `walls`.
+template <class F>
+void time_once(Row& row, std::vector<double>& walls, F&& body) {
+    Run run;
+    const auto start = std::chrono::steady_clock::now();
+    try {
+        body(run);
+    } catch (const std::exception& e) {
+        run.failure = e.what();
+    } catch (...) {
+        run.failure = "unknown exception";
+    }
+    walls.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    row.run = run;
+}
+
 template <class F>
 Row timed(const std::string& system, const std::string& tool, const std::string& method, double setting, int repeats,
           F&& body) {
     Row row{system, tool, method, setting, NAN, {}};
     std::vector<double> walls;
-    for (int i = 0; i < repeats; ++i) {
-        Run run;
-        const auto start = std::chrono::steady_clock::now();
-        try {
-            body(run);
-        } catch (const std::exception& e) {
-            run.failure = e.what();
-        } catch (...) {
-            run.failure = "unknown exception";
-        }
-        walls.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-        row.run = run;
-        if (!run.failure.empty()) break;
-    }
+    for (int i = 0; i < repeats && (i == 0 || row.run.failure.empty()); ++i) time_once(row, walls, body);
     row.wall = median(walls);
     return row;
+}
+
+// eomc and Siconos on the same problem, run alternately (eomc, Siconos, eomc, …) so that a shared
+// machine's load weighs on both sides alike; each side's wall is the median of its runs. A side that
+// failed is not run again.
+template <class F, class G>
+std::pair<Row, Row> timed_pair(const std::string& system, const std::string& method, double setting, int repeats,
+                               F&& eomc_body, G&& siconos_body) {
+    Row a{system, "eomc", method, setting, NAN, {}}, b{system, "siconos", method, setting, NAN, {}};
+    std::vector<double> wa, wb;
+    for (int i = 0; i < repeats; ++i) {
+        if (i == 0 || a.run.failure.empty()) time_once(a, wa, eomc_body);
+        if (i == 0 || b.run.failure.empty()) time_once(b, wb, siconos_body);
+    }
+    a.wall = median(wa);
+    b.wall = median(wb);
+    return {a, b};
 }
 
 // --- eomc -----------------------------------------------------------------------------------------
@@ -321,22 +342,28 @@ int main(int argc, char** argv) {
     std::vector<Row> rows;
     for (const bool is_block : {false, true}) {
         const Reference ref = is_block ? block_reference() : ball_reference();
+        const auto add = [&](std::pair<Row, Row> pair) {
+            rows.push_back(std::move(pair.first));
+            rows.push_back(std::move(pair.second));
+        };
         for (double tol : tolerances) {
-            rows.push_back(timed(ref.name, "eomc", "event_driven", tol, repeats, [&](Run& r) {
-                if (is_block) eomc_event_driven<eomc::models::RockingBlock>(tol, r);
-                else eomc_event_driven<eomc::models::BouncingBall>(tol, r);
-            }));
-            rows.push_back(timed(ref.name, "siconos", "event_driven", tol, repeats,
-                                 [&](Run& r) { siconos_event_driven(is_block, tol, r); }));
+            add(timed_pair(
+                ref.name, "event_driven", tol, repeats,
+                [&](Run& r) {
+                    if (is_block) eomc_event_driven<eomc::models::RockingBlock>(tol, r);
+                    else eomc_event_driven<eomc::models::BouncingBall>(tol, r);
+                },
+                [&](Run& r) { siconos_event_driven(is_block, tol, r); }));
         }
         for (double h : steps) {
             const int rep = h < 1e-4 ? std::max(1, repeats / 2) : repeats;
-            rows.push_back(timed(ref.name, "eomc", "moreau_jean", h, rep, [&](Run& r) {
-                if (is_block) eomc_moreau_jean<eomc::models::RockingBlock>(h, r);
-                else eomc_moreau_jean<eomc::models::BouncingBall>(h, r);
-            }));
-            rows.push_back(timed(ref.name, "siconos", "moreau_jean", h, rep,
-                                 [&](Run& r) { siconos_moreau_jean(is_block, h, r); }));
+            add(timed_pair(
+                ref.name, "moreau_jean", h, rep,
+                [&](Run& r) {
+                    if (is_block) eomc_moreau_jean<eomc::models::RockingBlock>(h, r);
+                    else eomc_moreau_jean<eomc::models::BouncingBall>(h, r);
+                },
+                [&](Run& r) { siconos_moreau_jean(is_block, h, r); }));
         }
     }
 

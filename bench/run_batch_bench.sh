@@ -4,9 +4,11 @@
 # alternated REPEATS times with the load average beside each figure. Two small scenes: the damped
 # oscillator (rates + − × only: the rk4 CSVs of both must be the same bytes) and the bead on the
 # damped hoop (sin, cos); rk4 at step 0.01 and dopri5 at rtol 1e-10, atol 1e-12, t_end 10.
-# Usage: bench/run_batch_bench.sh [EOMC] [REPEATS]   (default build-h/generator/eomc, 3)
+# Usage: bench/run_batch_bench.sh [EOMC] [REPEATS]   (EOMC: found or built as
+# bench/find_eomc.sh says, "" for that with REPEATS; REPEATS: 3)
 set -eu
-EOMC=${1:-build-h/generator/eomc}
+. "$(dirname "$0")/find_eomc.sh"
+EOMC=$(find_eomc "${1:-}")
 REPEATS=${2:-3}
 SCENES=$(dirname "$0")/../scenes
 OUT=$(mktemp -d)

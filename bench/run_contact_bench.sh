@@ -3,14 +3,21 @@
 # Housner's rocking block, event-driven and Moreau–Jean, and the penalty floor against stiffness.
 # Needs Siconos (Debian: libsiconos-kernel-dev, libsiconos-numerics-dev). Re-run from the repository root:
 #
-#   bench/run_contact_bench.sh [BUILD_DIR] [REPEATS]      (defaults: build, 5)
+#   bench/run_contact_bench.sh [--record] [BUILD_DIR] [REPEATS]      (defaults: build, 5)
 #
-# Writes bench/results/contact/{contact_tools,contact_penalty}.{csv,md}, machine.txt, and the
-# programs' own chatter (Siconos prints its state when it throws) to log.txt.
+# Writes {contact_tools,contact_penalty}.{csv,md}, machine.txt and the programs' own chatter
+# (Siconos prints its state when it throws, log.txt) into BUILD_DIR/bench/results/contact/, or with
+# --record into the tracked bench/results/contact/ (what bench/RESULTS.md cites).
 set -euo pipefail
+record=0
+if [ "${1:-}" = --record ]; then
+  record=1
+  shift
+fi
 build=${1:-build}
 repeats=${2:-5}
-results=bench/results/contact
+results=$build/bench/results/contact
+[ "$record" = 1 ] && results=bench/results/contact
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$build" --target bench_contact_siconos >/dev/null
 mkdir -p "$results"

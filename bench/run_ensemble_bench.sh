@@ -3,9 +3,11 @@
 # threads, alternated REPEATS times (a shared machine's load moves single runs), with the load
 # average beside each figure; the CSVs of the two thread counts must be the same bytes. With
 # mpirun on PATH (and eomc built with MPI), the same for 1 and 2 ranks of one thread each.
-# Usage: bench/run_ensemble_bench.sh [EOMC] [REPEATS]   (default build-h/generator/eomc, 3)
+# Usage: bench/run_ensemble_bench.sh [EOMC] [REPEATS]   (EOMC: found or built as
+# bench/find_eomc.sh says, "" for that with REPEATS; REPEATS: 3)
 set -eu
-EOMC=${1:-build-h/generator/eomc}
+. "$(dirname "$0")/find_eomc.sh"
+EOMC=$(find_eomc "${1:-}")
 REPEATS=${2:-3}
 SCENE=$(dirname "$0")/../scenes/damped_oscillator.toml
 OUT=$(mktemp -d)

@@ -3,13 +3,20 @@
 # CVODE BDF (dense direct solver, user Jacobian) and eomc's DOP853, on one generated kernel and its
 # symbolic Jacobian. Needs SUNDIALS (Debian: libsundials-dev). Re-run from the repository root:
 #
-#   bench/run_stiff_bench.sh [BUILD_DIR] [REPEATS]      (defaults: build, 5)
+#   bench/run_stiff_bench.sh [--record] [BUILD_DIR] [REPEATS]      (defaults: build, 5)
 #
-# Writes bench/results/stiff/{stiff.md,machine.txt}.
+# Writes {stiff.md,machine.txt} into BUILD_DIR/bench/results/stiff/, or with --record into the tracked
+# bench/results/stiff/ (what bench/RESULTS.md cites)..
 set -euo pipefail
+record=0
+if [ "${1:-}" = --record ]; then
+  record=1
+  shift
+fi
 build=${1:-build}
 repeats=${2:-5}
-results=bench/results/stiff
+results=$build/bench/results/stiff
+[ "$record" = 1 ] && results=bench/results/stiff
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$build" --target bench_stiff_cvode >/dev/null
 mkdir -p "$results"

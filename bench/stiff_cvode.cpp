@@ -196,10 +196,22 @@ std::vector<double> parse_list(const char* text) {
 int main(int argc, char** argv) try {
   int repeats = 5;
   std::vector<double> tolerances{1e-6, 1e-8};
-  for (int i = 1; i + 1 < argc; i += 2) {
-    if (!std::strcmp(argv[i], "--repeats")) repeats = std::max(1, std::atoi(argv[i + 1]));
-    else if (!std::strcmp(argv[i], "--tolerances")) tolerances = parse_list(argv[i + 1]);
-    else throw std::invalid_argument(std::string("unknown option ") + argv[i]);
+  const auto usage = [&](std::FILE* to) {
+    std::fprintf(to, "usage: %s [--repeats N] [--tolerances 1e-6,1e-8]   (a markdown table on stdout)\n", argv[0]);
+  };
+  for (int i = 1; i < argc; ++i) {
+    const bool has_value = i + 1 < argc;
+    if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h")) {
+      usage(stdout);
+      return 0;
+    } else if (!std::strcmp(argv[i], "--repeats") && has_value) {
+      repeats = std::max(1, std::atoi(argv[++i]));
+    } else if (!std::strcmp(argv[i], "--tolerances") && has_value) {
+      tolerances = parse_list(argv[++i]);
+    } else {
+      usage(stderr);
+      return 2;
+    }
   }
   const auto ref = reference(1e-16L), check_ref = reference(1e-14L);
   const double ref_spread = double(std::max(std::fabs(ref[0] - check_ref[0]), std::fabs(ref[1] - check_ref[1])));

@@ -6,9 +6,9 @@
 // jacobian() gives ∂ẋ/∂x.
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                      38 ->      15 (4 temporaries)
-//   forcing                         194 ->      61 (8 temporaries)
-//   rhs (u̇ in closed form)         490 ->      85 (16 temporaries)
-//   jacobian                       5282 ->     362 (55 temporaries)
+//   forcing                         221 ->      74 (8 temporaries)
+//   rhs (u̇ in closed form)         544 ->      95 (14 temporaries)
+//   jacobian                       5976 ->     403 (54 temporaries)
 //   invariants                       56 ->      35 (5 temporaries)
 #pragma once
 
@@ -92,16 +92,16 @@ struct BasicFoucaultPendulum {
         const S g = S(p.g);
         const S Omega = S(p.Omega);
         const S phi = S(p.phi);
-        const S w0 = x_*x_;
-        const S w1 = y*y;
-        const S w2 = L*L - w1 - w0;
-        const S w3 = S(1)/(w2*sqrt(w2));
-        const S w4 = S(1)/sqrt(w2);
-        const S w5 = x_dot*(w3*x_*y*y_dot + w4*x_dot + w0*w3*x_dot) + y_dot*(w3*x_*x_dot*y + w4*y_dot + w1*w3*y_dot);
+        const S w0 = sin(phi);
+        const S w1 = L*L;
+        const S w2 = x_*x_;
+        const S w3 = y*y;
+        const S w4 = w2 + w3 - w1;
+        const S w5 = -S(1)/(w4*sqrt(w1 - w3 - w2));
         const S w6 = cos(phi);
-        const S w7 = sin(phi);
-        out[0] = -m*(-S(2)*Omega*(-w4*w6*(x_*x_dot + y*y_dot) + w7*y_dot + w4*w6*x_*x_dot) + g*w4*x_ + w4*w5*x_);
-        out[1] = -m*(w4*w5*y - S(2)*Omega*x_dot*(w4*w6*y - w7) + g*w4*y);
+        const S w7 = x_dot*(-w5*x_*y*y_dot + w4*w5*x_dot - w2*w5*x_dot) + y_dot*(-w5*x_*x_dot*y - w3*w5*y_dot + w4*w5*y_dot);
+        out[0] = m*(g*w4*w5*x_ + S(2)*Omega*(-w4*w5*w6*x_*x_dot + w0*y_dot + w4*w5*w6*(x_*x_dot + y*y_dot)) - w4*w5*w7*x_);
+        out[1] = m*(g*w4*w5*y - w4*w5*w7*y - S(2)*Omega*x_dot*(w0 + w4*w5*w6*y));
     }
 
     // ẋ = F(t, x).
@@ -126,19 +126,17 @@ struct BasicFoucaultPendulum {
         const S w4 = S(1)/w3;
         const S w5 = S(-1) + w0*w4;
         const S w6 = S(-1) + w1*w4;
-        const S w7 = -S(1)/(-w0*w1/(w3*w3) + w5*w6);
-        const S w8 = cos(phi);
-        const S w9 = w2 - w1 - w0;
-        const S w10 = S(1)/sqrt(w9);
-        const S w11 = sin(phi);
-        const S w12 = S(1)/(w9*sqrt(w9));
-        const S w13 = x_dot*(w1*w12*x_dot + w10*x_dot + w12*x_*y*y_dot) + y_dot*(w0*w12*y_dot + w12*x_*x_dot*y + w10*y_dot);
-        const S w14 = w10*w13*y + g*w10*y + S(2)*Omega*x_dot*(w11 - w10*w8*y);
-        const S w15 = w10*w13*x_ - S(2)*Omega*(-w10*w8*(x_*x_dot + y*y_dot) + w11*y_dot + w10*w8*x_*x_dot) + g*w10*x_;
+        const S w7 = S(1)/(-w5*w6 + w0*w1/(w3*w3));
+        const S w8 = -w4/sqrt(w2 - w1 - w0);
+        const S w9 = cos(phi);
+        const S w10 = sin(phi);
+        const S w11 = x_dot*(-w8*x_*y*y_dot + w3*w8*x_dot - w1*w8*x_dot) - y_dot*(w0*w8*y_dot - w3*w8*y_dot + w8*x_*x_dot*y);
+        const S w12 = -S(2)*Omega*x_dot*(w10 + w3*w8*w9*y) - w11*w3*w8*y + g*w3*w8*y;
+        const S w13 = w11*w3*w8*x_ - S(2)*Omega*(w3*w8*w9*(x_*x_dot + y*y_dot) - w3*w8*w9*x_*x_dot + w10*y_dot) - g*w3*w8*x_;
         dxdt[0] = x_dot;
         dxdt[1] = y_dot;
-        dxdt[2] = w7*(w14*w4*x_*y - w15*w5);
-        dxdt[3] = -w7*(-w15*w4*x_*y + w14*w6);
+        dxdt[2] = -w7*(w13*w5 + w12*w4*x_*y);
+        dxdt[3] = w7*(w13*w4*x_*y + w12*w6);
     }
 
     // ∂ẋ/∂x, row-major n_state×n_state.
@@ -146,7 +144,6 @@ struct BasicFoucaultPendulum {
     static void jacobian(S t, const S* x, S* out, const Parameters& p) {
         (void)t;
         using std::cos;
-        using std::pow;
         using std::sin;
         using std::sqrt;
         const S x_ = x[0];
@@ -157,61 +154,60 @@ struct BasicFoucaultPendulum {
         const S g = S(p.g);
         const S Omega = S(p.Omega);
         const S phi = S(p.phi);
-        const S w0 = y*y;
-        const S w1 = x_*x_;
+        const S w0 = x_*x_;
+        const S w1 = y*y;
         const S w2 = L*L;
         const S w3 = w0 + w1 - w2;
         const S w4 = S(1)/w3;
-        const S w5 = S(-1) + w0*w4;
-        const S w6 = S(-1) + w1*w4;
-        const S w7 = S(1)/(w3*w3);
-        const S w8 = w0*w1*w7 - w5*w6;
-        const S w9 = S(1)/w8;
-        const S w10 = w2 - w1 - w0;
-        const S w11 = S(1)/(w10*sqrt(w10));
-        const S w12 = w11*x_*x_dot*y;
-        const S w13 = S(1)/sqrt(w10);
-        const S w14 = w13*y_dot;
-        const S w15 = w0*w11*y_dot;
-        const S w16 = w13*x_dot;
-        const S w17 = w11*x_*y*y_dot;
-        const S w18 = w1*w11*x_dot;
-        const S w19 = x_dot*(w16 + w17 + w18) + y_dot*(w12 + w14 + w15);
-        const S w20 = w13*w19;
-        const S w21 = g*w13;
-        const S w22 = cos(phi);
-        const S w23 = pow(w10, S(-5)/S(2));
-        const S w24 = S(3)*w0*w23*x_*y_dot + w11*x_dot*y + S(3)*w1*w23*x_dot*y + w11*x_*y_dot;
-        const S w25 = w11*y*y_dot;
-        const S w26 = w11*x_*x_dot;
-        const S w27 = w24*y_dot + x_dot*(w25 + S(3)*w23*x_dot*x_*x_*x_ + S(3)*w26 + S(3)*w1*w23*y*y_dot);
-        const S w28 = w20 + w21 + S(2)*Omega*w11*w22*x_*y*y_dot + g*w1*w11 + w13*w27*x_ + w1*w11*w19;
-        const S w29 = S(2)*Omega*w11*w22*x_*x_dot - w11*w19*x_ - g*w11*x_ - w13*w27;
-        const S w30 = sin(phi);
-        const S w31 = -S(2)*Omega*(w30*y_dot + w13*w22*x_*x_dot - w13*w22*(x_*x_dot + y*y_dot)) + w13*w19*x_ + g*w13*x_;
-        const S w32 = w0*w31*w7*x_;
-        const S w33 = w30 - w13*w22*y;
-        const S w34 = S(2)*Omega*w33*x_dot + g*w13*y + w13*w19*y;
-        const S w35 = w1*w34*w7*y;
-        const S w36 = w1*w7;
-        const S w37 = w36 - w4;
-        const S w38 = w0*w1/(w3*w3*w3);
-        const S w39 = w0*w7;
-        const S w40 = w39 + w37*w5 - S(2)*w38 + w0*w6*w7;
-        const S w41 = S(1)/(w8*w8);
-        const S w42 = w34*w4*x_*y - w31*w5;
-        const S w43 = w39 - w4;
-        const S w44 = w36 + w43*w6 - S(2)*w38 + w1*w5*w7;
-        const S w45 = w24*x_dot + y_dot*(w26 + S(3)*w0*w23*x_*x_dot + S(3)*w23*y_dot*y*y*y + S(3)*w25);
-        const S w46 = w13 + w0*w11;
-        const S w47 = w11*w19*x_*y + w13*w45*x_ + g*w11*x_*y + S(2)*Omega*w22*w46*y_dot;
-        const S w48 = w20 + w21 + w13*w45*y + w0*w11*w19 + g*w0*w11 - S(2)*Omega*w22*w46*x_dot;
-        const S w49 = w16 + w18 + S(2)*w17 + x_dot*(w13 + w1*w11);
-        const S w50 = Omega*w33;
-        const S w51 = S(2)*w50 + w13*w49*y;
-        const S w52 = w14 + w15 + S(2)*w12 + w46*y_dot;
-        const S w53 = w13*w52*x_ - S(2)*w50;
-        const S w54 = -w34*w6 + w31*w4*x_*y;
+        const S w5 = S(1)/(w3*w3);
+        const S w6 = w0*w5;
+        const S w7 = w6 - w4;
+        const S w8 = S(-1) + w1*w4;
+        const S w9 = w0*w1/(w3*w3*w3);
+        const S w10 = w1*w5;
+        const S w11 = S(-1) + w0*w4;
+        const S w12 = w10 + w7*w8 - S(2)*w9 + w1*w11*w5;
+        const S w13 = -w11*w8 + w0*w1*w5;
+        const S w14 = S(1)/(w13*w13);
+        const S w15 = sin(phi);
+        const S w16 = w5/sqrt(w2 - w1 - w0);
+        const S w17 = cos(phi);
+        const S w18 = w3*w3;
+        const S w19 = w15 - w16*w17*w18*y;
+        const S w20 = w16*w3*x_*y*y_dot;
+        const S w21 = w0*w16*w3*x_dot;
+        const S w22 = w16*w18*x_dot;
+        const S w23 = w1*w16*w3*y_dot;
+        const S w24 = w16*w18*y_dot;
+        const S w25 = w16*w3*x_*x_dot*y;
+        const S w26 = -x_dot*(w22 - w20 - w21) + y_dot*(w23 + w25 - w24);
+        const S w27 = -g*w16*w18*y + w16*w18*w26*y - S(2)*Omega*w19*x_dot;
+        const S w28 = g*w16*w18*x_ - w16*w18*w26*x_ - S(2)*Omega*(w16*w17*w18*x_*x_dot - w16*w17*w18*(x_*x_dot + y*y_dot) + w15*y_dot);
+        const S w29 = w27*w4*x_*y + w28*w8;
+        const S w30 = S(1)/w13;
+        const S w31 = w16*w3*x_*x_dot;
+        const S w32 = w16*w3*y*y_dot;
+        const S w33 = -S(3)*w1*w16*x_*y_dot + w16*w3*x_dot*y - S(3)*w0*w16*x_dot*y + w16*w3*x_*y_dot;
+        const S w34 = w33*y_dot - x_dot*(S(3)*w0*w16*y*y_dot + S(3)*w16*x_dot*x_*x_*x_ - S(3)*w31 - w32);
+        const S w35 = w16*w18*w26;
+        const S w36 = g*w16*w18;
+        const S w37 = w35 - w0*w16*w26*w3 - w36 + w16*w18*w34*x_ + S(2)*Omega*w16*w17*w3*x_*y*y_dot + g*w0*w16*w3;
+        const S w38 = w0*w27*w5*y;
+        const S w39 = w16*w26*w3*x_ + S(2)*Omega*w16*w17*w3*x_*x_dot - w16*w18*w34 - g*w16*w3*x_;
+        const S w40 = w1*w28*w5*x_;
+        const S w41 = w10 - w4;
+        const S w42 = w6 - S(2)*w9 + w0*w5*w8 + w11*w41;
+        const S w43 = y_dot*(w31 - S(3)*w1*w16*x_*x_dot - S(3)*w16*y_dot*y*y*y + S(3)*w32) + w33*x_dot;
+        const S w44 = w16*w18;
+        const S w45 = w1*w16*w3 - w44;
+        const S w46 = w35 - w36 + w16*w18*w43*y - w1*w16*w26*w3 - S(2)*Omega*w17*w45*x_dot + g*w1*w16*w3;
+        const S w47 = -w16*w26*w3*x_*y + g*w16*w3*x_*y + S(2)*Omega*w17*w45*y_dot + w16*w18*w43*x_;
+        const S w48 = w21 - x_dot*(w44 - w0*w16*w3) - w22 + S(2)*w20;
+        const S w49 = Omega*w19;
+        const S w50 = w16*w18*w48*y - S(2)*w49;
+        const S w51 = w23 - w24 + w45*y_dot + S(2)*w25;
+        const S w52 = S(2)*w49 + w16*w18*w51*x_;
+        const S w53 = w28*w4*x_*y + w11*w27;
         out[0] = S(0);
         out[1] = S(0);
         out[2] = S(1);
@@ -220,14 +216,14 @@ struct BasicFoucaultPendulum {
         out[5] = S(0);
         out[6] = S(0);
         out[7] = S(1);
-        out[8] = -S(2)*w40*w41*w42*x_ + w9*(-S(2)*w35 + w34*w4*y - w0*w29*w4*x_ - w28*w5 + S(2)*w32);
-        out[9] = -S(2)*w41*w42*w44*y - w9*(-w4*w48*x_*y + S(2)*w0*w34*w7*x_ - S(2)*w31*w43*y - w34*w4*x_ + w47*w5);
-        out[10] = -w9*x_*(w13*w49*w5 - w4*w51*y);
-        out[11] = w9*(w0*w13*w4*w52*x_ - w5*w53);
-        out[12] = w9*(w31*w4*y + w28*w4*x_*y - S(2)*w1*w31*w7*y + w29*w6*y + S(2)*w34*w37*x_) - S(2)*w40*w41*w54*x_;
-        out[13] = -w9*(-w31*w4*x_ - S(2)*w35 - w4*w47*x_*y + w48*w6 + S(2)*w32) - S(2)*w41*w44*w54*y;
-        out[14] = w9*(-w51*w6 + w1*w13*w4*w49*y);
-        out[15] = w9*y*(w4*w53*x_ - w13*w52*w6);
+        out[8] = S(2)*w12*w14*w29*x_ - w30*(-S(2)*w40 - w1*w39*w4*x_ - S(2)*w38 - w37*w8 + w27*w4*y);
+        out[9] = S(2)*w14*w29*w42*y + w30*(-w4*w46*x_*y + w47*w8 + S(2)*w1*w27*w5*x_ + S(2)*w28*w41*y - w27*w4*x_);
+        out[10] = w30*x_*(-w4*w50*y + w16*w18*w48*w8);
+        out[11] = -w30*(w1*w16*w3*w51*x_ - w52*w8);
+        out[12] = -w30*(-w28*w4*y + S(2)*w0*w28*w5*y + w11*w39*y + w37*w4*x_*y + S(2)*w27*w7*x_) - S(2)*w12*w14*w53*x_;
+        out[13] = w30*(-S(2)*w40 + w28*w4*x_ - w4*w47*x_*y - S(2)*w38 + w11*w46) - S(2)*w14*w42*w53*y;
+        out[14] = -w30*(-w11*w50 + w0*w16*w3*w48*y);
+        out[15] = w30*y*(-w4*w52*x_ + w11*w16*w18*w51);
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.
@@ -247,7 +243,7 @@ struct BasicFoucaultPendulum {
         const S w2 = L*L;
         const S w3 = S(1)/(w0 + w1 - w2);
         const S w4 = x_*x_dot + y*y_dot;
-        out[0] = S(1)/S(2)*m*(w3*w4*w4 - S(2)*x_dot*(-x_dot + w3*w4*x_) - x_dot*x_dot + S(2)*y_dot*(y_dot - w3*w4*y) - S(2)*g*sqrt(w2 - w1 - w0) - y_dot*y_dot);
+        out[0] = S(1)/S(2)*m*(w3*w4*w4 - S(2)*y_dot*(-y_dot + w3*w4*y) - x_dot*x_dot + S(2)*x_dot*(x_dot - w3*w4*x_) - S(2)*g*sqrt(w2 - w1 - w0) - y_dot*y_dot);
     }
 
     // Quantities written beside the state (none for this model), in output_names order.

@@ -8,7 +8,7 @@
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
 //   forcing                           0 ->       0 (0 temporaries)
-//   rhs (u̇ in closed form)       10501 ->     251 (45 temporaries)
+//   rhs (u̇ in closed form)       10751 ->     264 (44 temporaries)
 //   invariants                        0 ->       0 (0 temporaries)
 //   outputs                         173 ->      70 (11 temporaries)
 //   events                           12 ->      12 (1 temporaries)
@@ -83,7 +83,6 @@ struct BasicGeoEquinoctial {
     template <class S>
     static void rhs(S t, const S* x, S* dxdt, const Parameters& p) {
         using std::cos;
-        using std::pow;
         using std::sin;
         using std::sqrt;
         const S p_ = x[0];
@@ -99,56 +98,55 @@ struct BasicGeoEquinoctial {
         const S a3 = S(p.a3);
         const S i3 = S(p.i3);
         const S w0 = sqrt(p_/mu);
-        const S w1 = k*k;
-        const S w2 = h*h;
-        const S w3 = S(-1) + w1 - w2;
-        const S w4 = S(1) + w1 + w2;
-        const S w5 = S(1)/w4;
-        const S w6 = sin(L);
-        const S w7 = cos(L);
-        const S w8 = h*k*w5*w7;
-        const S w9 = Re*Re;
-        const S w10 = p_*p_*p_;
-        const S w11 = -k*w5*w7 + h*w5*w6;
-        const S w12 = w11*w11;
-        const S w13 = g*w6;
-        const S w14 = f*w7;
-        const S w15 = S(1) + w13 + w14;
-        const S w16 = p_*p_/(w15*w15);
-        const S w17 = pow(w16, S(-7)/S(2));
-        const S w18 = h*k*w5*w6;
-        const S w19 = -S(2)*w18 + w3*w5*w7;
-        const S w20 = S(1)/(w15*w15*w15);
-        const S w21 = S(-1) + S(12)*w12;
-        const S w22 = pow(w16, S(-5)/S(2));
-        const S w23 = S(1)/w15;
-        const S w24 = t*sqrt((mu + mu3)/(a3*a3*a3));
-        const S w25 = cos(w24);
-        const S w26 = p_*w19*w23 + a3*w25;
-        const S w27 = sin(i3);
-        const S w28 = sin(w24);
-        const S w29 = a3*w27*w28 - S(2)*p_*w11*w23;
-        const S w30 = S(1) + w1 - w2;
-        const S w31 = S(2)*w8 + w30*w5*w6;
-        const S w32 = cos(i3);
-        const S w33 = -a3*w28*w32 + p_*w23*w31;
-        const S w34 = S(1)/((w26*w26 + w29*w29 + w33*w33)*sqrt(w26*w26 + w29*w29 + w33*w33));
-        const S w35 = S(1)/(a3*a3);
-        const S w36 = S(3)*J2*mu*p_*w19*w21*w22*w23*w9 + S(24)*J2*mu*w10*w12*w17*w19*w20*w9 + S(2)*mu3*(w25*w35 - w26*w34);
-        const S w37 = S(2)*mu3*(w33*w34 + w28*w32*w35) - S(24)*J2*mu*w10*w12*w17*w20*w31*w9 - S(3)*J2*mu*p_*w21*w22*w23*w31*w9;
-        const S w38 = S(1)/p_;
-        const S w39 = -mu3*(-w29*w34 + w27*w28*w35) - S(6)*J2*mu*w11*w15*w9*(w38 - S(4)*w12*w38)/(w16*sqrt(w16)) + S(3)*J2*mu*p_*w11*w21*w22*w23*w9;
-        const S w40 = S(4)*w39*(h*w5*w7 + k*w5*w6) - w36*(S(2)*w8 + w3*w5*w6) + w37*(S(2)*w18 - w30*w5*w7);
-        const S w41 = -S(4)*w11*w39 + w31*w37 - w19*w36;
-        const S w42 = S(2) + w13 + w14;
-        const S w43 = -w39*w5*(S(-1) + w1 + w2) - k*w36*w5 + h*w37*w5;
-        const S w44 = h*w6 - k*w7;
-        dxdt[0] = p_*w0*w23*w40;
-        dxdt[1] = -S(1)/S(2)*w0*(w41*w6 + S(2)*g*w23*w43*w44 - w23*w40*(f + w42*w7));
-        dxdt[2] = S(1)/S(2)*w0*(S(2)*f*w23*w43*w44 + w23*w40*(g + w42*w6) + w41*w7);
-        dxdt[3] = S(1)/S(2)*w0*w23*w4*w43*w7;
-        dxdt[4] = S(1)/S(2)*w0*w23*w4*w43*w6;
-        dxdt[5] = w0*w23*w43*w44 + w15*w15*sqrt(mu*p_)/(p_*p_);
+        const S w1 = sin(L);
+        const S w2 = g*w1;
+        const S w3 = cos(L);
+        const S w4 = f*w3;
+        const S w5 = S(1) + w2 + w4;
+        const S w6 = S(1)/w5;
+        const S w7 = k*k;
+        const S w8 = h*h;
+        const S w9 = S(-1) + w7 - w8;
+        const S w10 = S(1) + w7 + w8;
+        const S w11 = S(1)/w10;
+        const S w12 = h*k*w11*w3;
+        const S w13 = (w5*w5*w5)*(w5*w5*w5)/(((p_*p_*p_)*(p_*p_*p_))*(sqrt(p_*p_/(w5*w5))));
+        const S w14 = Re*Re;
+        const S w15 = p_*p_*p_;
+        const S w16 = h*w1*w11 - k*w11*w3;
+        const S w17 = w16*w16;
+        const S w18 = h*k*w1*w11;
+        const S w19 = -S(2)*w18 + w11*w3*w9;
+        const S w20 = S(1)/(w5*w5*w5);
+        const S w21 = S(-1) + S(12)*w17;
+        const S w22 = t*sqrt((mu + mu3)/(a3*a3*a3));
+        const S w23 = cos(w22);
+        const S w24 = p_*w19*w6 + a3*w23;
+        const S w25 = sin(i3);
+        const S w26 = sin(w22);
+        const S w27 = a3*w25*w26 - S(2)*p_*w16*w6;
+        const S w28 = S(1) + w7 - w8;
+        const S w29 = w1*w11*w28 + S(2)*w12;
+        const S w30 = cos(i3);
+        const S w31 = p_*w29*w6 - a3*w26*w30;
+        const S w32 = w24*w24 + w27*w27 + w31*w31;
+        const S w33 = S(1)/(w32*sqrt(w32));
+        const S w34 = S(1)/(a3*a3);
+        const S w35 = S(2)*mu3*(w23*w34 - w24*w33) + S(24)*J2*mu*w13*w14*w15*w17*w19*w20 + S(3)*J2*mu*w13*w14*w15*w19*w20*w21;
+        const S w36 = S(1)/p_;
+        const S w37 = -S(3)*J2*mu*w13*w14*w15*w16*w20*w21 + S(6)*J2*mu*w13*w14*w16*w20*(p_*p_)*(p_*p_)*(w36 - S(4)*w17*w36) + mu3*(w25*w26*w34 - w27*w33);
+        const S w38 = -S(3)*J2*mu*w13*w14*w15*w20*w21*w29 + S(2)*mu3*(w26*w30*w34 + w31*w33) - S(24)*J2*mu*w13*w14*w15*w17*w20*w29;
+        const S w39 = S(4)*w37*(h*w11*w3 + k*w1*w11) + w35*(S(2)*w12 + w1*w11*w9) - w38*(S(2)*w18 - w11*w28*w3);
+        const S w40 = -w19*w35 + w29*w38 + S(4)*w16*w37;
+        const S w41 = S(2) + w2 + w4;
+        const S w42 = h*w11*w38 + w11*w37*(S(-1) + w7 + w8) - k*w11*w35;
+        const S w43 = h*w1 - k*w3;
+        dxdt[0] = -p_*w0*w39*w6;
+        dxdt[1] = -S(1)/S(2)*w0*(S(2)*g*w42*w43*w6 + w1*w40 + w39*w6*(f + w3*w41));
+        dxdt[2] = S(1)/S(2)*w0*(w3*w40 - w39*w6*(g + w1*w41) + S(2)*f*w42*w43*w6);
+        dxdt[3] = S(1)/S(2)*w0*w10*w3*w42*w6;
+        dxdt[4] = S(1)/S(2)*w0*w1*w10*w42*w6;
+        dxdt[5] = w5*w5*sqrt(mu*p_)/(p_*p_) + w0*w42*w43*w6;
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.
@@ -189,9 +187,9 @@ struct BasicGeoEquinoctial {
         const S w8 = g + w5;
         const S w9 = f + w4;
         const S w10 = sqrt(mu/p_);
-        out[0] = -p_*w6*(-S(2)*h*k*w3*w5 + w2*w3*w4);
+        out[0] = p_*w6*(S(2)*h*k*w3*w5 - w2*w3*w4);
         out[1] = p_*w6*(w3*w5*w7 + S(2)*h*k*w3*w4);
-        out[2] = -S(2)*p_*w6*(-h*w3*w5 + k*w3*w4);
+        out[2] = S(2)*p_*w6*(-k*w3*w4 + h*w3*w5);
         out[3] = w10*(S(2)*h*k*w3*w9 + w2*w3*w8);
         out[4] = w10*(w3*w7*w9 - S(2)*h*k*w3*w8);
         out[5] = S(2)*w10*(k*w3*w8 + h*w3*w9);

@@ -6,9 +6,9 @@
 // jacobian() (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
-//   forcing                          12 ->       8 (1 temporaries)
-//   rhs (u̇ in closed form)          12 ->       8 (1 temporaries)
-//   invariants                       11 ->      11 (0 temporaries)
+//   forcing                          16 ->      10 (2 temporaries)
+//   rhs (u̇ in closed form)          16 ->      10 (2 temporaries)
+//   invariants                       12 ->      12 (0 temporaries)
 #pragma once
 
 #include <array>
@@ -73,9 +73,10 @@ struct BasicKeplerE06 {
         const S x_ = x[0];
         const S y = x[1];
         const S mu = S(p.mu);
-        const S w0 = S(1)/((x_*x_ + y*y)*sqrt(x_*x_ + y*y));
-        out[0] = -mu*w0*x_;
-        out[1] = -mu*w0*y;
+        const S w0 = x_*x_ + y*y;
+        const S w1 = S(1)/(w0*sqrt(w0));
+        out[0] = -mu*w1*x_;
+        out[1] = -mu*w1*y;
     }
 
     // ẋ = F(t, x).
@@ -88,11 +89,12 @@ struct BasicKeplerE06 {
         const S x_dot = x[2];
         const S y_dot = x[3];
         const S mu = S(p.mu);
-        const S w0 = S(1)/((x_*x_ + y*y)*sqrt(x_*x_ + y*y));
+        const S w0 = x_*x_ + y*y;
+        const S w1 = S(1)/(w0*sqrt(w0));
         dxdt[0] = x_dot;
         dxdt[1] = y_dot;
-        dxdt[2] = -mu*w0*x_;
-        dxdt[3] = -mu*w0*y;
+        dxdt[2] = -mu*w1*x_;
+        dxdt[3] = -mu*w1*y;
     }
 
     // Quantities conserved along the equations (proven by the generator), in invariant_names order.

@@ -6,10 +6,10 @@
 // run time). No jacobian() (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
-//   forcing                         241 ->      99 (12 temporaries)
-//   mass_matrix + forcing           241 ->      99 (12 temporaries)
+//   forcing                         266 ->     109 (12 temporaries)
+//   mass_matrix + forcing           266 ->     109 (12 temporaries)
 //   explicit rates                    0 ->       0 (0 temporaries)
-//   M u̇ = f solved                 241 ->      99 (12 temporaries)
+//   M u̇ = f solved                 266 ->     109 (12 temporaries)
 //   mass_matrix + jacobian terms        0 ->       0 (0 temporaries)
 //   M⁻¹ (jacobian terms)              0 ->       0 (0 temporaries)
 //   explicit rates jacobian           0 ->       0 (0 temporaries)
@@ -88,7 +88,6 @@ struct BasicLeoDrag {
     static void forcing(S t, const S* x, S* out, const Parameters& p) {
         (void)t;
         using std::exp;
-        using std::pow;
         using std::sqrt;
         const S x_ = x[0];
         const S y = x[1];
@@ -104,21 +103,21 @@ struct BasicLeoDrag {
         const S H = S(p.H);
         const S CdA_m = S(p.CdA_m);
         const S omega = S(p.omega);
-        const S w0 = x_dot + omega*y;
-        const S w1 = z*z;
-        const S w2 = w1 + x_*x_ + y*y;
-        const S w3 = exp(-(sqrt(w2) - Re - h0)/H);
-        const S w4 = y_dot - omega*x_;
-        const S w5 = sqrt(w0*w0 + w4*w4 + z_dot*z_dot);
-        const S w6 = S(1)/(w2*sqrt(w2));
-        const S w7 = Re*Re;
-        const S w8 = pow(w2, S(-5)/S(2));
-        const S w9 = S(1)/w2;
-        const S w10 = S(-1) + S(3)*w1*w9;
-        const S w11 = pow(w2, S(-7)/S(2));
-        out[0] = -mu*w6*x_ + S(3)*J2*mu*w1*w11*w7*x_ - S(500)*CdA_m*rho0*w0*w3*w5 + S(3)/S(2)*J2*mu*w10*w7*w8*x_;
-        out[1] = S(3)/S(2)*J2*mu*w10*w7*w8*y - S(500)*CdA_m*rho0*w3*w4*w5 + S(3)*J2*mu*w1*w11*w7*y - mu*w6*y;
-        out[2] = S(3)/S(2)*J2*mu*w10*w7*w8*z - S(500)*CdA_m*rho0*w3*w5*z_dot + S(3)*J2*mu*w6*w7*z*(w1/(w2*w2) - w9) - mu*w6*z;
+        const S w0 = z*z;
+        const S w1 = w0 + x_*x_ + y*y;
+        const S w2 = sqrt(w1);
+        const S w3 = S(1)/((w1*w1*w1)*w2);
+        const S w4 = Re*Re;
+        const S w5 = x_dot + omega*y;
+        const S w6 = exp(-(w2 - Re - h0)/H);
+        const S w7 = y_dot - omega*x_;
+        const S w8 = sqrt(w5*w5 + w7*w7 + z_dot*z_dot);
+        const S w9 = S(1)/w1;
+        const S w10 = S(-1) + S(3)*w0*w9;
+        const S w11 = w1*w1;
+        out[0] = S(3)*J2*mu*w0*w3*w4*x_ + S(3)/S(2)*J2*mu*w1*w10*w3*w4*x_ - mu*w11*w3*x_ - S(500)*CdA_m*rho0*w5*w6*w8;
+        out[1] = -mu*w11*w3*y + S(3)*J2*mu*w0*w3*w4*y + S(3)/S(2)*J2*mu*w1*w10*w3*w4*y - S(500)*CdA_m*rho0*w6*w7*w8;
+        out[2] = -S(500)*CdA_m*rho0*w6*w8*z_dot - S(3)*J2*mu*w11*w3*w4*z*(w9 - w0/(w1*w1)) + S(3)/S(2)*J2*mu*w1*w10*w3*w4*z - mu*w11*w3*z;
     }
 
     // ẋ = F(t, x).
@@ -173,7 +172,6 @@ struct BasicLeoDrag {
     static void velocity_rates_(S t, const S* x, S* out, const Parameters& p) {
         (void)t;
         using std::exp;
-        using std::pow;
         using std::sqrt;
         const S x_ = x[0];
         const S y = x[1];
@@ -189,21 +187,21 @@ struct BasicLeoDrag {
         const S H = S(p.H);
         const S CdA_m = S(p.CdA_m);
         const S omega = S(p.omega);
-        const S w0 = x_dot + omega*y;
-        const S w1 = z*z;
-        const S w2 = w1 + x_*x_ + y*y;
-        const S w3 = exp(-(sqrt(w2) - Re - h0)/H);
-        const S w4 = y_dot - omega*x_;
-        const S w5 = sqrt(w0*w0 + w4*w4 + z_dot*z_dot);
-        const S w6 = S(1)/(w2*sqrt(w2));
-        const S w7 = Re*Re;
-        const S w8 = pow(w2, S(-5)/S(2));
-        const S w9 = S(1)/w2;
-        const S w10 = S(-1) + S(3)*w1*w9;
-        const S w11 = pow(w2, S(-7)/S(2));
-        out[0] = -mu*w6*x_ + S(3)*J2*mu*w1*w11*w7*x_ - S(500)*CdA_m*rho0*w0*w3*w5 + S(3)/S(2)*J2*mu*w10*w7*w8*x_;
-        out[1] = S(3)/S(2)*J2*mu*w10*w7*w8*y - S(500)*CdA_m*rho0*w3*w4*w5 + S(3)*J2*mu*w1*w11*w7*y - mu*w6*y;
-        out[2] = -S(3)*J2*mu*w6*w7*z*(w9 - w1/(w2*w2)) + S(3)/S(2)*J2*mu*w10*w7*w8*z - S(500)*CdA_m*rho0*w3*w5*z_dot - mu*w6*z;
+        const S w0 = z*z;
+        const S w1 = w0 + x_*x_ + y*y;
+        const S w2 = sqrt(w1);
+        const S w3 = S(1)/((w1*w1*w1)*w2);
+        const S w4 = Re*Re;
+        const S w5 = S(1)/w1;
+        const S w6 = S(-1) + S(3)*w0*w5;
+        const S w7 = w1*w1;
+        const S w8 = x_dot + omega*y;
+        const S w9 = exp(-(w2 - Re - h0)/H);
+        const S w10 = y_dot - omega*x_;
+        const S w11 = sqrt(w10*w10 + w8*w8 + z_dot*z_dot);
+        out[0] = S(3)/S(2)*J2*mu*w1*w3*w4*w6*x_ + S(3)*J2*mu*w0*w3*w4*x_ - S(500)*CdA_m*rho0*w11*w8*w9 - mu*w3*w7*x_;
+        out[1] = S(3)*J2*mu*w0*w3*w4*y - S(500)*CdA_m*rho0*w10*w11*w9 + S(3)/S(2)*J2*mu*w1*w3*w4*w6*y - mu*w3*w7*y;
+        out[2] = S(3)*J2*mu*w3*w4*w7*z*(w0/(w1*w1) - w5) - S(500)*CdA_m*rho0*w11*w9*z_dot + S(3)/S(2)*J2*mu*w1*w3*w4*w6*z - mu*w3*w7*z;
     }
 
     // The rates given in closed form (everything outside the velocity block).

@@ -6,14 +6,14 @@
 // run time). No jacobian() (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
-//   forcing                         150 ->      44 (8 temporaries)
-//   mass_matrix + forcing           150 ->      44 (8 temporaries)
+//   forcing                         175 ->      51 (9 temporaries)
+//   mass_matrix + forcing           175 ->      51 (9 temporaries)
 //   explicit rates                    0 ->       0 (0 temporaries)
-//   M u̇ = f solved                 150 ->      44 (8 temporaries)
+//   M u̇ = f solved                 175 ->      51 (9 temporaries)
 //   mass_matrix + jacobian terms        0 ->       0 (0 temporaries)
 //   M⁻¹ (jacobian terms)              0 ->       0 (0 temporaries)
 //   explicit rates jacobian           0 ->       0 (0 temporaries)
-//   invariants                       42 ->      31 (2 temporaries)
+//   invariants                       45 ->      33 (4 temporaries)
 //   events                            7 ->       7 (0 temporaries)
 #pragma once
 
@@ -82,7 +82,6 @@ struct BasicLeoJ2 {
     template <class S>
     static void forcing(S t, const S* x, S* out, const Parameters& p) {
         (void)t;
-        using std::pow;
         using std::sqrt;
         const S x_ = x[0];
         const S y = x[1];
@@ -92,15 +91,16 @@ struct BasicLeoJ2 {
         const S J2 = S(p.J2);
         const S w0 = z*z;
         const S w1 = w0 + x_*x_ + y*y;
-        const S w2 = S(1)/(w1*sqrt(w1));
-        const S w3 = -S(2)*w2;
-        const S w4 = Re*Re;
-        const S w5 = S(1)/w1;
-        const S w6 = J2*w4*(S(-1) + S(3)*w0*w5)/(pow(w1, S(5)/S(2)));
-        const S w7 = w3 + S(3)*w6 + S(6)*J2*w0*w4/(pow(w1, S(7)/S(2)));
-        out[0] = S(1)/S(2)*mu*w7*x_;
-        out[1] = S(1)/S(2)*mu*w7*y;
-        out[2] = S(1)/S(2)*mu*z*(w3 + S(3)*w6 + S(6)*J2*w2*w4*(w0/(w1*w1) - w5));
+        const S w2 = S(1)/(w1*w1*w1*sqrt(w1));
+        const S w3 = w1*w1;
+        const S w4 = w2*w3;
+        const S w5 = Re*Re;
+        const S w6 = S(1)/w1;
+        const S w7 = J2*w1*w2*w5*(S(-1) + S(3)*w0*w6);
+        const S w8 = S(6)*J2*w0*w2*w5 + S(3)*w7 - S(2)*w4;
+        out[0] = S(1)/S(2)*mu*w8*x_;
+        out[1] = S(1)/S(2)*mu*w8*y;
+        out[2] = S(1)/S(2)*mu*z*(S(6)*J2*w2*w3*w5*(w0/(w1*w1) - w6) + S(3)*w7 - S(2)*w4);
     }
 
     // ẋ = F(t, x).
@@ -126,7 +126,9 @@ struct BasicLeoJ2 {
         const S J2 = S(p.J2);
         const S w0 = z*z;
         const S w1 = w0 + x_*x_ + y*y;
-        out[0] = S(1)/S(2)*y_dot*y_dot - mu/sqrt(w1) + S(1)/S(2)*x_dot*x_dot + S(1)/S(2)*z_dot*z_dot + S(1)/S(2)*J2*mu*Re*Re*(S(-1) + S(3)*w0/w1)/(w1*sqrt(w1));
+        const S w2 = S(1)/w1;
+        const S w3 = w2/sqrt(w1);
+        out[0] = S(1)/S(2)*y_dot*y_dot + S(1)/S(2)*x_dot*x_dot + S(1)/S(2)*J2*mu*w3*Re*Re*(S(-1) + S(3)*w0*w2) + S(1)/S(2)*z_dot*z_dot - mu*w1*w3;
         out[1] = x_*y_dot - x_dot*y;
     }
 
@@ -188,7 +190,6 @@ struct BasicLeoJ2 {
     template <class S>
     static void velocity_rates_(S t, const S* x, S* out, const Parameters& p) {
         (void)t;
-        using std::pow;
         using std::sqrt;
         const S x_ = x[0];
         const S y = x[1];
@@ -198,15 +199,16 @@ struct BasicLeoJ2 {
         const S J2 = S(p.J2);
         const S w0 = z*z;
         const S w1 = w0 + x_*x_ + y*y;
-        const S w2 = S(1)/(w1*sqrt(w1));
-        const S w3 = -S(2)*w2;
-        const S w4 = Re*Re;
-        const S w5 = S(1)/w1;
-        const S w6 = J2*w4*(S(-1) + S(3)*w0*w5)/(pow(w1, S(5)/S(2)));
-        const S w7 = w3 + S(3)*w6 + S(6)*J2*w0*w4/(pow(w1, S(7)/S(2)));
-        out[0] = S(1)/S(2)*mu*w7*x_;
-        out[1] = S(1)/S(2)*mu*w7*y;
-        out[2] = S(1)/S(2)*mu*z*(w3 + S(3)*w6 + S(6)*J2*w2*w4*(w0/(w1*w1) - w5));
+        const S w2 = S(1)/(w1*w1*w1*sqrt(w1));
+        const S w3 = w1*w1;
+        const S w4 = w2*w3;
+        const S w5 = Re*Re;
+        const S w6 = S(1)/w1;
+        const S w7 = J2*w1*w2*w5*(S(-1) + S(3)*w0*w6);
+        const S w8 = S(6)*J2*w0*w2*w5 + S(3)*w7 - S(2)*w4;
+        out[0] = S(1)/S(2)*mu*w8*x_;
+        out[1] = S(1)/S(2)*mu*w8*y;
+        out[2] = S(1)/S(2)*mu*z*(S(6)*J2*w2*w3*w5*(w0/(w1*w1) - w6) + S(3)*w7 - S(2)*w4);
     }
 
     // The rates given in closed form (everything outside the velocity block).

@@ -6,14 +6,14 @@
 // constant (parameters only). No jacobian() (eomc generate --jacobian adds it).
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       0 ->       0 (0 temporaries)
-//   forcing                          69 ->      38 (4 temporaries)
-//   mass_matrix + forcing            69 ->      38 (4 temporaries)
+//   forcing                          75 ->      40 (5 temporaries)
+//   mass_matrix + forcing            75 ->      40 (5 temporaries)
 //   explicit rates                    0 ->       0 (0 temporaries)
-//   M u̇ = f solved                  69 ->      35 (4 temporaries)
+//   M u̇ = f solved                  75 ->      37 (5 temporaries)
 //   mass_matrix + jacobian terms        0 ->       0 (0 temporaries)
 //   M⁻¹ (jacobian terms)              0 ->       0 (0 temporaries)
 //   explicit rates jacobian           0 ->       0 (0 temporaries)
-//   invariants                       82 ->      49 (7 temporaries)
+//   invariants                       83 ->      50 (7 temporaries)
 //   outputs                         184 ->      79 (6 temporaries)
 #pragma once
 
@@ -92,12 +92,13 @@ struct BasicRelativeOrbit {
         const S mu = S(p.mu);
         const S a = S(p.a);
         const S w0 = a + x_;
-        const S w1 = S(1)/((w0*w0 + y*y + z*z)*sqrt(w0*w0 + y*y + z*z));
-        const S w2 = S(1)/(a*a*a);
-        const S w3 = sqrt(mu*w2);
-        out[0] = m*(-mu*w0*w1 + S(2)*w3*y_dot + w3*sqrt(mu/a) + mu*w2*x_);
-        out[1] = -m*(mu*w1*y - mu*w2*y + S(2)*w3*x_dot);
-        out[2] = -m*mu*w1*z;
+        const S w1 = w0*w0 + y*y + z*z;
+        const S w2 = S(1)/(w1*sqrt(w1));
+        const S w3 = S(1)/(a*a*a);
+        const S w4 = sqrt(mu*w3);
+        out[0] = m*(S(2)*w4*y_dot + w4*sqrt(mu/a) - mu*w0*w2 + mu*w3*x_);
+        out[1] = -m*(mu*w2*y + S(2)*w4*x_dot - mu*w3*y);
+        out[2] = -m*mu*w2*z;
     }
 
     // ẋ = F(t, x).
@@ -157,7 +158,7 @@ struct BasicRelativeOrbit {
         const S w3 = w1 + w2 + y_dot;
         const S w4 = w0*y;
         const S w5 = w4 - x_dot;
-        out[0] = m*(x_ddot - w0*w3 - w0*y_dot);
+        out[0] = -m*(w0*y_dot + w0*w3 - x_ddot);
         out[1] = m*(y_ddot + w0*x_dot - w0*w5);
         out[2] = m*z_ddot;
         out[3] = -m*(-y_dot*z_dot + w0*(-w0*y*z + x_dot*z - x_*z_dot) + w0*x_dot*z + w3*z_dot - y*z_ddot + y_ddot*z - w1*z_dot);
@@ -188,12 +189,13 @@ struct BasicRelativeOrbit {
         const S mu = S(p.mu);
         const S a = S(p.a);
         const S w0 = a + x_;
-        const S w1 = S(1)/((w0*w0 + y*y + z*z)*sqrt(w0*w0 + y*y + z*z));
-        const S w2 = S(1)/(a*a*a);
-        const S w3 = sqrt(mu*w2);
-        out[0] = -mu*w0*w1 + S(2)*w3*y_dot + w3*sqrt(mu/a) + mu*w2*x_;
-        out[1] = mu*w2*y - S(2)*w3*x_dot - mu*w1*y;
-        out[2] = -mu*w1*z;
+        const S w1 = w0*w0 + y*y + z*z;
+        const S w2 = S(1)/(w1*sqrt(w1));
+        const S w3 = S(1)/(a*a*a);
+        const S w4 = sqrt(mu*w3);
+        out[0] = S(2)*w4*y_dot + w4*sqrt(mu/a) - mu*w0*w2 + mu*w3*x_;
+        out[1] = -S(2)*w4*x_dot - mu*w2*y + mu*w3*y;
+        out[2] = -mu*w2*z;
     }
 
     // The rates given in closed form (everything outside the velocity block).

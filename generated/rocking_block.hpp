@@ -7,7 +7,7 @@
 // Operations per call, as derived -> after common-subexpression elimination:
 //   mass_matrix                       5 ->       5 (0 temporaries)
 //   forcing                          12 ->      12 (0 temporaries)
-//   rhs (u̇ in closed form)          12 ->      12 (0 temporaries)
+//   rhs (u̇ in closed form)          13 ->      13 (0 temporaries)
 //   invariants                       21 ->      18 (1 temporaries)
 //   contact gaps                      0 ->       0 (0 temporaries)
 //   contact jacobian                  0 ->       0 (0 temporaries)

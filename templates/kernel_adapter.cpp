@@ -5,6 +5,9 @@
 //   -DEOMC_KERNEL_HEADER="kernel.hpp"                        the generated header
 //   -DEOMC_KERNEL_STRUCT=Name                                its kernel, eomc::models::Name
 //   -DEOMC_KERNEL_IDENTITY="Name <SHA-256 of the header>"    checked by the loader once loaded
+// and, for an ensemble run with --batch only,
+//   -DEOMC_KERNEL_BATCH                                      the batched rhs and invariants
+// whose <experimental/simd> costs four times the rest of the compile (a separate cache entry).
 #if !defined(EOMC_KERNEL_HEADER) || !defined(EOMC_KERNEL_STRUCT) || !defined(EOMC_KERNEL_IDENTITY)
 #error "kernel_adapter.cpp: define EOMC_KERNEL_HEADER, EOMC_KERNEL_STRUCT and EOMC_KERNEL_IDENTITY"
 #endif
@@ -17,7 +20,9 @@
 
 #include <eomc/runtime/kernel.hpp>
 #include <eomc/runtime/kernel/c_interface.hpp>
+#ifdef EOMC_KERNEL_BATCH
 #include <experimental/simd>
+#endif
 
 // The kernel's template over its parameters' scalar, Basic<Name>.
 #define EOMC_PASTE(a, b) a##b
@@ -65,7 +70,8 @@ void outputs(EOMC_KERNEL_SHAPE_rates(const void*)) { K::outputs<double>(t, x, ou
 void mass_matrix(EOMC_KERNEL_SHAPE_rates(const void*)) { K::mass_matrix<double>(t, x, out, parameters_of<K>(p)); }
 void forcing(EOMC_KERNEL_SHAPE_rates(const void*)) { K::forcing<double>(t, x, out, parameters_of<K>(p)); }
 
-// --- batches -----------------------------------------------------------------------------------
+// --- batches (EOMC_KERNEL_BATCH) -----------------------------------------------------------------
+#ifdef EOMC_KERNEL_BATCH
 
 // A batchable kernel's rhs and invariants over batch_width members per call: S and the parameters'
 // scalar a SIMD batch, one member per lane; the arrays lane-minor (a[i * batch_width + lane]).
@@ -114,6 +120,9 @@ void invariants_batch(EOMC_KERNEL_SHAPE_rates(const void*)) {
 void* create_batch_parameters(const double* values) {
     return create_batch<BatchKernel>(values, std::make_index_sequence<n_par>{});
 }
+#else
+constexpr std::size_t batch_width = 0;  // not compiled: the loader asks for it with --batch only
+#endif
 
 // --- the optional blocks, one template per row of blocks.def -------------------------------------
 
@@ -184,10 +193,17 @@ const c::VTable vtable{
     .mass_matrix = mass_matrix,
     .forcing = forcing,
     .batch_width = K::batchable ? int(batch_width) : 0,
+#ifdef EOMC_KERNEL_BATCH
     .create_batch_parameters = create_batch_parameters,
     .destroy_batch_parameters = destroy_batch<BatchKernel>,
     .rhs_batch = rhs_batch<BatchKernel>,
     .invariants_batch = invariants_batch<BatchKernel>,
+#else
+    .create_batch_parameters = nullptr,
+    .destroy_batch_parameters = nullptr,
+    .rhs_batch = nullptr,
+    .invariants_batch = nullptr,
+#endif
 #define EOMC_KERNEL_ROWS(concept, count, names) .count = blocks::count<K>(), .names = blocks::names<K>(),
 #define EOMC_KERNEL_COLUMN(concept, count, column, type, width) .column = blocks::column<K>(),
 #define EOMC_KERNEL_FUNCTION(concept, name, shape) .has_##name = rt::concept<K>, .name = blocks::name<K>,

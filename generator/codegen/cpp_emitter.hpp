@@ -29,6 +29,7 @@ private:
     std::string print_add(const GiNaC::ex& e);
     std::string print_mul(const GiNaC::ex& e);
     std::string print_power(const GiNaC::ex& base, const GiNaC::numeric& exponent);
+    std::string powering(const std::string& base, unsigned long m);
     std::string print_numeric(const GiNaC::numeric& x);
     std::string call(const std::string& function, const std::string& argument);
 

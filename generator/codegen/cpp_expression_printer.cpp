@@ -6,6 +6,7 @@
 
 #include "codegen/cpp_emitter.hpp"
 #include "codegen/cpp_text.hpp"
+#include "codegen/kernel_ir.hpp"
 #include "model/functions.hpp"
 #include "model/kepler_function.hpp"
 
@@ -159,24 +160,38 @@ std::string CppExpressionPrinter::print_power(const ex& base, const numeric& k) 
     // even print exactly as a floating literal.
     if (k.is_integer() && !small_integer(k))
         throw EmitError(fmt::format("the exponent {} is too large to emit", comment_text(printed_numeric(k))));
-    if (k.is_integer()) {
-        const long n = k.to_long();
-        const long m = n < 0 ? -n : n;
-        if (m <= 8) {
-            const std::string b = print(base, atom);
-            std::string product_text = b;
-            for (long i = 1; i < m; ++i) product_text += "*" + b;
-            return n < 0 ? "S(1)/" + (m > 1 ? "(" + product_text + ")" : product_text) : product_text;
-        }
+    if (!multiplied_power(k)) {
         functions_.insert("pow");
-        return "pow(" + print(base, sum) + ", " + fmt::format("S({})", n) + ")";
+        return "pow(" + print(base, sum) + ", " + (k.is_integer() ? fmt::format("S({})", k.to_long()) : print_numeric(k)) +
+               ")";
     }
-    if (k.is_equal(numeric(1, 2))) return call("sqrt", print(base, sum));
-    if (k.is_equal(numeric(-1, 2))) return "S(1)/" + call("sqrt", print(base, sum));
-    if (k.is_equal(numeric(3, 2))) return print(base, atom) + "*" + call("sqrt", print(base, sum));
-    if (k.is_equal(numeric(-3, 2))) return "S(1)/(" + print(base, atom) + "*" + call("sqrt", print(base, sum)) + ")";
-    functions_.insert("pow");
-    return "pow(" + print(base, sum) + ", " + print_numeric(k) + ")";
+    // |k| = m or m + 1/2: binary powering of the base, times sqrt(base) for the half.
+    const bool half = !k.is_integer();
+    const numeric magnitude = GiNaC::abs(k);
+    const unsigned long m = static_cast<unsigned long>((half ? magnitude - numeric(1, 2) : magnitude).to_long());
+    std::string text = m > 0 ? powering(print(base, atom), m) : "";
+    if (half) {
+        if (!text.empty()) text += "*";
+        text += call("sqrt", print(base, sum));
+    }
+    if (!k.is_negative()) return text;
+    // Appended piece by piece: "S(1)/(" + text + ")" trips GCC 12's -Wrestrict (a false positive).
+    std::string quotient = "S(1)/";
+    const bool single = half ? m == 0 : m == 1;  // one factor: x or sqrt(x)
+    if (!single) quotient += "(";
+    quotient += text;
+    if (!single) quotient += ")";
+    return quotient;
+}
+
+// b^m (m ≥ 1) by binary powering: the square of b^(m/2), times b when m is odd. The repeated
+// text of b^(m/2) is one value to the compiler (the same operation on the same operands).
+std::string CppExpressionPrinter::powering(const std::string& b, unsigned long m) {
+    if (m == 1) return b;
+    const std::string root = powering(b, m / 2);
+    const std::string grouped = root.find('*') == std::string::npos ? root : "(" + root + ")";
+    std::string text = grouped + "*" + grouped;
+    return m % 2 == 1 ? text + "*" + b : text;
 }
 
 }  // namespace eomc::codegen

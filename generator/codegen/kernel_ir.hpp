@@ -167,9 +167,19 @@ struct KernelIR {
 Block eliminate_common_subexpressions(const std::vector<GiNaC::ex>& outputs, const std::string& temp_prefix);
 
 // Operations of an expression tree, shared subtrees counted each time they occur:
-// + − × ÷ one each, an integer power |k| as |k|−1 multiplications (and a division when k < 0),
-// any other power, sqrt and every function call one each.
+// + − × ÷ one each, a power as the printer writes it (multiplied_power: its multiplications,
+// a sqrt, and a division when the exponent is negative), any other power and every function call
+// one each.
 std::size_t count_operations(const GiNaC::ex& e);
+
+// The printer writes x^k with k an integer or a half-integer j/2, |k| ≤ max_multiplied_power,
+// without pow(): x^m by binary powering (x^5 = (x*x)*(x*x)*x, compilers share the repeated
+// square), x^(j/2) = x^((|j|−1)/2)*sqrt(x), and a negative exponent as one division 1/(…). libm's
+// pow costs tens of nanoseconds where these cost a few; the bound keeps the text short.
+inline constexpr long max_multiplied_power = 32;
+bool multiplied_power(const GiNaC::numeric& k);
+// Multiplications that x^m costs by binary powering (m ≥ 1): the squarings and one per further bit.
+std::size_t powering_multiplications(unsigned long m);
 
 // Seconds spent per lowering step, for `eomc generate --timings` and the benchmarks.
 struct LoweringTimes {

@@ -134,7 +134,7 @@ EnsembleResult run_ensemble(const EnsembleRequest& request) {
         throw std::invalid_argument(fmt::format("rank {} of {}", request.rank, request.ranks));
     const std::size_t total = request.spec.members();
     const KernelLibrary lib =
-        KernelLibrary::load(request.base.header_text, request.base.struct_name, request.base.cache_dir);
+        KernelLibrary::load(request.base.header_text, request.base.struct_name, request.base.cache_dir, request.batch);
     check_names(request.spec, lib.parameter_names(), lib.state_names(), request.base.overrides);
     check_separable(*settings.method, request.base.integrator_pos, lib.separable(), lib.scene_name());
     if (request.batch) check_batchable(request.base, lib);

@@ -5,8 +5,11 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <iostream>
+#include <fstream>
+#include <set>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -61,13 +64,40 @@ ColumnOf<T, width> copy_column(const T* values, int rows) {
     return column;
 }
 
+// The CPU as /proc/cpuinfo describes its first processor (vendor, family, model, name, flags,
+// cache size): what -march=native resolves to, with the compiler (already in the key), so that a
+// cache shared by unlike machines (a home directory on NFS) keeps one object per instruction set.
+// Read once per process; no compiler run, so a cache hit costs nothing more.
+const std::string& host_cpu() {
+    static const std::string described = [] {
+        static const std::set<std::string> wanted{"vendor_id",  "cpu family", "model",    "model name", "flags",
+                                                  "cache size", "Features",   "CPU part", "isa",        "uarch"};
+        std::ifstream in("/proc/cpuinfo");
+        std::string line, text;
+        while (std::getline(in, line) && !line.empty()) {  // the first processor's block
+            const std::size_t colon = line.find(':');
+            const std::size_t end = line.find_last_not_of(" \t", colon == std::string::npos ? 0 : colon - 1);
+            if (colon != std::string::npos && colon > 0 && end != std::string::npos && wanted.count(line.substr(0, end + 1)))
+                text += line + '\n';
+        }
+        return text.empty() ? std::string("unknown") : text;
+    }();
+    return described;
+}
+
+// $EOMC_PORTABLE (non-empty, not "0") asks for portable code, e.g. for a cache shared by unlike machines.
+bool portable() {
+    const char* env = std::getenv("EOMC_PORTABLE");
+    return env && *env && std::string(env) != "0";
+}
+
 }  // namespace
 
 // The adapter and the kernel, built into a shared object with only the adapter's C functions
 // exported (hidden visibility keeps the kernel's template instantiations out of the dynamic
 // symbol table). The adapter is told its kernel on the command line, so its text is the same for
 // every kernel; the flags and both files are in the cache key.
-CompileRequest kernel_request(const std::string& header_text, const std::string& struct_name) {
+CompileRequest kernel_request(const std::string& header_text, const std::string& struct_name, bool batch) {
     if (!is_identifier(struct_name))
         throw std::runtime_error(fmt::format("'{}' is not a C++ identifier (expected the kernel's struct name)", struct_name));
     CompileRequest r;
@@ -78,19 +108,28 @@ CompileRequest kernel_request(const std::string& header_text, const std::string&
                "-DEOMC_KERNEL_HEADER=\"kernel.hpp\"",
                "-DEOMC_KERNEL_STRUCT=" + struct_name,
                "-DEOMC_KERNEL_IDENTITY=\"" + kernel_identity(struct_name, header_text) + "\""};
+    // The SIMD batch only for --batch: <experimental/simd> is most of the adapter's compile.
+    if (batch) r.flags.push_back("-DEOMC_KERNEL_BATCH");
+    // For this machine's instructions where the compiler accepts it (a compiler that refuses it
+    // builds the portable object). No FMA contraction still (common flags): the instructions
+    // change, not the roundings.
+    if (!portable()) {
+        r.optional_flags.push_back("-march=native");
+        r.key_notes.push_back("cpu " + host_cpu());
+    }
     r.suffix = ".so";
     r.what = "the generated kernel";
     return r;
 }
 
-std::string cache_key(const std::string& header_text, const std::string& struct_name) {
-    return cache_key(kernel_request(header_text, struct_name));
+std::string cache_key(const std::string& header_text, const std::string& struct_name, bool batch) {
+    return cache_key(kernel_request(header_text, struct_name, batch));
 }
 
 KernelLibrary KernelLibrary::load(const std::string& header_text, const std::string& struct_name,
-                                  const std::string& cache_dir) {
+                                  const std::string& cache_dir, bool batch) {
     const auto start = std::chrono::steady_clock::now();
-    const CompileRequest request = kernel_request(header_text, struct_name);
+    const CompileRequest request = kernel_request(header_text, struct_name, batch);
     // Verified against its record before dlopen (which runs the object's initialisers and maps
     // its pages: a truncated file would SIGBUS later): a bad entry is rebuilt, never loaded.
     const Artifact artifact = find_or_compile(request, cache_dir);
@@ -150,7 +189,9 @@ KernelLibrary::Parameters KernelLibrary::make_parameters(const std::vector<doubl
 
 KernelLibrary::Parameters KernelLibrary::make_batch_parameters(const std::vector<double>& values) const {
     const std::size_t lanes = static_cast<std::size_t>(vt_.batch_width);
-    if (lanes == 0) throw std::logic_error(fmt::format("make_batch_parameters: the kernel {} is not batchable", scene_name_));
+    if (lanes == 0)
+        throw std::logic_error(fmt::format("make_batch_parameters: the kernel {} is not batchable, or was loaded without "
+                                           "its batch (KernelLibrary::load's `batch`)", scene_name_));
     if (values.size() != parameter_names_.size() * lanes)
         throw std::invalid_argument(fmt::format("make_batch_parameters: {} values for {} parameters × {} lanes",
                                                 values.size(), parameter_names_.size(), lanes));

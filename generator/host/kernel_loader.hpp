@@ -27,10 +27,13 @@ public:
     // Compiles (or finds in `cache_dir`, "" = default_cache_dir()) the shared object for the
     // kernel struct eomc::models::<struct_name> defined by `header_text`, and loads it.
     // The compiler is the one that built eomc unless $EOMC_CXX names another (part of the
-    // cache key either way). Throws std::runtime_error with the compiler's output when
-    // compilation fails.
+    // cache key either way), targeting this machine's instructions (-march=native where the
+    // compiler accepts it, the CPU it describes in the key; $EOMC_PORTABLE=1: portable code).
+    // With `batch` the library also has the SIMD batch of a batchable kernel (batch_width() > 0;
+    // a separate cache entry, four times the compile); without it, batch_width() is 0. Throws
+    // std::runtime_error with the compiler's output when compilation fails.
     static KernelLibrary load(const std::string& header_text, const std::string& struct_name,
-                              const std::string& cache_dir = "");
+                              const std::string& cache_dir = "", bool batch = false);
 
     KernelLibrary(KernelLibrary&&) noexcept = default;
     KernelLibrary& operator=(KernelLibrary&&) noexcept = default;
@@ -92,9 +95,10 @@ public:
     bool separable() const { return has_acceleration(); }  // otherwise the kernel has no acceleration()
     bool moving_contacts() const { return has_contact_time_rates(); }
 
-    // Batchable kernels (straight-line rates; 0 otherwise): rhs and invariants of batch_width()
-    // members per call, each a lane of a SIMD batch with its own parameters. Arrays are lane-minor,
-    // a[i * batch_width() + lane]; the parameters' values n_parameters × batch_width(), lane-minor.
+    // Batchable kernels loaded with `batch` (straight-line rates; 0 otherwise): rhs and invariants
+    // of batch_width() members per call, each a lane of a SIMD batch with its own parameters. Arrays
+    // are lane-minor, a[i * batch_width() + lane]; the parameters' values n_parameters ×
+    // batch_width(), lane-minor.
     int batch_width() const { return vt_.batch_width; }
     Parameters make_batch_parameters(const std::vector<double>& values) const;
     void rhs_batch(double t, const double* x, double* dxdt, const Parameters& p) const {
@@ -138,7 +142,7 @@ private:
 // What the loader compiles for a header: the adapter (templates/kernel_adapter.cpp) told the
 // kernel's struct and identity, "<struct> <SHA-256 of the header>", which it exports and the
 // loader checks once loaded. Exposed for tests, with the cache key of that request.
-CompileRequest kernel_request(const std::string& header_text, const std::string& struct_name);
-std::string cache_key(const std::string& header_text, const std::string& struct_name);
+CompileRequest kernel_request(const std::string& header_text, const std::string& struct_name, bool batch = false);
+std::string cache_key(const std::string& header_text, const std::string& struct_name, bool batch = false);
 
 }  // namespace eomc::host

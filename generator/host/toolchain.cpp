@@ -270,9 +270,11 @@ std::string cache_key(const CompileRequest& request) {
     key += '\0';
     for (const auto& f : common_flags()) key += f + '\0';
     for (const auto& f : request.flags) key += f + '\0';
+    for (const auto& f : request.optional_flags) key += "optional " + f + '\0';
     key += "libraries";
     key += '\0';
     for (const auto& l : request.libraries) key += l + '\0';
+    for (const auto& note : request.key_notes) key += "note " + note + '\0';
     key += "runtime " + std::to_string(EOMC_RUNTIME_VERSION) + ' ' + runtime_headers_digest() + '\0';
     for (const auto& file : request.files) {
         key += file.name + '\0';
@@ -322,17 +324,24 @@ void compile(const CompileRequest& request, const fs::path& target) {
             throw std::runtime_error(fmt::format("cannot create {}: {}", candidate.path().string(), std::strerror(err)));
     }
 
-    std::vector<std::string> argv{compiler()};
-    for (auto& f : common_flags()) argv.push_back(std::move(f));
-    argv.insert(argv.end(), request.flags.begin(), request.flags.end());
-    argv.insert(argv.end(), {"-o", partial.path().string(), (dir.path() / request.files.front().name).string()});
-    argv.insert(argv.end(), request.libraries.begin(), request.libraries.end());
+    std::vector<std::string> argv;
     const fs::path log = dir.path() / "compiler.log";
     int status = 0;
-    try {
-        status = run_process(argv, log, true);
-    } catch (const std::exception& e) {
-        throw std::runtime_error(fmt::format("cannot run the C++ compiler: {}", e.what()));
+    // With the optional flags first, then (when that fails) without them.
+    for (const bool optional : {true, false}) {
+        if (!optional && request.optional_flags.empty()) break;
+        argv = {compiler()};
+        for (auto& f : common_flags()) argv.push_back(std::move(f));
+        argv.insert(argv.end(), request.flags.begin(), request.flags.end());
+        if (optional) argv.insert(argv.end(), request.optional_flags.begin(), request.optional_flags.end());
+        argv.insert(argv.end(), {"-o", partial.path().string(), (dir.path() / request.files.front().name).string()});
+        argv.insert(argv.end(), request.libraries.begin(), request.libraries.end());
+        try {
+            status = run_process(argv, log, true);
+        } catch (const std::exception& e) {
+            throw std::runtime_error(fmt::format("cannot run the C++ compiler: {}", e.what()));
+        }
+        if (WIFEXITED(status) && WEXITSTATUS(status) == 0) break;
     }
     if (!(WIFEXITED(status) && WEXITSTATUS(status) == 0)) {
         std::string output = read_whole_file(log);

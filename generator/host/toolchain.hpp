@@ -48,6 +48,12 @@ struct CompileRequest {
     std::vector<std::string> flags;
     // After the source file: e.g. -lquadmath.
     std::vector<std::string> libraries;
+    // After `flags`, where the compiler accepts them: a compile that fails with them is retried
+    // once without (-march=native, which some compilers refuse). In the cache key either way.
+    std::vector<std::string> optional_flags;
+    // What decides the bytes beyond the command line, for the cache key: the CPU -march=native
+    // describes.
+    std::vector<std::string> key_notes;
     std::string suffix;  // of the cached file: ".so", or "" for an executable
     std::string what;    // for messages: "the generated kernel"
 };

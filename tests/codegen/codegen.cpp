@@ -92,7 +92,51 @@ BOOST_AUTO_TEST_CASE(printer_integer_powers_become_multiplications) {
     BOOST_TEST(print(GiNaC::pow(print.x, -2)) == "S(1)/(x*x)");
     BOOST_TEST(print(GiNaC::sqrt(print.x)) == "sqrt(x)");
     BOOST_TEST(print(GiNaC::pow(print.x, GiNaC::numeric(3, 2))) == "x*sqrt(x)");
-    BOOST_TEST(print(GiNaC::pow(print.x, 12)) == "pow(x, S(12))");
+    // Binary powering past the cube (compilers share the repeated square), pow() past the bound.
+    BOOST_TEST(print(GiNaC::pow(print.x, 4)) == "(x*x)*(x*x)");
+    BOOST_TEST(print(GiNaC::pow(print.x, 12)) == "((x*x*x)*(x*x*x))*((x*x*x)*(x*x*x))");
+    BOOST_TEST(print(GiNaC::pow(print.x, -5)) == "S(1)/((x*x)*(x*x)*x)");
+    BOOST_TEST(print(GiNaC::pow(print.x, codegen::max_multiplied_power + 1)) == "pow(x, S(33))");
+    BOOST_TEST(print(GiNaC::pow(print.y + print.z, -1)) == "S(1)/(y + z)");
+}
+
+BOOST_AUTO_TEST_CASE(printer_half_integer_powers_become_sqrt_and_multiplications) {
+    Printer print;
+    BOOST_TEST(print(GiNaC::pow(print.x, GiNaC::numeric(-1, 2))) == "S(1)/sqrt(x)");
+    BOOST_TEST(print(GiNaC::pow(print.x, GiNaC::numeric(-3, 2))) == "S(1)/(x*sqrt(x))");
+    BOOST_TEST(print(GiNaC::pow(print.x, GiNaC::numeric(5, 2))) == "x*x*sqrt(x)");
+    BOOST_TEST(print(GiNaC::pow(print.x, GiNaC::numeric(-7, 2))) == "S(1)/(x*x*x*sqrt(x))");
+    BOOST_TEST(print(print.y * GiNaC::pow(print.x, GiNaC::numeric(-5, 2))) == "y/(x*x*sqrt(x))");
+    BOOST_TEST(print(GiNaC::pow(print.x, GiNaC::numeric(1, 3))) == "pow(x, S(1)/S(3))");
+    BOOST_TEST(print(GiNaC::pow(print.x, GiNaC::numeric(67, 2))) == "pow(x, S(67)/S(2))");
+}
+
+// Gravity with J2: r⁻³, r⁻⁵ and r⁻⁷ of one r² = x² + y² + z² cost one sqrt and one division.
+BOOST_AUTO_TEST_CASE(cse_shares_one_sqrt_and_one_division_among_half_powers) {
+    GiNaC::symbol x("x"), y("y"), z("z");
+    const ex r2 = x * x + y * y + z * z;
+    const std::vector<ex> outputs{x * GiNaC::pow(r2, GiNaC::numeric(-3, 2)),
+                                  z * z * GiNaC::pow(r2, GiNaC::numeric(-5, 2)) + GiNaC::pow(r2, GiNaC::numeric(-7, 2)),
+                                  GiNaC::pow(r2, GiNaC::numeric(3, 2)) + GiNaC::pow(r2, GiNaC::numeric(1, 2))};
+    const codegen::Block block = codegen::eliminate_common_subexpressions(outputs, "w");
+    std::map<ex, std::string, GiNaC::ex_is_less> names{{x, "x"}, {y, "y"}, {z, "z"}};
+    for (const auto& t : block.temporaries) names.emplace(t.symbol, t.symbol.get_name());
+    std::string text;
+    for (const auto& t : block.temporaries) text += codegen::CppExpressionPrinter(names).print(t.value) + ";";
+    for (const ex& e : block.outputs) text += codegen::CppExpressionPrinter(names).print(e) + ";";
+    const auto occurrences = [&](const std::string& what) {
+        std::size_t n = 0;
+        for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+        return n;
+    };
+    BOOST_TEST(occurrences("sqrt(") == 1u, text);
+    BOOST_TEST(occurrences("/") == 1u, text);
+    BOOST_TEST(occurrences("pow(") == 0u, text);
+    const std::map<std::string, double> at{{"x", 0.3}, {"y", -1.1}, {"z", 0.7}};
+    for (std::size_t k = 0; k < outputs.size(); ++k) {
+        const double expected = value(outputs[k], at), got = value(block.outputs[k], at, &block);
+        BOOST_TEST(std::abs(got - expected) <= 16 * 2.2e-16 * std::abs(expected));
+    }
 }
 
 BOOST_AUTO_TEST_CASE(printer_signs_coefficients_and_quotients) {
@@ -137,6 +181,8 @@ BOOST_AUTO_TEST_CASE(operation_counts_follow_the_documented_rules) {
     BOOST_TEST(codegen::count_operations(2 * x * y) == 2u);
     BOOST_TEST(codegen::count_operations(GiNaC::pow(x, 3)) == 2u);
     BOOST_TEST(codegen::count_operations(GiNaC::pow(x, -2)) == 2u);  // x*x, then 1/(…)
+    BOOST_TEST(codegen::count_operations(GiNaC::pow(x, 8)) == 3u);   // three squarings
+    BOOST_TEST(codegen::count_operations(GiNaC::pow(x, GiNaC::numeric(-5, 2))) == 4u);  // x*x*sqrt(x), 1/(…)
     BOOST_TEST(codegen::count_operations(GiNaC::sin(x + y)) == 2u);
 }
 

@@ -23,7 +23,7 @@ using Value = T (Library::*)() const;
 using Rates = void (Library::*)(double, const double*, double*, const Parameters&) const;
 
 static_assert(std::is_same_v<decltype(&Library::load),
-                             Library (*)(const std::string&, const std::string&, const std::string&)>);
+                             Library (*)(const std::string&, const std::string&, const std::string&, bool)>);
 static_assert(std::is_nothrow_move_constructible_v<Library> && std::is_nothrow_move_assignable_v<Library>);
 static_assert(!std::is_copy_constructible_v<Library> && !std::is_copy_assignable_v<Library>);
 static_assert(std::is_same_v<Parameters, std::unique_ptr<void, Library::ParameterDeleter>>);
