@@ -190,6 +190,9 @@ void add_ensemble_options(CLI::App* cmd, EnsembleOptions& o, bool sweep) {
         cmd->add_flag("--equilibria", o.equilibria, "the relative equilibria and their verdicts at every grid point "
                                                     "(parameters only) instead of runs; --plot draws a bifurcation "
                                                     "diagram over one axis, a stability map over two");
+        cmd->add_flag("--linearize", o.linearize, "the linearisation's eigenvalues and verdict at every grid point "
+                                                  "(see `eomc linearize`, and --about) instead of runs; --plot draws "
+                                                  "the real parts against the one axis varied");
         cmd->add_option("--grid", o.grid, "NAME=a:b:n (n points from a to b inclusive) or NAME=value: a parameter "
                                           "or an initial value; several make a grid, the last varying fastest")
             ->required();

@@ -58,6 +58,7 @@ struct EnsembleOptions {
     std::string samples, seed = "0";
     unsigned threads = 0;  // 0 = the hardware's
     bool batch = false;    // --batch: SIMD batches of members (host/ensemble_batch.hpp)
+    bool linearize = false;   // sweep --linearize: eigenvalues per grid point (host/linearize_sweep.hpp)
     bool equilibria = false;  // sweep --equilibria: verdicts per grid point (host/equilibria_sweep.hpp)
     std::string output, format = "text";
     std::string plot, plot_column;  // --plot FILE.png, --plot-column NAME ("" = the first state variable)
