@@ -115,6 +115,22 @@ struct Commands {
     CLI::App *derive, *generate, *simulate, *equilibria, *linearize, *inverse, *control, *integrals, *run, *bench, *sweep, *ensemble;
 };
 
+// `linearize`, and the operating point of `sweep --linearize`.
+void declare_linearize(CLI::App& app, Options& o, Commands& c) {
+    const char* about_help = "equilibrium: the rest state nearest the initial configuration (Newton's method); initial: "
+                             "the initial state as given, an equilibrium or a steady motion (rates only of cyclic "
+                             "coordinates, no accelerations)";
+    c.linearize = app.add_subcommand("linearize", "linearise about an equilibrium or a steady motion, the [[constraint]] "
+                                                  "rows eliminated: A, its eigenvalues and modes, a stability verdict");
+    c.linearize->add_option("scene", o.scene_path, "scene file (TOML)")->required();
+    c.linearize->add_option("--about", o.about, about_help)->check(CLI::IsMember({"equilibrium", "initial"}));
+    c.linearize->add_option("--set", o.set, "NAME=VALUE: a parameter, a coordinate's initial value or its NAME_dot rate");
+    c.linearize->add_option("--format", o.format, "text | latex | json")->check(CLI::IsMember({"text", "latex", "json"}));
+    c.linearize->add_option("-o,--output", o.output, "write to FILE instead of standard output");
+    c.sweep->add_option("--about", o.about, std::string("with --linearize: ") + about_help)
+        ->check(CLI::IsMember({"equilibrium", "initial"}));
+}
+
 Commands declare_commands(CLI::App& app, Options& o) {
     auto scene_argument = [&](CLI::App* cmd) { cmd->add_option("scene", o.scene_path, "scene file (TOML)")->required(); };
     auto hamiltonian_flag = [&](CLI::App* cmd) {
@@ -182,18 +198,7 @@ Commands declare_commands(CLI::App& app, Options& o) {
                              "a rigid body: the spin Ω at which the rotations about principal axes holding the mass "
                              "centre are linearised (default: ω0·γ0 of the scene)");
 
-    const char* about_help = "equilibrium: the rest state nearest the initial configuration (Newton's method); initial: "
-                             "the initial state as given, an equilibrium or a steady motion (rates only of cyclic "
-                             "coordinates, no accelerations)";
-    c.linearize = app.add_subcommand("linearize", "linearise about an equilibrium or a steady motion, the [[constraint]] "
-                                                  "rows eliminated: A, its eigenvalues and modes, a stability verdict");
-    scene_argument(c.linearize);
-    c.linearize->add_option("--about", o.about, about_help)->check(CLI::IsMember({"equilibrium", "initial"}));
-    c.linearize->add_option("--set", o.set, "NAME=VALUE: a parameter, a coordinate's initial value or its NAME_dot rate");
-    c.linearize->add_option("--format", o.format, "text | latex | json")->check(CLI::IsMember({"text", "latex", "json"}));
-    c.linearize->add_option("-o,--output", o.output, "write to FILE instead of standard output");
-    c.sweep->add_option("--about", o.about, std::string("with --linearize: ") + about_help)
-        ->check(CLI::IsMember({"equilibrium", "initial"}));
+    declare_linearize(app, o, c);
 
     c.inverse = app.add_subcommand("inverse", "the inverse problem: self-adjointness, a multiplier, a Lagrangian");
     scene_argument(c.inverse);
@@ -592,6 +597,9 @@ int main(int argc, char** argv) {
         // An output that exists and is not a regular file is refused before any work is done.
         for (const std::string* path : {&o.output, &o.simulate.output, &o.emit_scene})
             if (!path->empty()) check_output_target(*path);
+        if (c.sweep->parsed() && c.sweep->count("--about") && !o.ensemble.linearize)
+            throw InputError(SourcePos{"--about"}, "--about chooses the operating point of `sweep --linearize`; "
+                                                   "add --linearize or drop it");
         host::StageClock clock;
         host::StageClock* timing = o.timings ? &clock : nullptr;
         const Pipeline p = host::front_end(o.scene_path, o.front, timing);

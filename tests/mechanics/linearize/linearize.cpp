@@ -254,6 +254,8 @@ BOOST_AUTO_TEST_CASE(command_line) {
     BOOST_REQUIRE_EQUAL(r.status, 0);
     BOOST_TEST(r.out.find("\"verdict\": \"stable in the linear approximation\"") != std::string::npos, r.out);
     BOOST_TEST(r.out.find("\"dependent_coordinates\": [\"y\"]") != std::string::npos, r.out);
+    test_support::write_file(dir / "l.json", r.out);
+    BOOST_TEST(std::system(("python3 -m json.tool " + (dir / "l.json").string() + " > /dev/null").c_str()) == 0);
     r = test_support::run_eomc("linearize " + scene + " --set speed=2", dir);
     BOOST_TEST(r.status == 2);
     BOOST_TEST(r.err.find("--set speed=2: error: 'speed' is neither") != std::string::npos, r.err);
