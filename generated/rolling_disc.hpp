@@ -39,7 +39,7 @@ struct BasicRollingDisc {
     // x[velocity_offset .. velocity_offset + n_velocities) is solved from M u̇ = f.
     static constexpr int velocity_offset = 5;
     static constexpr int n_velocities = 5;
-    static constexpr int n_parameters = 3;
+    static constexpr int n_parameters = 4;
     static constexpr int n_invariants = 1;
     static constexpr int n_outputs = 7;
     // True when q̈ = a(t, q) with M constant; then acceleration() exists for the splitting methods.
@@ -49,7 +49,7 @@ struct BasicRollingDisc {
     static constexpr bool has_jacobian = false;
     static constexpr const char* scene_name = "rolling_disc";
     static constexpr std::array<const char*, n_state> state_names{ "x", "y", "psi", "theta", "phi", "x_dot", "y_dot", "psi_dot", "theta_dot", "phi_dot" };
-    static constexpr std::array<const char*, n_parameters> parameter_names{ "m", "r", "g" };
+    static constexpr std::array<const char*, n_parameters> parameter_names{ "m", "r", "g", "v" };
     static constexpr std::array<const char*, n_invariants> invariant_names{ "energy" };
     static constexpr std::array<const char*, n_outputs> output_names{ "lambda_roll", "lambda_no_slip", "reaction_x", "reaction_y", "reaction_psi", "reaction_theta", "reaction_phi" };
     static constexpr std::array<double, n_state> initial_state{ 0, 0, 0, 0, 0, 1.5, 0, 0, 0, 3 };
@@ -62,6 +62,7 @@ struct BasicRollingDisc {
         PT m = 1;
         PT r = 0.5;
         PT g = 9.81;
+        PT v = 1.5;
     };
 
     // M(t, x), row-major n_velocities × n_velocities.
@@ -126,19 +127,19 @@ struct BasicRollingDisc {
         const S m = S(p.m);
         const S r = S(p.r);
         const S g = S(p.g);
-        const S w0 = theta_dot*theta_dot;
-        const S w1 = sin(theta);
-        const S w2 = sin(psi);
-        const S w3 = psi_dot*psi_dot;
-        const S w4 = cos(theta);
-        const S w5 = cos(psi);
+        const S w0 = cos(theta);
+        const S w1 = cos(psi);
+        const S w2 = theta_dot*theta_dot;
+        const S w3 = sin(theta);
+        const S w4 = sin(psi);
+        const S w5 = psi_dot*psi_dot;
         const S w6 = r*r;
-        const S w7 = psi_dot*w1;
-        out[0] = -m*r*(S(2)*psi_dot*theta_dot*w4*w5 - w0*w1*w2 - w1*w2*w3);
-        out[1] = -m*r*(S(2)*psi_dot*theta_dot*w2*w4 + w1*w3*w5 + w0*w1*w5);
-        out[2] = -S(1)/S(2)*m*theta_dot*w4*w6*(phi_dot + S(5)*w7);
-        out[3] = S(1)/S(4)*m*r*(S(4)*g*w1 + psi_dot*r*w4*(S(2)*phi_dot + S(5)*w7));
-        out[4] = -S(1)/S(2)*m*psi_dot*theta_dot*w4*w6;
+        const S w7 = psi_dot*w3;
+        out[0] = -m*r*(-w3*w4*w5 + S(2)*psi_dot*theta_dot*w0*w1 - w2*w3*w4);
+        out[1] = -m*r*(w1*w2*w3 + w1*w3*w5 + S(2)*psi_dot*theta_dot*w0*w4);
+        out[2] = -S(1)/S(2)*m*theta_dot*w0*w6*(phi_dot + S(5)*w7);
+        out[3] = S(1)/S(4)*m*r*(psi_dot*r*w0*(S(2)*phi_dot + S(5)*w7) + S(4)*g*w3);
+        out[4] = -S(1)/S(2)*m*psi_dot*theta_dot*w0*w6;
     }
 
     // ẋ = F(t, x).
@@ -294,7 +295,7 @@ struct BasicRollingDisc {
         out_M[22] = S(1)/S(2)*w9;
         out_M[23] = S(0);
         out_M[24] = S(1)/S(2)*w10;
-        out_f[0] = m*r*(w0*w11*w3 - S(2)*psi_dot*theta_dot*w1*w4 + w0*w12*w3);
+        out_f[0] = -m*r*(-w0*w11*w3 - w0*w12*w3 + S(2)*psi_dot*theta_dot*w1*w4);
         out_f[1] = -m*r*(S(2)*psi_dot*theta_dot*w3*w4 + w0*w1*w11 + w0*w1*w12);
         out_f[2] = -S(1)/S(2)*m*theta_dot*w4*w8*(phi_dot + S(5)*w13);
         out_f[3] = S(1)/S(4)*m*r*(psi_dot*r*w4*(S(2)*phi_dot + S(5)*w13) + S(4)*g*w0);
@@ -361,7 +362,7 @@ struct BasicRollingDisc {
         const S w11 = theta_dot*theta_dot;
         const S w12 = psi_dot*psi_dot;
         const S w13 = psi_dot*w0;
-        const S w14 = m*r*(w0*w11*w3 - S(2)*psi_dot*theta_dot*w1*w4 + w0*w12*w3);
+        const S w14 = -m*r*(-w0*w11*w3 - w0*w12*w3 + S(2)*psi_dot*theta_dot*w1*w4);
         const S w15 = -m*r*(S(2)*psi_dot*theta_dot*w3*w4 + w0*w1*w11 + w0*w1*w12);
         const S w16 = -S(1)/S(2)*m*theta_dot*w4*w8*(phi_dot + S(5)*w13);
         const S w17 = S(1)/S(4)*m*r*(psi_dot*r*w4*(S(2)*phi_dot + S(5)*w13) + S(4)*g*w0);

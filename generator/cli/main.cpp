@@ -361,6 +361,8 @@ host::LinearizeInputs linearize_inputs(const Pipeline& p, const Options& o, cons
     const auto overrides = cli::parse_overrides(items);
     for (std::size_t i = 0; i < overrides.size(); ++i)
         host::set_input(p.model, in, overrides[i].first, overrides[i].second, SourcePos{"--set " + items[i]});
+    for (const auto& [name, value] : model::initial_overrides(p.model, overrides))  // initial values as expressions
+        host::set_input(p.model, in, name, value, SourcePos{"--set"});
     return in;
 }
 
@@ -379,8 +381,9 @@ void linearize_sweep_command(const Pipeline& p, const Options& o, const host::En
     const host::LinearizeInputs base = linearize_inputs(p, o, o.simulate.overrides);
     cli::check_grid_against_scene(o.scene_path, o.front, o.simulate.overrides, spec);
     const mechanics::Linearizer linearizer(p.model, p.equations);
-    const host::LinearizeSweep sweep = host::sweep_linearize(linearizer, p.model, spec, operating_point(o), base,
-                                                             {o.ensemble.budget_s, true, o.ensemble.progress});
+    const host::LinearizeSweep sweep =
+        host::sweep_linearize(linearizer, p.model, spec, operating_point(o), base, cli::parse_overrides(o.simulate.overrides),
+                              {o.ensemble.budget_s, true, o.ensemble.progress});
     const auto script = [&](const std::string& terminal, const fs::path& png) {
         return host::linearize_plot_script(sweep, spec, terminal, png);
     };

@@ -150,6 +150,7 @@ host::SimulationRequest simulation_request(const host::Pipeline& p, const std::s
     r.header_text = header;
     r.struct_name = p.model.struct_name;
     r.overrides = parse_overrides(o.overrides);
+    r.derived_start = derived_start(p);
     r.t_end = o.t_end.value_or(d.t_end);
     r.integrator = o.integrator.empty() ? d.integrator : o.integrator;
     r.integrator_pos = o.integrator.empty() ? d.integrator_pos : SourcePos{"--integrator"};

@@ -82,6 +82,11 @@ void check_start(const host::Pipeline& p, const std::vector<std::pair<std::strin
 std::function<void(const std::vector<std::pair<std::string, double>>&)> member_start_check(
     const host::Pipeline& p, const host::EnsembleSpec& spec);
 
+// The initial values the scene gives as expressions of the parameters, recomputed at each run's
+// overrides (SimulationRequest::derived_start); empty when the scene gives numbers only.
+std::function<std::vector<std::pair<std::string, double>>(const std::vector<std::pair<std::string, double>>&)>
+derived_start(const host::Pipeline& p);
+
 // The scene's own checks (check_overrides_against_scene) on a grid's end points: the axes are
 // linear, so a value the scene accepts at both ends it accepts between. Throws at the --grid.
 void check_grid_against_scene(const std::string& scene_path, const host::FrontEndOptions& front,

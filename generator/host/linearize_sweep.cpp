@@ -62,7 +62,9 @@ void set_input(const model::Model& model, LinearizeInputs& inputs, const std::st
 
 LinearizeSweep sweep_linearize(const mechanics::Linearizer& linearizer, const model::Model& model,
                                const EnsembleSpec& spec, mechanics::OperatingPointKind about,
-                               const LinearizeInputs& base, const SweepLimits& limits) {
+                               const LinearizeInputs& base,
+                               const std::vector<std::pair<std::string, double>>& base_overrides,
+                               const SweepLimits& limits) {
     if (!spec.vary.empty())
         throw InputError(spec.vary.front().where, "--linearize sweeps a grid (--grid), not random draws");
     LinearizeInputs probe = base;  // every axis's name checked before the first point
@@ -81,8 +83,13 @@ LinearizeSweep sweep_linearize(const mechanics::Linearizer& linearizer, const mo
         point.index = i;
         point.inputs = spec.inputs(i);
         LinearizeInputs in = base;
-        for (std::size_t k = 0; k < spec.grid.size(); ++k) set_input(model, in, spec.grid[k].name, point.inputs[k], spec.grid[k].where);
+        std::vector<std::pair<std::string, double>> given = base_overrides;
+        for (std::size_t k = 0; k < spec.grid.size(); ++k) {
+            set_input(model, in, spec.grid[k].name, point.inputs[k], spec.grid[k].where);
+            given.emplace_back(spec.grid[k].name, point.inputs[k]);
+        }
         try {
+            for (const auto& [name, value] : model::initial_overrides(model, given)) set_input(model, in, name, value, {});
             const auto lin = linearizer.linearize(in.parameters, about, in.q, in.u, SourcePos{"--grid"});
             point.eigenvalues = lin.eigenvalues;
             point.verdict = mechanics::stability_name(lin.verdict);

@@ -47,12 +47,16 @@ struct LinearizeSweep {
     std::vector<LinearizePoint> points;
 };
 
+// `base` holds the scene's values with `base_overrides` (--set) applied; at each point the initial
+// values the scene gives as expressions of the parameters are recomputed from both and the grid's.
 // Throws InputError at the --grid for random draws and for names set_input refuses, and for a grid
 // that would take longer than limits.budget_s; a point whose operating point is refused (not steady,
 // no equilibrium found) keeps the reason and the sweep goes on.
 LinearizeSweep sweep_linearize(const mechanics::Linearizer& linearizer, const model::Model& model,
                                const EnsembleSpec& spec, mechanics::OperatingPointKind about,
-                               const LinearizeInputs& base, const SweepLimits& limits = {});
+                               const LinearizeInputs& base,
+                               const std::vector<std::pair<std::string, double>>& base_overrides = {},
+                               const SweepLimits& limits = {});
 
 // point, the inputs, verdict, then re_1, im_1, re_2, im_2, …: the eigenvalues in the listed order.
 std::string linearize_csv(const LinearizeSweep& sweep);

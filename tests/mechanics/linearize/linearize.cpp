@@ -41,6 +41,7 @@ mechanics::Linearization linearise(const Case& c, OperatingPointKind about,
                                    const std::vector<std::pair<std::string, double>>& set = {}) {
     host::LinearizeInputs in = host::scene_inputs(c.model);
     for (const auto& [name, value] : set) host::set_input(c.model, in, name, value, SourcePos{"test"});
+    for (const auto& [name, value] : model::initial_overrides(c.model, set)) host::set_input(c.model, in, name, value, {});
     const mechanics::Linearizer linearizer(c.model, c.equations);
     return linearizer.linearize(in.parameters, about, in.q, in.u, SourcePos{"test"});
 }
@@ -147,7 +148,10 @@ BOOST_AUTO_TEST_CASE(rolling_disc_steady_rolling) {
                            Speed{1.2, 1.3682105101189665, LinearStability::unstable},
                            Speed{1.5, 2.4298148077579906, LinearStability::stable_linear}}) {
         BOOST_TEST_CONTEXT("v = " << s.v) {
-            const auto lin = linearise(c, OperatingPointKind::initial, {{"x_dot", s.v}, {"phi_dot", s.v / r}});
+            // The scene's rates x_dot = "v", phi_dot = "v/r" follow v.
+            const auto lin = linearise(c, OperatingPointKind::initial, {{"v", s.v}});
+            BOOST_TEST(lin.u[0] == s.v);
+            BOOST_TEST(std::abs(lin.u[4] - s.v / r) <= eps * s.v / r);
             const double lambda2 = 4 / (5 * r) * (g - 3 * s.v * s.v / r);
             const double root = std::sqrt(std::abs(lambda2));
             const std::complex<double> top = lambda2 > 0 ? re(root) : im(root);
@@ -262,4 +266,63 @@ BOOST_AUTO_TEST_CASE(command_line) {
     r = test_support::run_eomc("linearize " + scene + " --about initial", dir);
     BOOST_TEST(r.status == 2);
     BOOST_TEST(r.err.find("--about initial: error: the operating point is not an equilibrium") != std::string::npos, r.err);
+}
+
+// Initial values given as expressions of the parameters ([coordinates] rate = "v/r"): recomputed at
+// the values --set, --grid or --vary give, unless the override names the initial value itself.
+BOOST_AUTO_TEST_CASE(initial_values_follow_their_parameters) {
+    const model::Model disc = test_support::bundled_model("rolling_disc");
+    BOOST_TEST(disc.coordinates[0].rate == 1.5);
+    BOOST_TEST(disc.coordinates[4].rate == 3.0);
+    using Pairs = std::vector<std::pair<std::string, double>>;
+    BOOST_TEST(model::initial_overrides(disc, {}).empty());
+    BOOST_TEST((model::initial_overrides(disc, {{"v", 2.0}}) == Pairs{{"x_dot", 2.0}, {"phi_dot", 4.0}}));
+    BOOST_TEST((model::initial_overrides(disc, {{"v", 2.0}, {"x_dot", 1.0}}) == Pairs{{"phi_dot", 4.0}}));
+    BOOST_TEST((model::initial_overrides(disc, {{"r", 0.25}}) == Pairs{{"x_dot", 1.5}, {"phi_dot", 6.0}}));
+    // Only parameters may appear: a coordinate is refused at its place in the scene.
+    try {
+        (void)test_support::model_of(R"toml([scene]
+name = "bad"
+[parameters]
+v = 1.0
+[coordinates]
+x = { initial = 0.0, rate = "v*y" }
+y = {}
+[lagrangian]
+T = "x_dot^2/2 + y_dot^2/2"
+)toml");
+        BOOST_FAIL("no refusal");
+    } catch (const InputError& e) {
+        BOOST_TEST(std::string(e.what()).find("test.toml:6:32: error:") == 0u, e.what());
+    }
+}
+
+// The same through the command line: a linearisation sweep over v crosses v² = g r/3 (the verdict
+// changes between v = 1.2 and 1.4), and a run with --set v=2 starts at x_dot = 2, phi_dot = 4.
+BOOST_AUTO_TEST_CASE(sweeping_the_forward_speed) {
+    const auto dir = test_support::scratch("mechanics_linearize", "sweeping_the_forward_speed");
+    const std::string scene = std::string(EOMC_SOURCE_DIR) + "/scenes/rolling_disc.toml";
+    auto r = test_support::run_eomc("sweep " + scene + " --grid v=1.2:1.4:2 --linearize --about initial -o " +
+                                        (dir / "s.csv").string(), dir);
+    BOOST_REQUIRE_EQUAL(r.status, 0);
+    std::istringstream lines(test_support::slurp(dir / "s.csv"));
+    std::string line;
+    std::getline(lines, line);
+    const double g = 9.81, radius = 0.5;
+    for (double v : {1.2, 1.4}) {
+        std::getline(lines, line);
+        std::vector<std::string> cells;
+        for (std::istringstream cell(line); std::getline(cell, line, ',');) cells.push_back(line);
+        BOOST_REQUIRE_EQUAL(cells.size(), 19u);  // point, v, verdict, 8 eigenvalues
+        const double lambda2 = 4 / (5 * radius) * (g - 3 * v * v / radius);
+        BOOST_TEST(cells[2] == (lambda2 > 0 ? "unstable" : "stable in the linear approximation"));
+        // ‖A‖ ≈ 20 here: 1000 ε ‖A‖ (eigen_tolerance) is below 1e-11.
+        BOOST_TEST(std::abs(std::stod(cells[lambda2 > 0 ? 3 : 4]) - std::sqrt(std::abs(lambda2))) <= 1e-11);
+    }
+    r = test_support::run_eomc("simulate " + scene + " --set v=2 --t-end 0.01 --cache-dir " + (dir / "cache").string() +
+                                   " --output " + (dir / "d.csv").string(),
+                               dir);
+    BOOST_REQUIRE_EQUAL(r.status, 0);
+    const std::string run = test_support::slurp(dir / "d.csv");
+    BOOST_TEST(run.find("\n0,0,0,0,0,0,2,0,0,0,4,") != std::string::npos, run);
 }
