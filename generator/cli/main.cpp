@@ -22,6 +22,7 @@
 #include "host/bench.hpp"
 #include "host/ensemble.hpp"
 #include "host/equilibria_sweep.hpp"
+#include "host/linearize_sweep.hpp"
 #include "host/ensemble_mpi.hpp"
 #include "host/gnuplot.hpp"
 #include "host/orbit_bench.hpp"
@@ -31,6 +32,7 @@
 #include "host/simulate/program_stiffness.hpp"
 #include "mechanics/control/control.hpp"
 #include "mechanics/inverse/inverse_problem.hpp"
+#include "mechanics/linearize/linearize.hpp"
 #include "mechanics/relative/equilibria.hpp"
 #include "mechanics/rigid/equilibria.hpp"
 #include "mechanics/rigid/euler_poisson.hpp"
@@ -40,6 +42,7 @@
 #include "report/derivation_printer.hpp"
 #include "report/equilibria_printer.hpp"
 #include "report/inverse_printer.hpp"
+#include "report/linearize_printer.hpp"
 #include "report/rigid_printer.hpp"
 #include "report/unilateral_equilibria_printer.hpp"
 #include "scene/scene.hpp"
@@ -104,11 +107,29 @@ struct Options {
     unsigned degree = mechanics::rigid::default_search_degree;
     std::size_t integral_work = mechanics::rigid::default_search_work;
     std::optional<double> spin;  // equilibria of a rigid body: Ω of the sleeping families
+    std::string about = "equilibrium";  // linearize, sweep --linearize: the operating point
+    std::vector<std::string> set;       // linearize --set NAME=VALUE
 };
 
 struct Commands {
-    CLI::App *derive, *generate, *simulate, *equilibria, *inverse, *control, *integrals, *run, *bench, *sweep, *ensemble;
+    CLI::App *derive, *generate, *simulate, *equilibria, *linearize, *inverse, *control, *integrals, *run, *bench, *sweep, *ensemble;
 };
+
+// `linearize`, and the operating point of `sweep --linearize`.
+void declare_linearize(CLI::App& app, Options& o, Commands& c) {
+    const char* about_help = "equilibrium: the rest state nearest the initial configuration (Newton's method); initial: "
+                             "the initial state as given, an equilibrium or a steady motion (rates only of cyclic "
+                             "coordinates, no accelerations)";
+    c.linearize = app.add_subcommand("linearize", "linearise about an equilibrium or a steady motion, the [[constraint]] "
+                                                  "rows eliminated: A, its eigenvalues and modes, a stability verdict");
+    c.linearize->add_option("scene", o.scene_path, "scene file (TOML)")->required();
+    c.linearize->add_option("--about", o.about, about_help)->check(CLI::IsMember({"equilibrium", "initial"}));
+    c.linearize->add_option("--set", o.set, "NAME=VALUE: a parameter, a coordinate's initial value or its NAME_dot rate");
+    c.linearize->add_option("--format", o.format, "text | latex | json")->check(CLI::IsMember({"text", "latex", "json"}));
+    c.linearize->add_option("-o,--output", o.output, "write to FILE instead of standard output");
+    c.sweep->add_option("--about", o.about, std::string("with --linearize: ") + about_help)
+        ->check(CLI::IsMember({"equilibrium", "initial"}));
+}
 
 Commands declare_commands(CLI::App& app, Options& o) {
     auto scene_argument = [&](CLI::App* cmd) { cmd->add_option("scene", o.scene_path, "scene file (TOML)")->required(); };
@@ -176,6 +197,8 @@ Commands declare_commands(CLI::App& app, Options& o) {
     c.equilibria->add_option("--spin", o.spin,
                              "a rigid body: the spin Ω at which the rotations about principal axes holding the mass "
                              "centre are linearised (default: ω0·γ0 of the scene)");
+
+    declare_linearize(app, o, c);
 
     c.inverse = app.add_subcommand("inverse", "the inverse problem: self-adjointness, a multiplier, a Lagrangian");
     scene_argument(c.inverse);
@@ -326,6 +349,53 @@ void equilibria_sweep_command(const Pipeline& p, const Options& o, const host::E
             std::cerr << "eomc: warning: " << note << "\n";
 }
 
+mechanics::OperatingPointKind operating_point(const Options& o) {
+    return o.about == "initial" ? mechanics::OperatingPointKind::initial : mechanics::OperatingPointKind::equilibrium;
+}
+
+// The scene's parameters and initial state with `items` (--set NAME=VALUE) applied, each checked as
+// the scene checks its own values.
+host::LinearizeInputs linearize_inputs(const Pipeline& p, const Options& o, const std::vector<std::string>& items) {
+    cli::check_overrides_against_scene(o.scene_path, o.front, items);
+    host::LinearizeInputs in = host::scene_inputs(p.model);
+    const auto overrides = cli::parse_overrides(items);
+    for (std::size_t i = 0; i < overrides.size(); ++i)
+        host::set_input(p.model, in, overrides[i].first, overrides[i].second, SourcePos{"--set " + items[i]});
+    for (const auto& [name, value] : model::initial_overrides(p.model, overrides))  // initial values as expressions
+        host::set_input(p.model, in, name, value, SourcePos{"--set"});
+    return in;
+}
+
+// `eomc linearize`: everything computed before anything is written.
+void linearize_command(const Pipeline& p, const Options& o) {
+    const host::LinearizeInputs in = linearize_inputs(p, o, o.set);
+    const mechanics::Linearizer linearizer(p.model, p.equations);
+    const auto lin = linearizer.linearize(in.parameters, operating_point(o), in.q, in.u, SourcePos{"--about " + o.about});
+    std::ostringstream text;
+    report::print_linearization(p.model, lin, o.about, derivation_format(o.format), text);
+    deliver(text.str(), o.output);
+}
+
+// `sweep --linearize`: the eigenvalues at every grid point, no kernel.
+void linearize_sweep_command(const Pipeline& p, const Options& o, const host::EnsembleSpec& spec) {
+    const host::LinearizeInputs base = linearize_inputs(p, o, o.simulate.overrides);
+    cli::check_grid_against_scene(o.scene_path, o.front, o.simulate.overrides, spec);
+    const mechanics::Linearizer linearizer(p.model, p.equations);
+    const host::LinearizeSweep sweep =
+        host::sweep_linearize(linearizer, p.model, spec, operating_point(o), base, cli::parse_overrides(o.simulate.overrides),
+                              {o.ensemble.budget_s, true, o.ensemble.progress});
+    const auto script = [&](const std::string& terminal, const fs::path& png) {
+        return host::linearize_plot_script(sweep, spec, terminal, png);
+    };
+    if (!o.ensemble.plot.empty()) (void)script("png", o.ensemble.plot);  // a bad picture is refused before any output
+    const std::string summary = host::linearize_summary(sweep, o.ensemble.format);
+    if (!o.ensemble.output.empty()) write_file_atomically(o.ensemble.output, host::linearize_csv(sweep));
+    std::cout << summary;
+    if (!o.ensemble.plot.empty())
+        if (const std::string note = host::write_plot(script, o.ensemble.plot); !note.empty())
+            std::cerr << "eomc: warning: " << note << "\n";
+}
+
 // An error as main reports it: the exit status and the line printed (a JobError: as the MPI ranks
 // agreed, its text on rank 0 only).
 std::pair<int, std::string> error_report(std::exception_ptr error, const std::string& scene_path) {
@@ -383,13 +453,20 @@ void ensemble_command(const Pipeline& p, const Options& o) {
     const host::MpiSession mpi([&](std::exception_ptr e) { return error_report(e, o.scene_path); });
     host::EnsembleRequest r;
     host::EnsembleResult result;
-    bool equilibria = false;
+    bool equilibria = false, linearize = false;
     mpi.agree([&] {
         r.spec = cli::ensemble_spec(o.ensemble);
         if (!o.ensemble.output.empty()) check_output_target(o.ensemble.output);
         if (!o.ensemble.plot.empty()) check_output_target(o.ensemble.plot);
         if (host::has_control_character(o.ensemble.plot))  // the path reaches the plot script
             throw InputError(SourcePos{"--plot"}, "the path contains a control character");
+        if (o.ensemble.linearize) {
+            if (o.ensemble.equilibria || !o.ensemble.observe.empty() || o.ensemble.batch)
+                throw InputError(SourcePos{"--linearize"}, "a linearisation sweep runs nothing: --equilibria, --observe "
+                                                           "and --batch do not apply");
+            linearize = true;
+            return;
+        }
         if (o.ensemble.equilibria) {
             if (!o.ensemble.observe.empty() || o.ensemble.batch)
                 throw InputError(SourcePos{"--equilibria"}, "an equilibrium sweep runs nothing: --observe and --batch do not apply");
@@ -404,8 +481,11 @@ void ensemble_command(const Pipeline& p, const Options& o) {
             throw InputError(SourcePos{"EOMC_TEST_FAIL_RANK"}, "this rank was asked to fail");
         result = host::run_ensemble(r);
     });
-    if (equilibria) {  // no kernel, nothing to share: rank 0 sweeps
-        if (mpi.rank() == 0) equilibria_sweep_command(p, o, r.spec);
+    if (equilibria || linearize) {  // no kernel, nothing to share: rank 0 sweeps
+        if (mpi.rank() == 0) {
+            if (linearize) linearize_sweep_command(p, o, r.spec);
+            else equilibria_sweep_command(p, o, r.spec);
+        }
         return;
     }
     if (!mpi.gather(result)) return;  // rank 0 writes and prints for all
@@ -520,6 +600,9 @@ int main(int argc, char** argv) {
         // An output that exists and is not a regular file is refused before any work is done.
         for (const std::string* path : {&o.output, &o.simulate.output, &o.emit_scene})
             if (!path->empty()) check_output_target(*path);
+        if (c.sweep->parsed() && c.sweep->count("--about") && !o.ensemble.linearize)
+            throw InputError(SourcePos{"--about"}, "--about chooses the operating point of `sweep --linearize`; "
+                                                   "add --linearize or drop it");
         host::StageClock clock;
         host::StageClock* timing = o.timings ? &clock : nullptr;
         const Pipeline p = host::front_end(o.scene_path, o.front, timing);
@@ -530,6 +613,7 @@ int main(int argc, char** argv) {
         else if (c.bench->parsed()) bench_command(p, o);
         else if (c.sweep->parsed() || c.ensemble->parsed()) ensemble_command(p, o);
         else if (c.equilibria->parsed()) equilibria_command(p, o);
+        else if (c.linearize->parsed()) linearize_command(p, o);
         else if (c.inverse->parsed()) inverse_command(p, o);
         else if (c.control->parsed()) control_command(p, o);
         else if (c.integrals->parsed()) integrals_command(p, o);

@@ -150,6 +150,7 @@ host::SimulationRequest simulation_request(const host::Pipeline& p, const std::s
     r.header_text = header;
     r.struct_name = p.model.struct_name;
     r.overrides = parse_overrides(o.overrides);
+    r.derived_start = derived_start(p);
     r.t_end = o.t_end.value_or(d.t_end);
     r.integrator = o.integrator.empty() ? d.integrator : o.integrator;
     r.integrator_pos = o.integrator.empty() ? d.integrator_pos : SourcePos{"--integrator"};
@@ -190,6 +191,9 @@ void add_ensemble_options(CLI::App* cmd, EnsembleOptions& o, bool sweep) {
         cmd->add_flag("--equilibria", o.equilibria, "the relative equilibria and their verdicts at every grid point "
                                                     "(parameters only) instead of runs; --plot draws a bifurcation "
                                                     "diagram over one axis, a stability map over two");
+        cmd->add_flag("--linearize", o.linearize, "the linearisation's eigenvalues and verdict at every grid point "
+                                                  "(see `eomc linearize`, and --about) instead of runs; --plot draws "
+                                                  "the real parts against the one axis varied");
         cmd->add_option("--grid", o.grid, "NAME=a:b:n (n points from a to b inclusive) or NAME=value: a parameter "
                                           "or an initial value; several make a grid, the last varying fastest")
             ->required();

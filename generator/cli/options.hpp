@@ -58,6 +58,7 @@ struct EnsembleOptions {
     std::string samples, seed = "0";
     unsigned threads = 0;  // 0 = the hardware's
     bool batch = false;    // --batch: SIMD batches of members (host/ensemble_batch.hpp)
+    bool linearize = false;   // sweep --linearize: eigenvalues per grid point (host/linearize_sweep.hpp)
     bool equilibria = false;  // sweep --equilibria: verdicts per grid point (host/equilibria_sweep.hpp)
     std::string output, format = "text";
     std::string plot, plot_column;  // --plot FILE.png, --plot-column NAME ("" = the first state variable)
@@ -80,6 +81,11 @@ void check_start(const host::Pipeline& p, const std::vector<std::pair<std::strin
 // names its values by the flag that gave each (--set, --grid, --vary).
 std::function<void(const std::vector<std::pair<std::string, double>>&)> member_start_check(
     const host::Pipeline& p, const host::EnsembleSpec& spec);
+
+// The initial values the scene gives as expressions of the parameters, recomputed at each run's
+// overrides (SimulationRequest::derived_start); empty when the scene gives numbers only.
+std::function<std::vector<std::pair<std::string, double>>(const std::vector<std::pair<std::string, double>>&)>
+derived_start(const host::Pipeline& p);
 
 // The scene's own checks (check_overrides_against_scene) on a grid's end points: the axes are
 // linear, so a value the scene accepts at both ends it accepts between. Throws at the --grid.

@@ -52,4 +52,17 @@ std::function<void(const std::vector<std::pair<std::string, double>>&)> member_s
     };
 }
 
+std::function<std::vector<std::pair<std::string, double>>(const std::vector<std::pair<std::string, double>>&)>
+derived_start(const host::Pipeline& p) {
+    const bool any = std::any_of(p.model.coordinates.begin(), p.model.coordinates.end(), [](const auto& c) {
+        return !GiNaC::is_a<GiNaC::numeric>(c.initial_expr) || !GiNaC::is_a<GiNaC::numeric>(c.rate_expr);
+    });
+    if (!any) return nullptr;
+    auto lock = std::make_shared<std::mutex>();  // GiNaC is not thread-safe
+    return [&p, lock](const std::vector<std::pair<std::string, double>>& overrides) {
+        const std::lock_guard<std::mutex> one_at_a_time(*lock);
+        return model::initial_overrides(p.model, overrides);
+    };
+}
+
 }  // namespace eomc::cli

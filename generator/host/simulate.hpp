@@ -29,6 +29,11 @@ struct SimulationRequest {
     // resolve_start with the overrides once their names and values are accepted; throws InputError.
     // Empty: none. An ensemble calls it from several threads at once.
     std::function<void(const std::vector<std::pair<std::string, double>>&)> check_start;
+    // The initial values and rates the scene gives as expressions of the parameters, at the
+    // overrides' values (model::initial_overrides through cli::derived_start), applied after them by
+    // resolve_start. Empty: none. Called from several threads at once, like check_start.
+    std::function<std::vector<std::pair<std::string, double>>(const std::vector<std::pair<std::string, double>>&)>
+        derived_start;
     double t_end = 10.0;
     std::string integrator{runtime::default_integrator};    // a name in runtime::integrator_infos
     SourcePos integrator_pos{"--integrator"};               // where it was chosen: the flag, or the scene's [simulate] integrator

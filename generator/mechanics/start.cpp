@@ -157,7 +157,10 @@ void check_mass_matrix(const model::Model& model, const Equations& eqs, const Gi
 StartValues start_values(const model::Model& model, const std::vector<std::pair<std::string, double>>& overrides) {
     StartValues start{model::initial_values(model), true};
     const auto symbols = symbols_by_name(model);
-    for (const auto& [name, value] : overrides) {
+    std::vector<std::pair<std::string, double>> all = overrides;
+    const auto derived = model::initial_overrides(model, overrides);  // initial values as expressions
+    all.insert(all.end(), derived.begin(), derived.end());
+    for (const auto& [name, value] : all) {
         const auto found = symbols.find(name);
         if (found == symbols.end()) start.state_known = false;
         else start.values[found->second] = GiNaC::numeric(value);

@@ -5,6 +5,8 @@
 
 #include <cstddef>
 #include <optional>
+#include <set>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -112,11 +114,19 @@ namespace {
 // [[coordinate]]: each name with its rate and acceleration, after any the kind declares itself
 // (an orbit's x, y, z; a rigid body's Euler angles).
 void declare_coordinates(const scene::Scene& scene, SymbolTable& symbols, Model& model) {
+    const auto value = [&](const std::optional<scene::Expr>& expr, double number, const std::string& what, ex& kept) {
+        if (!expr) return number;
+        kept = symbols.parse(*expr, unsigned(SymbolKind::parameter), what);
+        return at_defaults(kept, model, *expr, what);
+    };
     for (const auto& c : scene.coordinates) {
         model.coordinates.push_back({c.name, symbols.declare(c.name, SymbolKind::coordinate),
                                      symbols.declare(c.name + "_dot", SymbolKind::velocity),
                                      symbols.declare(c.name + "_ddot", SymbolKind::acceleration), c.initial,
                                      c.rate});
+        Coordinate& made = model.coordinates.back();
+        made.initial = value(c.initial_expr, c.initial, "the initial value of " + c.name, made.initial_expr);
+        made.rate = value(c.rate_expr, c.rate, "the initial rate of " + c.name, made.rate_expr);
     }
 }
 
@@ -201,6 +211,37 @@ void keep_effects(const scene::Scene& scene, Model& model) {
 }
 
 }  // namespace
+
+std::vector<std::pair<std::string, double>> initial_overrides(const Model& model,
+                                                              const std::vector<std::pair<std::string, double>>& overrides) {
+    GiNaC::exmap values = model.parameter_defaults();
+    std::set<std::string> given;
+    bool any_parameter = false;
+    for (const auto& [name, v] : overrides) {
+        given.insert(name);
+        for (const auto& p : model.parameters)
+            if (p.name == name) values[p.symbol] = GiNaC::numeric(v), any_parameter = true;
+    }
+    std::vector<std::pair<std::string, double>> out;
+    if (!any_parameter) return out;  // the scene's own values stand
+    // Only expressions that name parameters change; numbers were taken whole by the model.
+    const auto add = [&](const ex& e, const std::string& name) {
+        if (GiNaC::is_a<GiNaC::numeric>(e) || given.count(name)) return;
+        const auto v = real_value(e, values);
+        if (!v) {
+            std::ostringstream text;
+            text << e;
+            throw InputError(SourcePos{model.source, 0, 0},
+                             fmt::format("{} = {} is not a real number at the parameter values given", name, text.str()));
+        }
+        out.emplace_back(name, v->to_double());
+    };
+    for (const auto& c : model.coordinates) {
+        add(c.initial_expr, c.name);
+        add(c.rate_expr, c.name + "_dot");
+    }
+    return out;
+}
 
 Model build_model(const scene::Scene& scene) {
     Model model;

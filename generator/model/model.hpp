@@ -36,8 +36,11 @@ struct Parameter {
 struct Coordinate {
     std::string name;
     GiNaC::symbol q, q_dot, q_ddot;  // q, q_dot, q_ddot in the scene's expressions
-    double initial = 0.0;
+    double initial = 0.0;            // at the parameters' defaults
     double rate = 0.0;
+    // The scene's initial value and rate when given as expressions of the parameters ("v/r"),
+    // recomputed wherever the parameters are given other values (initial_overrides); else empty.
+    GiNaC::ex initial_expr, rate_expr;
 };
 
 // A carried body: a particle at r'(q, t) or, with an inertia, a rigid body with its mass
@@ -277,6 +280,13 @@ struct Model {
     // Each parameter's symbol mapped to its scene default.
     GiNaC::exmap parameter_defaults() const;
 };
+
+// The initial values and rates given as expressions of the parameters, at the parameter values
+// `overrides` gives (the rest at their defaults): ("q", value) and ("q_dot", value) for each one the
+// overrides do not set themselves. Overrides naming no parameter are passed over. Throws InputError
+// at the expression when it is not real at those values.
+std::vector<std::pair<std::string, double>> initial_overrides(const Model& model,
+                                                              const std::vector<std::pair<std::string, double>>& overrides);
 
 // Throws eomc::InputError naming the place in the scene.
 Model build_model(const scene::Scene& scene);

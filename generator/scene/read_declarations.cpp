@@ -64,8 +64,15 @@ void Reader::read_coordinates(Scene& s) const {
         const toml::table& c = as_table(*value, path);
         check_keys(c, {"initial", "rate"}, "in '" + path + "'");
         Coordinate coord{name, 0.0, 0.0, at(*key)};
-        if (const toml::node* v = c.get("initial")) coord.initial = read_number(*v, path + ".initial");
-        if (const toml::node* v = c.get("rate")) coord.rate = read_number(*v, path + ".rate");
+        // A number, or a string: an expression of the parameters (the model checks what it names).
+        if (const toml::node* v = c.get("initial")) {
+            if (v->is_string()) coord.initial_expr = read_expr(*v, path + ".initial");
+            else coord.initial = read_number(*v, path + ".initial");
+        }
+        if (const toml::node* v = c.get("rate")) {
+            if (v->is_string()) coord.rate_expr = read_expr(*v, path + ".rate");
+            else coord.rate = read_number(*v, path + ".rate");
+        }
         s.coordinates.push_back(std::move(coord));
     }
 }

@@ -39,6 +39,9 @@ struct Coordinate {
     double initial = 0.0;
     double rate = 0.0;
     SourcePos pos;
+    // initial = "v/r": an expression of the parameters, recomputed whenever --set, --grid or --vary
+    // gives them other values (`initial` and `rate` above are then filled in by the model).
+    std::optional<Expr> initial_expr, rate_expr;
 };
 
 struct InitialValue {

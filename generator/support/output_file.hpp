@@ -5,7 +5,7 @@
 // has the name: run as root, `--output /dev/full` would replace the device node, and a
 // symbolic link would be replaced by a file rather than written through. So a device, FIFO,
 // socket, directory or symbolic link at the target is refused (eomc::InputError naming the path,
-// exit 2). A symbolic link is refused rather than resolved: resolving it would write wherever the
+// exit 2), except exactly /dev/null, which is written to directly and never replaced. A symbolic link is refused rather than resolved: resolving it would write wherever the
 // link points when it is followed, which in a shared directory is someone else's choice; a user
 // who means the file behind it can name that file.
 //
@@ -22,7 +22,11 @@
 
 namespace eomc {
 
-// Throws eomc::InputError (at the path) when `path` exists and is not a regular file.
+// Exactly "/dev/null", the null character device there: output that is asked for and thrown away
+// (a run timed without its CSV). It is written to directly, never replaced.
+bool discarded_output(const std::filesystem::path& path);
+
+// Throws eomc::InputError (at the path) when `path` exists and is not a regular file (or /dev/null).
 void check_output_target(const std::filesystem::path& path);
 
 // One output being written. The parent directory is created if missing.
@@ -52,6 +56,7 @@ private:
     TemporaryFile temporary_;
     int fd_ = -1;
     std::FILE* stream_ = nullptr;
+    bool discard_ = false;  // the target is /dev/null
 };
 
 void write_file_atomically(const std::filesystem::path& path, const std::string& content);

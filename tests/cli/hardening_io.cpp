@@ -93,10 +93,10 @@ BOOST_AUTO_TEST_CASE(an_output_that_is_a_device_is_refused) {
     // Our own node, never a real one: a regression would replace this, not /dev/full.
     const fs::path device = dir / "full";
     if (::mknod(device.c_str(), S_IFCHR | 0666, makedev(1, 7)) != 0) {
-        BOOST_TEST_MESSAGE("skipped: mknod needs root (" << std::strerror(errno) << "); /dev/null stands in");
-        const Result r = run("simulate " + dtb + " --cache-dir " + quoted(dir / "cache") + " --output /dev/null", dir);
+        BOOST_TEST_MESSAGE("skipped: mknod needs root (" << std::strerror(errno) << "); /dev/zero stands in");
+        const Result r = run("simulate " + dtb + " --cache-dir " + quoted(dir / "cache") + " --output /dev/zero", dir);
         BOOST_TEST(r.status == 2);
-        BOOST_TEST(r.err.find("/dev/null: error: the output exists and is a character device") != std::string::npos, r.err);
+        BOOST_TEST(r.err.find("/dev/zero: error: the output exists and is a character device") != std::string::npos, r.err);
         return;
     }
     const Result r = run("simulate " + dtb + " --cache-dir " + quoted(dir / "cache") + " --output " + quoted(device), dir);
@@ -108,6 +108,23 @@ BOOST_AUTO_TEST_CASE(an_output_that_is_a_device_is_refused) {
     BOOST_TEST(entries(dir, ".tmp").empty());
     // Refused before anything was compiled.
     BOOST_TEST(entries(dir / "cache", ".so").empty());
+}
+
+// Exactly /dev/null is the one device accepted: the output is computed and thrown away (a run timed
+// without its CSV), the node written to, never replaced.
+BOOST_AUTO_TEST_CASE(dev_null_takes_the_output_and_stays_a_device) {
+    const fs::path dir = scratch("dev_null");
+    Result r = run("simulate " + dtb + " --cache-dir " + quoted(dir / "cache") + " --output /dev/null --summary json", dir);
+    BOOST_TEST(r.status == 0, r.err);
+    BOOST_TEST(!final_q(r).empty(), r.out);
+    r = run("derive " + dtb + " -o /dev/null", dir);
+    BOOST_TEST(r.status == 0, r.err);
+    BOOST_TEST(r.out.empty());
+    r = run("sweep " + dtb + " --cache-dir " + quoted(dir / "cache") + " --grid q=0.1:0.2:2 -o /dev/null", dir);
+    BOOST_TEST(r.status == 0, r.err);
+    struct stat st {};
+    BOOST_TEST((::lstat("/dev/null", &st) == 0 && S_ISCHR(st.st_mode)));
+    BOOST_TEST(entries(dir, ".tmp").empty());
 }
 
 BOOST_AUTO_TEST_CASE(an_output_that_is_a_fifo_is_refused_without_blocking) {

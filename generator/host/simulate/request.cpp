@@ -157,7 +157,13 @@ void resolve_start(const SimulationRequest& r, const KernelLibrary& lib, std::ve
     parameters = lib.parameter_defaults();
     x.assign(lib.initial_state().begin(), lib.initial_state().end());
     const SourcePos where{"--set"};
-    for (const auto& [name, value] : r.overrides) {
+    // Initial values the scene gives as expressions of the parameters follow the overrides' values.
+    std::vector<std::pair<std::string, double>> all = r.overrides;
+    if (r.derived_start && !r.overrides.empty()) {
+        const auto derived = r.derived_start(r.overrides);
+        all.insert(all.end(), derived.begin(), derived.end());
+    }
+    for (const auto& [name, value] : all) {
         const auto find = [&](const std::vector<std::string>& names) {
             for (std::size_t i = 0; i < names.size(); ++i)
                 if (names[i] == name) return static_cast<std::ptrdiff_t>(i);
