@@ -78,6 +78,9 @@ std::string write_plot(const std::function<std::string(const std::string&, const
     check_output_target(png);  // before gnuplot runs: a refused target costs no drawing
     TempDir dir("eomc-plot-");
     const fs::path drawn = dir.path() / "plot.png";
+    if (has_control_character(drawn.string()))  // $TMPDIR reaches the script: a line break would end its string
+        return fmt::format("the temporary directory {} contains a control character; {} was not written",
+                           codegen::comment_text(dir.path().string()), png.string());
     std::string log;
     for (const char* terminal : {"pngcairo", "png"}) {
         const fs::path script = dir.path() / "plot.gp";
